@@ -1,0 +1,9 @@
+"""Rigid Body Lab physics: headless, exact where possible, geometric where not.
+
+Modules (one topic each): :mod:`physics.inertia`, :mod:`physics.rotations`,
+:mod:`physics.free_body`, :mod:`physics.heavy_top`, :mod:`physics.pendulum`,
+:mod:`physics.integrators`. This package never imports the app or viser.
+"""
+
+G = 9.81
+"""Standard gravitational acceleration used by default, m/s² (DESIGN.md)."""

@@ -1,0 +1,163 @@
+"""Rotations: the hat map, the SO(3) exponential, and thin helpers over scipy.
+
+Conventions (DESIGN.md): an attitude ``R`` maps body to space, ``x_space = R @ x_body``,
+and ``Ṙ = R hat(ω_body)``. Quaternions follow :class:`scipy.spatial.transform.Rotation`
+(``x, y, z, w``, scalar last).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+__all__ = [
+    "hat",
+    "vee",
+    "expm_so3",
+    "rotation_about",
+    "rotation_angle",
+    "orthonormality_error",
+    "as_quaternion",
+    "from_quaternion",
+    "frame_from_axis",
+]
+
+
+def hat(v: ArrayLike) -> NDArray[np.float64]:
+    """Skew-symmetric matrix of a vector: ``hat(v) @ x == cross(v, x)``.
+
+    Parameters
+    ----------
+    v : array_like, shape (3,) or (n, 3)
+
+    Returns
+    -------
+    ndarray, shape (3, 3) or (n, 3, 3)
+    """
+    v = np.asarray(v, dtype=float)
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1] = -v[..., 2]
+    out[..., 0, 2] = v[..., 1]
+    out[..., 1, 0] = v[..., 2]
+    out[..., 1, 2] = -v[..., 0]
+    out[..., 2, 0] = -v[..., 1]
+    out[..., 2, 1] = v[..., 0]
+    return out
+
+
+def vee(m: ArrayLike) -> NDArray[np.float64]:
+    """Inverse of :func:`hat` (of the skew part): shape (..., 3, 3) -> (..., 3)."""
+    m = np.asarray(m, dtype=float)
+    return 0.5 * np.stack(
+        [m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]],
+        axis=-1,
+    )
+
+
+def expm_so3(v: ArrayLike) -> NDArray[np.float64]:
+    """The SO(3) exponential ``exp(hat(v))`` by Rodrigues' formula.
+
+    Below an angle of 1e-4 rad the coefficients ``sin(a)/a`` and ``(1-cos a)/a²`` are taken from
+    their Taylor series, so small rotations keep full relative precision.
+
+    Parameters
+    ----------
+    v : array_like, shape (3,) or (n, 3)
+        Rotation vectors (axis times angle, rad).
+
+    Returns
+    -------
+    ndarray, shape (3, 3) or (n, 3, 3)
+    """
+    v = np.asarray(v, dtype=float)
+    a2 = np.einsum("...i,...i->...", v, v)
+    a = np.sqrt(a2)
+    small = a < 1e-4
+    safe = np.where(small, 1.0, a)
+    s = np.where(small, 1.0 - a2 / 6.0 + a2 * a2 / 120.0, np.sin(safe) / safe)
+    c = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, (1.0 - np.cos(safe)) / (safe * safe))
+    k = hat(v)
+    eye = np.broadcast_to(np.eye(3), k.shape)
+    return eye + s[..., None, None] * k + c[..., None, None] * (k @ k)
+
+
+def rotation_about(axis: ArrayLike, angle: ArrayLike) -> NDArray[np.float64]:
+    """Rotation matrices by ``angle`` (rad) about the unit ``axis``.
+
+    Parameters
+    ----------
+    axis : array_like, shape (3,)
+    angle : array_like, shape () or (n,)
+
+    Returns
+    -------
+    ndarray, shape (3, 3) or (n, 3, 3)
+    """
+    axis = np.asarray(axis, dtype=float)
+    axis = axis / np.linalg.norm(axis)
+    angle = np.asarray(angle, dtype=float)
+    return expm_so3(angle[..., None] * axis)
+
+
+def rotation_angle(r_a: ArrayLike, r_b: ArrayLike) -> NDArray[np.float64]:
+    """Angle (rad) of the relative rotation ``r_a.T @ r_b``, accurate for tiny angles.
+
+    Uses ``2 asin(|R_a - R_b|_F / sqrt(8))``, which has no cancellation near zero, unlike
+    ``acos((tr - 1)/2)``.
+
+    Parameters
+    ----------
+    r_a, r_b : array_like, shape (3, 3) or (n, 3, 3)
+
+    Returns
+    -------
+    ndarray, shape () or (n,)
+    """
+    d = np.asarray(r_a, dtype=float) - np.asarray(r_b, dtype=float)
+    f = np.sqrt(np.einsum("...ij,...ij->...", d, d))
+    return 2.0 * np.arcsin(np.clip(f / np.sqrt(8.0), 0.0, 1.0))
+
+
+def orthonormality_error(r: ArrayLike) -> NDArray[np.float64]:
+    """Max-abs entry of ``R.T @ R - I``: shape (..., 3, 3) -> (...)."""
+    r = np.asarray(r, dtype=float)
+    e = np.swapaxes(r, -1, -2) @ r - np.eye(3)
+    return np.max(np.abs(e), axis=(-1, -2))
+
+
+def as_quaternion(r: ArrayLike) -> NDArray[np.float64]:
+    """Rotation matrices (..., 3, 3) to scipy quaternions (..., 4), ``x, y, z, w``."""
+    r = np.asarray(r, dtype=float)
+    q = Rotation.from_matrix(r.reshape(-1, 3, 3)).as_quat()
+    return q.reshape(r.shape[:-2] + (4,))
+
+
+def from_quaternion(q: ArrayLike) -> NDArray[np.float64]:
+    """Scipy quaternions (..., 4), ``x, y, z, w``, to rotation matrices (..., 3, 3)."""
+    q = np.asarray(q, dtype=float)
+    r = Rotation.from_quat(q.reshape(-1, 4)).as_matrix()
+    return r.reshape(q.shape[:-1] + (3, 3))
+
+
+def frame_from_axis(axis: ArrayLike) -> NDArray[np.float64]:
+    """A right-handed orthonormal frame whose third column is the unit ``axis``.
+
+    The first column is the coordinate axis least aligned with ``axis``, made orthogonal to it, so
+    the frame is continuous except where that choice switches.
+
+    Parameters
+    ----------
+    axis : array_like, shape (3,)
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
+    e3 = np.asarray(axis, dtype=float)
+    e3 = e3 / np.linalg.norm(e3)
+    trial = np.eye(3)[int(np.argmin(np.abs(e3)))]
+    e1 = trial - e3 * (trial @ e3)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(e3, e1)
+    return np.column_stack([e1, e2, e3])

@@ -1,0 +1,31 @@
+"""Shared test configuration.
+
+Under ``RBL_NO_SKIP=1`` (set by ``.ci/run``) any skipped test fails the session: in CI nothing that
+should run may quietly not run.
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+_skipped: list[str] = []
+
+
+def pytest_runtest_logreport(report: pytest.TestReport) -> None:
+    if report.skipped:
+        _skipped.append(report.nodeid)
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    if os.environ.get("RBL_NO_SKIP") == "1" and _skipped and exitstatus == 0:
+        session.exitstatus = 1
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Config) -> None:
+    if os.environ.get("RBL_NO_SKIP") == "1" and _skipped:
+        terminalreporter.write_line(
+            f"RBL_NO_SKIP=1: {len(_skipped)} test(s) skipped that must run: " + ", ".join(_skipped),
+            red=True,
+        )
