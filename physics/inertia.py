@@ -69,7 +69,7 @@ def _nonnegative(value: float, name: str) -> float:
     return v
 
 
-def validate_moments(moments: ArrayLike) -> NDArray[np.float64]:
+def validate_moments(moments: ArrayLike, *, allow_zero: bool = False) -> NDArray[np.float64]:
     """Check that three principal moments can belong to a rigid body.
 
     A rigid body's moments are finite, non-negative and satisfy the triangle inequality
@@ -81,6 +81,9 @@ def validate_moments(moments: ArrayLike) -> NDArray[np.float64]:
     ----------
     moments : array_like, shape (3,)
         Principal moments, kg m², in any order.
+    allow_zero : bool
+        Accept all three moments zero (a single point mass: it has mass properties but cannot
+        rotate). Dynamics refuse it; :class:`MassProperties` accepts it.
 
     Returns
     -------
@@ -98,6 +101,8 @@ def validate_moments(moments: ArrayLike) -> NDArray[np.float64]:
         raise ValueError(f"moments of inertia must not be negative, got {m.tolist()}")
     scale = float(np.max(m))
     if scale == 0.0:
+        if allow_zero:
+            return m
         raise ValueError("moments of inertia are all zero: a point has no rotational inertia")
     for i in range(3):
         j, k = (i + 1) % 3, (i + 2) % 3
@@ -195,7 +200,7 @@ class MassProperties:
         eig = np.linalg.eigvalsh(tensor)
         # A rod's zero moment comes out of eigvalsh as ±round-off: clip that, refuse real negatives.
         eig[np.abs(eig) <= 1e-12 * scale] = 0.0
-        validate_moments(eig)
+        validate_moments(eig, allow_zero=True)
         com.flags.writeable = False
         tensor.flags.writeable = False
         object.__setattr__(self, "mass", mass)
