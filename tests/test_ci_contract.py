@@ -1,0 +1,38 @@
+"""The CI contract: under RBL_NO_SKIP=1 a skipped test fails the run (tests/conftest.py)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+HERE = Path(__file__).parent
+
+
+def _run(tmp_path: Path, body: str, strict: bool) -> int:
+    shutil.copy(HERE / "conftest.py", tmp_path / "conftest.py")
+    (tmp_path / "test_sample.py").write_text(body)
+    env = {k: v for k, v in os.environ.items() if k != "RBL_NO_SKIP"}
+    if strict:
+        env["RBL_NO_SKIP"] = "1"
+    result = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tmp_path)],
+        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120,
+    )
+    return result.returncode
+
+
+SKIPPING = "import pytest\n\ndef test_a():\n    pytest.skip('no browser')\n\ndef test_b():\n    pass\n"
+
+
+@pytest.mark.parametrize("strict, expected", [(True, 1), (False, 0)])
+def test_a_skip_fails_only_under_rbl_no_skip(tmp_path, strict, expected):
+    assert _run(tmp_path, SKIPPING, strict) == expected
+
+
+def test_a_clean_run_passes_under_rbl_no_skip(tmp_path):
+    assert _run(tmp_path, "def test_ok():\n    pass\n", strict=True) == 0
