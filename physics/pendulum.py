@@ -1,0 +1,504 @@
+"""The physical pendulum: a rigid body constrained to rotate about a fixed axis.
+
+Lecture, "a rigid body constrained to rotate about a fixed axis". With ``a⊥`` the part of the
+pivot-to-centre-of-mass vector perpendicular to the axis ``n̂``:
+
+* parallel-axis theorem ``I = I_cm,nn + M |a⊥|²  = M k²`` (``k`` the radius of gyration);
+* equation of motion ``M k² θ̈ = −|a⊥| M g⊥ sin θ``, i.e. a simple pendulum of effective length
+  ``ℓ = k² / |a⊥|``, with ``ℓ > k > |a⊥|`` unless the mass sits at one point (``ℓ = k = |a⊥|``);
+* a sharp blow at the centre of percussion, a distance ``ℓ`` from the axis, needs no impulse from the
+  pivot (DESIGN.md erratum 2: the transcription lost the "no").
+
+Gravity is ``−g ẑ``. Only its component in the plane perpendicular to the axis swings the body:
+``g⊥ = g |n̂ × ẑ|`` (``g⊥ = g`` for a horizontal axis). For a vertical axis (a door on its hinges)
+``g⊥ = 0``: there is no restoring torque, the body turns uniformly, and the periods are infinite —
+documented behaviour, not an error; striking it and its centre of percussion still make sense.
+
+The angle ``θ`` is the rotation about ``n̂`` (right-hand rule) of ``a⊥`` away from the straight-down
+direction of the swing plane; ``θ = 0`` hangs, ``θ = π`` stands on its head. The body as described by
+``mass_properties`` sits at :attr:`PhysicalPendulum.model_angle`.
+
+The exact swing uses Jacobi elliptic functions, ``ω0² = g⊥ / ℓ`` and ``κ² = sin²(θ0/2) +
+(θ̇0 / 2ω0)²``:
+
+* libration (``κ < 1``): ``sin(θ/2) = κ sn(ω0 t + c | κ²)``, period ``4 K(κ²) / ω0``;
+* rotation over the top (``κ > 1``): ``θ/2 = am(κ ω0 t + c | 1/κ²)``, one turn in ``2 K(1/κ²) / (κ ω0)``;
+* the separatrix (``κ = 1``): ``θ/2 = gd(ω0 t + c)``, creeping up to the top for ever.
+
+Near the separatrix the parameter ``κ²`` is within round-off of 1, and what matters is its complement
+``1 − κ²`` (at an amplitude of 0.999999 π it is 2.5e-12, which the float ``κ²`` knows only to 5e-5).
+``scipy.special.ellipj`` takes only ``κ²``, so this module evaluates ``am`` by the arithmetic-geometric
+mean with the complement computed directly from the initial data, and ``K`` by
+``scipy.special.ellipkm1``; the initial phase ``c`` is Carlson's ``R_F`` (``scipy.special.elliprf``).
+
+Examples
+--------
+>>> from physics.inertia import rod
+>>> from physics.pendulum import PhysicalPendulum
+>>> bat = PhysicalPendulum(rod(1.0, 0.9), pivot=[0, 0, 0.45], axis=[1, 0, 0])
+>>> bat.effective_length                      # 2/3 of the rod: 0.6 m
+>>> theta, theta_dot = bat.solve(theta0=2.0, thetadot0=0.0, t=[0.0, 0.5, 1.0])
+>>> bat.strike([0, 1.0, 0], bat.center_of_percussion()).reaction_impulse   # ≈ 0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.special import ellipkm1, elliprf
+
+from physics import G
+from physics.inertia import MassProperties
+from physics.rotations import frame_from_axis, rotation_about
+
+__all__ = ["PhysicalPendulum", "Swing", "Strike", "LIBRATION", "ROTATION", "SEPARATRIX", "UNIFORM"]
+
+LIBRATION = "libration"
+"""Swinging to and fro between ``±amplitude`` (energy below the top)."""
+ROTATION = "rotation"
+"""Going over the top, the angle growing (or falling) without bound."""
+SEPARATRIX = "separatrix"
+"""Exactly the energy of the inverted position: the body approaches the top as ``t → ±∞``."""
+UNIFORM = "uniform"
+"""No restoring torque (vertical axis, ``g = 0`` or ``a⊥ = 0``): ``θ = θ0 + θ̇0 t``."""
+
+_EPS = np.finfo(float).eps
+
+
+class Swing(NamedTuple):
+    """The angle and the angular rate along a swing (unpacks as ``theta, theta_dot``)."""
+
+    theta: NDArray[np.float64]
+    """Angle θ from the hanging position about the axis, rad, shape of the broadcast inputs."""
+    theta_dot: NDArray[np.float64]
+    """Angular velocity θ̇ about the axis, rad/s, same shape."""
+
+
+@dataclass(frozen=True)
+class Strike:
+    """What a sharp blow does to a body on a fixed axis (initially at rest or not: impulses add).
+
+    Attributes
+    ----------
+    delta_omega : float
+        Change of the angular velocity about the axis ``n̂``, rad/s (positive: right-hand about ``n̂``).
+    delta_velocity_cm : ndarray, shape (3,)
+        Change of the centre-of-mass velocity, m/s: ``Δω n̂ × a⊥``.
+    reaction_impulse : ndarray, shape (3,)
+        Impulse the pivot (the axis) exerts on the body, N s: ``M Δv_cm − J`` (the lecture's
+        ``ΔP − F Δt``). Zero for a blow at the centre of percussion perpendicular to the plane of
+        ``(n̂, a⊥)``.
+    reaction_angular_impulse : ndarray, shape (3,)
+        Angular impulse (a couple, N m s) the bearing exerts about the pivot, perpendicular to the
+        axis: ``I_pivot Δω n̂ − (r − pivot) × J − (its n̂ part, which is zero)``. It is zero when the
+        axis is a principal axis at the pivot and the blow lands in the pivot's plane; a hinge
+        supplies it otherwise.
+    """
+
+    delta_omega: float
+    delta_velocity_cm: NDArray[np.float64]
+    reaction_impulse: NDArray[np.float64]
+    reaction_angular_impulse: NDArray[np.float64]
+
+
+def _finite(value: ArrayLike, name: str, shape: tuple[int, ...] | None = None) -> NDArray[np.float64]:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be numeric, got {value!r}") from exc
+    if shape is not None and arr.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN or inf), got {arr.tolist()}")
+    return arr
+
+
+def _amplitude(u: NDArray[np.float64], m: NDArray[np.float64], m1: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Jacobi amplitude ``am(u | m)`` by the arithmetic-geometric mean, given ``m`` and ``m1 = 1 − m``.
+
+    Abramowitz & Stegun 16.4 (descending Landen), with two changes for accuracy near ``m = 1``:
+    ``b0 = sqrt(m1)`` from the separately known complement, and ``c_{n+1} = c_n² / (4 a_{n+1})`` with
+    the back-substitution ``asin(r sin φ)`` written as ``atan2(r sin φ, sqrt(cos²φ + (b/a)² sin²φ))``
+    (``1 − r² = b²/a²``), so nothing cancels. Needs ``0 <= m <= 1``, ``m1 > 0``; keep ``|u| <= 2 K``.
+    """
+    a = np.ones_like(u)
+    b = np.sqrt(m1)
+    c = np.sqrt(m)
+    ratios: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
+    for _ in range(64):  # quadratic convergence: ~12 steps even for m1 ~ 1e-300
+        if np.all(c <= _EPS * a):
+            break
+        a_next = 0.5 * (a + b)
+        b = np.sqrt(a * b)
+        c = c * c / (4.0 * a_next)
+        a = a_next
+        ratios.append((c / a, b / a))
+    phi = np.ldexp(a * u, len(ratios))
+    for r, q in reversed(ratios):
+        s, co = np.sin(phi), np.cos(phi)
+        phi = 0.5 * (phi + np.arctan2(r * s, np.sqrt(co * co + (q * s) ** 2)))
+    return phi
+
+
+def _incomplete_f(sin_phi: NDArray[np.float64], cos_phi: NDArray[np.float64], m1: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``F(φ | m)`` for ``|φ| <= π/2`` as ``sin φ R_F(cos²φ, cos²φ + m1 sin²φ, 1)`` (Carlson)."""
+    c2 = cos_phi * cos_phi
+    return sin_phi * elliprf(c2, c2 + m1 * sin_phi * sin_phi, 1.0)
+
+
+class PhysicalPendulum:
+    """A rigid body on a fixed axis under gravity ``−g ẑ``: the lecture's physical pendulum.
+
+    Parameters
+    ----------
+    mass_properties : physics.inertia.MassProperties
+        The body (mass, centre of mass, tensor about it) in its modelling frame, which is also the
+        space frame when the body is at :attr:`model_angle`.
+    pivot : array_like, shape (3,)
+        A point on the fixed axis, m.
+    axis : array_like, shape (3,)
+        Direction of the fixed axis (any length > 0). Only gravity's component perpendicular to it,
+        ``g⊥ = g |n̂ × ẑ|``, swings the body; a vertical axis gives no restoring torque (see the
+        module docstring).
+    g : float
+        Gravitational acceleration, m/s² (>= 0), default :data:`physics.G`.
+
+    Raises
+    ------
+    ValueError
+        For a ``mass_properties`` that is not a :class:`MassProperties`, non-finite or misshapen
+        ``pivot`` or ``axis``, a zero axis, a negative or non-finite ``g``, or a body with no moment
+        of inertia about the axis (a point mass or a thin rod lying on the axis cannot be turned).
+
+    Notes
+    -----
+    A pivot on the line through the centre of mass along the axis (``a⊥ = 0``) is accepted: the body
+    is balanced at every angle and turns uniformly; :attr:`effective_length` and the periods are
+    ``inf`` and :meth:`center_of_percussion` raises (it is at infinity).
+    """
+
+    def __init__(self, mass_properties: MassProperties, pivot: ArrayLike, axis: ArrayLike, g: float = G) -> None:
+        if not isinstance(mass_properties, MassProperties):
+            raise ValueError(
+                f"mass_properties must be a physics.inertia.MassProperties, got {type(mass_properties).__name__}"
+            )
+        self.mass_properties = mass_properties
+        self.pivot = _finite(pivot, "pivot", (3,)).copy()
+        axis_arr = _finite(axis, "axis", (3,))
+        norm = float(np.linalg.norm(axis_arr))
+        if norm == 0.0:
+            raise ValueError("axis must be a non-zero vector: it is the direction of the fixed rotation axis")
+        self.axis = axis_arr / norm
+        self.g = float(_finite(g, "g", ()))
+        if self.g < 0.0:
+            raise ValueError(f"g must not be negative (gravity is -g z), got {self.g}")
+        for arr in (self.pivot, self.axis):
+            arr.flags.writeable = False
+
+        n = self.axis
+        a = mass_properties.center_of_mass - self.pivot
+        a_perp = a - (a @ n) * n
+        self.a_perp_vector: NDArray[np.float64] = a_perp
+        """Perpendicular from the axis to the centre of mass, shape (3,), m (the lecture's ``a⊥``)."""
+        self.a_perp_vector.flags.writeable = False
+        self.a_perp: float = float(np.linalg.norm(a_perp))
+        """Distance of the centre of mass from the axis ``|a⊥|``, m."""
+        self.moment_of_inertia: float = mass_properties.moment_about(n, self.pivot)
+        """Moment of inertia about the axis ``I = I_cm,nn + M |a⊥|²`` (parallel-axis theorem), kg m²."""
+        if not self.moment_of_inertia > 0.0:
+            raise ValueError(
+                "the body has no moment of inertia about this axis (all its mass lies on the axis, like a "
+                "point mass or a thin rod along it), so it cannot be turned about it; choose another axis "
+                "or pivot"
+            )
+        # |n × z| without cancellation; exactly 0 for a vertical axis.
+        self.gravity_in_plane: float = self.g * float(np.hypot(n[0], n[1]))
+        """``g⊥ = g |n̂ × ẑ|``: the part of gravity that swings the body, m/s²."""
+
+        # Reference direction θ = 0: straight down in the swing plane; if the axis is vertical, the
+        # model's own a⊥ (or any perpendicular if that is zero).
+        down = np.array([0.0, 0.0, -1.0]) - (-n[2]) * n
+        if np.hypot(n[0], n[1]) > 0.0:
+            self._down = down / np.linalg.norm(down)
+        elif self.a_perp > 0.0:
+            self._down = a_perp / self.a_perp
+        else:
+            self._down = frame_from_axis(n)[:, 0]
+        self._side = np.cross(n, self._down)
+        self.model_angle: float = float(np.arctan2(a_perp @ self._side, a_perp @ self._down))
+        """θ of the body exactly as ``mass_properties`` describes it, rad (0 if it hangs)."""
+
+    # -- lecture quantities ---------------------------------------------------------------------
+    @property
+    def mass(self) -> float:
+        """Total mass M, kg."""
+        return self.mass_properties.mass
+
+    @property
+    def radius_of_gyration(self) -> float:
+        """``k = sqrt(I / M)`` about the axis, m (lecture: ``I^{zz} = M k²``)."""
+        return float(np.sqrt(self.moment_of_inertia / self.mass))
+
+    @property
+    def effective_length(self) -> float:
+        """``ℓ = k² / |a⊥|``, m: the simple pendulum with the same motion; ``inf`` if ``a⊥ = 0``."""
+        if self.a_perp == 0.0:
+            return float("inf")
+        return self.moment_of_inertia / (self.mass * self.a_perp)
+
+    @property
+    def omega0(self) -> float:
+        """Small-oscillation angular frequency ``ω0 = sqrt(g⊥ / ℓ) = sqrt(M g⊥ |a⊥| / I)``, rad/s."""
+        return float(np.sqrt(self.mass * self.gravity_in_plane * self.a_perp / self.moment_of_inertia))
+
+    @property
+    def small_oscillation_period(self) -> float:
+        """``2π sqrt(ℓ / g⊥)``, s; ``inf`` without a restoring torque."""
+        w = self.omega0
+        return 2.0 * np.pi / w if w > 0.0 else float("inf")
+
+    def energy(self, theta: ArrayLike, theta_dot: ArrayLike) -> NDArray[np.float64]:
+        """Total energy ``½ I θ̇² − M g⊥ |a⊥| cos θ``, J (potential zero with ``a⊥`` level, θ = ±π/2).
+
+        Parameters
+        ----------
+        theta, theta_dot : array_like, broadcastable
+            rad, rad/s.
+        """
+        th = _finite(theta, "theta")
+        thd = _finite(theta_dot, "theta_dot")
+        return 0.5 * self.moment_of_inertia * thd**2 - self.mass * self.gravity_in_plane * self.a_perp * np.cos(th)
+
+    # -- exact swing ----------------------------------------------------------------------------
+    def _energy_parameter(self, theta0: NDArray[np.float64], thetadot0: NDArray[np.float64]):
+        """Wrapped angle, turns, ``x = θ̇0/2ω0``, ``κ²`` and ``κ² − 1`` (computed without cancellation)."""
+        turns = np.round(theta0 / (2.0 * np.pi))
+        wrapped = theta0 - 2.0 * np.pi * turns  # in [-π, π]
+        half_sin, half_cos = np.sin(0.5 * wrapped), np.cos(0.5 * wrapped)  # half_cos >= 0
+        x = thetadot0 / (2.0 * self.omega0)
+        m = half_sin**2 + x**2
+        excess = (np.abs(x) - half_cos) * (np.abs(x) + half_cos)  # κ² − 1, the scaled energy above the top
+        return wrapped, turns, half_sin, half_cos, x, m, excess
+
+    def regime(self, theta0: ArrayLike, thetadot0: ArrayLike) -> NDArray[np.str_]:
+        """Which motion the initial state starts: :data:`LIBRATION`, :data:`ROTATION`,
+        :data:`SEPARATRIX` or :data:`UNIFORM` (no restoring torque).
+
+        Parameters
+        ----------
+        theta0, thetadot0 : array_like, broadcastable
+            Initial angle (rad) and rate (rad/s).
+
+        Returns
+        -------
+        ndarray of str, the broadcast shape
+        """
+        th0, thd0 = np.broadcast_arrays(_finite(theta0, "theta0"), _finite(thetadot0, "thetadot0"))
+        if self.omega0 == 0.0:
+            return np.full(th0.shape, UNIFORM)
+        excess = self._energy_parameter(th0, thd0)[-1]
+        return np.where(excess < 0.0, LIBRATION, np.where(excess > 0.0, ROTATION, SEPARATRIX))
+
+    def solve(self, theta0: ArrayLike, thetadot0: ArrayLike, t: ArrayLike) -> Swing:
+        """The exact swing at any amplitude (lecture: ``M k² θ̈ = −|a⊥| M g sin θ``).
+
+        Libration ``sin(θ/2) = κ sn(ω0 t + c | κ²)`` (the returned θ via ``2 atan2(κ sn, dn)``,
+        accurate to the top), rotation ``θ/2 = am(κ ω0 t + c | 1/κ²)``, separatrix ``θ/2 = gd(ω0 t + c)``,
+        uniform turning without a restoring torque. The elliptic argument is reduced modulo its
+        period before evaluation. Time may be negative (the solution is exact both ways).
+
+        Parameters
+        ----------
+        theta0 : array_like
+            Angle at ``t = 0`` from the hanging position, rad. Whole turns are kept: a swing about
+            ``2π`` stays about ``2π``.
+        thetadot0 : array_like
+            Angular velocity about the axis at ``t = 0``, rad/s.
+        t : array_like
+            Times, s. ``theta0``, ``thetadot0`` and ``t`` broadcast together (e.g. scalars and (n,)).
+
+        Returns
+        -------
+        Swing
+            ``theta`` (rad) and ``theta_dot`` (rad/s), each the broadcast shape (e.g. (n,)).
+        """
+        th0, thd0, tt = np.broadcast_arrays(
+            _finite(theta0, "theta0"), _finite(thetadot0, "thetadot0"), _finite(t, "t")
+        )
+        w = self.omega0
+        if w == 0.0:
+            return Swing(th0 + thd0 * tt, thd0.astype(float, copy=True))
+        wrapped, turns, half_sin, half_cos, x, m, excess = self._energy_parameter(th0, thd0)
+        theta = np.empty(th0.shape)
+        theta_dot = np.empty(th0.shape)
+        sign = np.where(thd0 < 0.0, -1.0, 1.0)
+
+        lib = excess < 0.0
+        if np.any(lib):
+            mm, m1 = m[lib], -excess[lib]
+            kappa = np.sqrt(mm)
+            safe = np.where(kappa > 0.0, kappa, 1.0)
+            sn0 = np.where(kappa > 0.0, half_sin[lib] / safe, 0.0)
+            cn0 = np.where(kappa > 0.0, x[lib] / safe, 1.0)
+            k_complete = ellipkm1(m1)
+            # am(c) has sin = sn0, cos = cn0; F on (π/2, π] by F(π − φ) = 2K − F(φ).
+            f0 = sn0 * elliprf(cn0**2, half_cos[lib] ** 2, 1.0)
+            c = np.where(cn0 < 0.0, 2.0 * k_complete - f0, f0)
+            u = w * tt[lib] + c
+            u = u - 4.0 * k_complete * np.round(u / (4.0 * k_complete))  # sn, cn have period 4K
+            phi = _amplitude(u, mm, m1)
+            sn, cn = np.sin(phi), np.cos(phi)
+            dn = np.sqrt(cn * cn + m1 * sn * sn)  # = cos(θ/2) > 0, no cancellation near the top
+            theta[lib] = 2.0 * np.arctan2(kappa * sn, dn)
+            theta_dot[lib] = 2.0 * kappa * w * cn
+
+        rot = excess > 0.0
+        if np.any(rot):
+            kappa = np.sqrt(m[rot])
+            q1 = excess[rot] / m[rot]  # 1 − 1/κ²
+            q = 1.0 / m[rot]
+            k_complete = ellipkm1(q1)
+            s = sign[rot]
+            psi0 = s * 0.5 * wrapped[rot]  # in [-π/2, π/2]
+            c = _incomplete_f(np.sin(psi0), np.cos(psi0), q1)
+            u = kappa * w * tt[rot] + c
+            half_turns = np.round(u / (2.0 * k_complete))  # am(u + 2K) = am(u) + π
+            r = u - 2.0 * k_complete * half_turns
+            phi = _amplitude(r, q, q1)
+            sn, cn = np.sin(phi), np.cos(phi)
+            theta[rot] = 2.0 * s * (phi + np.pi * half_turns)
+            theta_dot[rot] = 2.0 * s * kappa * w * np.sqrt(cn * cn + q1 * sn * sn)
+
+        sep = excess == 0.0
+        if np.any(sep):
+            s = sign[sep]
+            c = np.arcsinh(np.tan(s * 0.5 * wrapped[sep]))  # gd⁻¹
+            u = w * tt[sep] + c
+            theta[sep] = 2.0 * s * np.arctan(np.sinh(u))
+            theta_dot[sep] = 2.0 * s * w / np.cosh(u)
+
+        theta += 2.0 * np.pi * turns
+        return Swing(theta, theta_dot)
+
+    def period(self, amplitude: ArrayLike) -> NDArray[np.float64]:
+        """Period of libration with the given amplitude: ``4 K(sin²(θ_max/2)) / ω0``, s.
+
+        ``K`` is evaluated from the complement ``cos²(θ_max/2)`` (``scipy.special.ellipkm1``), so it
+        stays accurate as the amplitude approaches π, where the period diverges like
+        ``(4/ω0) ln(4 / cos(θ_max/2))``.
+
+        Parameters
+        ----------
+        amplitude : array_like
+            θ_max, rad, in ``[0, π]`` (π gives ``inf``: the separatrix).
+
+        Returns
+        -------
+        ndarray, the shape of ``amplitude``
+        """
+        amp = _finite(amplitude, "amplitude")
+        if np.any((amp < 0.0) | (amp > np.pi)):
+            raise ValueError(
+                f"a libration amplitude lies in [0, pi] rad, got {amp.tolist()}; larger energies go over the top"
+            )
+        if self.omega0 == 0.0:
+            return np.full(amp.shape, np.inf)
+        m1 = np.cos(0.5 * amp) ** 2
+        m1 = np.where(amp == np.pi, 0.0, m1)  # cos(π/2) in floats is 6e-17, not 0
+        return 4.0 * ellipkm1(m1) / self.omega0
+
+    def motion_period(self, theta0: ArrayLike, thetadot0: ArrayLike) -> NDArray[np.float64]:
+        """Time after which the state repeats, s: a full swing (libration), one turn of ``2π``
+        (rotation, ``2 K(1/κ²) / (κ ω0)``); ``inf`` on the separatrix or without a restoring torque.
+
+        Parameters
+        ----------
+        theta0, thetadot0 : array_like, broadcastable
+            rad, rad/s.
+        """
+        th0, thd0 = np.broadcast_arrays(_finite(theta0, "theta0"), _finite(thetadot0, "thetadot0"))
+        w = self.omega0
+        if w == 0.0:
+            return np.full(th0.shape, np.inf)
+        m, excess = self._energy_parameter(th0, thd0)[-2:]
+        out = np.full(th0.shape, np.inf)
+        lib, rot = excess < 0.0, excess > 0.0
+        out[lib] = 4.0 * ellipkm1(-excess[lib]) / w
+        out[rot] = 2.0 * ellipkm1(excess[rot] / m[rot]) / (np.sqrt(m[rot]) * w)
+        return out
+
+    # -- configuration --------------------------------------------------------------------------
+    def attitude(self, theta: ArrayLike) -> NDArray[np.float64]:
+        """Rotation of the body from its modelling pose to angle θ, about the axis through the pivot.
+
+        A body point moves as ``x_space = pivot + R @ (x_model − pivot)``.
+
+        Parameters
+        ----------
+        theta : array_like, shape () or (n,)
+            rad.
+
+        Returns
+        -------
+        ndarray, shape (3, 3) or (n, 3, 3)
+        """
+        th = _finite(theta, "theta")
+        return rotation_about(self.axis, th - self.model_angle)
+
+    def center_of_mass_at(self, theta: ArrayLike) -> NDArray[np.float64]:
+        """Centre-of-mass position at angle θ, m, shape (3,) or (n, 3)."""
+        rot = self.attitude(theta)
+        return self.pivot + rot @ (self.mass_properties.center_of_mass - self.pivot)
+
+    # -- percussion -----------------------------------------------------------------------------
+    def strike(self, impulse: ArrayLike, point: ArrayLike) -> Strike:
+        """A sharp blow: impulse ``J`` at ``point``, and the pivot's reaction (lecture, centre of percussion).
+
+        The axis is fixed, so only the moment of ``J`` about it turns the body:
+        ``I Δω = n̂ · ((r − pivot) × J)``; the centre of mass then gains ``Δv = Δω n̂ × a⊥``, and the
+        pivot supplies the rest of the momentum, ``R = M Δv − J`` (the lecture's ``ΔP − F Δt``).
+        Gravity is finite, so during the blow it adds nothing.
+
+        Parameters
+        ----------
+        impulse : array_like, shape (3,)
+            ``J = F Δt``, N s, in the frame of ``pivot`` and ``axis``.
+        point : array_like, shape (3,)
+            Where it lands, m (on the body at its modelling pose).
+
+        Returns
+        -------
+        Strike
+        """
+        j = _finite(impulse, "impulse", (3,))
+        r = _finite(point, "point", (3,)) - self.pivot
+        n = self.axis
+        delta_omega = float(n @ np.cross(r, j)) / self.moment_of_inertia
+        delta_v = delta_omega * np.cross(n, self.a_perp_vector)
+        reaction = self.mass * delta_v - j
+        couple = self.mass_properties.tensor_about(self.pivot) @ (delta_omega * n) - np.cross(r, j)
+        couple = couple - (couple @ n) * n  # its n̂ part is zero by construction; drop round-off
+        return Strike(delta_omega, delta_v, reaction, couple)
+
+    def center_of_percussion(self) -> NDArray[np.float64]:
+        """The point ``pivot + ℓ a⊥/|a⊥|``, m, shape (3,): struck there perpendicular to the plane of
+        ``(n̂, a⊥)``, the body needs no impulse from the pivot (DESIGN.md erratum 2).
+
+        Any point on the line through it parallel to the axis does the same for the reaction
+        *force*; a general body on a hinge may still need a reaction couple
+        (:attr:`Strike.reaction_angular_impulse`).
+
+        Raises
+        ------
+        ValueError
+            If ``a⊥ = 0``: the centre of percussion is at infinity.
+        """
+        if self.a_perp == 0.0:
+            raise ValueError(
+                "the centre of mass is on the axis (a_perp = 0): every blow pushes on the pivot and the "
+                "centre of percussion is at infinity"
+            )
+        return self.pivot + self.effective_length * self.a_perp_vector / self.a_perp
