@@ -220,9 +220,10 @@ class PhysicalPendulum:
 
         # Reference direction θ = 0: straight down in the swing plane; if the axis is vertical, the
         # model's own a⊥ (or any perpendicular if that is zero).
-        down = np.array([0.0, 0.0, -1.0]) - (-n[2]) * n
-        if np.hypot(n[0], n[1]) > 0.0:
-            self._down = down / np.linalg.norm(down)
+        # −(ẑ − n_z n̂) / |n̂ × ẑ|, written with 1 − n_z² = h², so a nearly vertical axis loses nothing.
+        h = float(np.hypot(n[0], n[1]))
+        if h > 0.0:
+            self._down = np.array([n[2] * n[0] / h, n[2] * n[1] / h, -h])
         elif self.a_perp > 0.0:
             self._down = a_perp / self.a_perp
         else:
@@ -278,9 +279,13 @@ class PhysicalPendulum:
         turns = np.round(theta0 / (2.0 * np.pi))
         wrapped = theta0 - 2.0 * np.pi * turns  # in [-π, π]
         half_sin, half_cos = np.sin(0.5 * wrapped), np.cos(0.5 * wrapped)  # half_cos >= 0
-        x = thetadot0 / (2.0 * self.omega0)
+        two_w = 2.0 * self.omega0
+        x = thetadot0 / two_w
         m = half_sin**2 + x**2
-        excess = (np.abs(x) - half_cos) * (np.abs(x) + half_cos)  # κ² − 1, the scaled energy above the top
+        # κ² − 1, the scaled energy above the top, as a product of a difference taken before dividing
+        # by 2ω0 (exact by Sterbenz near the separatrix): it is what the float inputs really mean.
+        speed, top = np.abs(thetadot0), two_w * half_cos
+        excess = ((speed - top) / two_w) * ((speed + top) / two_w)
         return wrapped, turns, half_sin, half_cos, x, m, excess
 
     def regime(self, theta0: ArrayLike, thetadot0: ArrayLike) -> NDArray[np.str_]:
