@@ -79,7 +79,7 @@ class Swing(NamedTuple):
 
 @dataclass(frozen=True)
 class Strike:
-    """What a sharp blow does to a body on a fixed axis (initially at rest or not: impulses add).
+    """What a sharp blow does to a body on a fixed axis (at rest or swinging: the same changes).
 
     Attributes
     ----------
@@ -93,9 +93,9 @@ class Strike:
         ``(n̂, a⊥)``.
     reaction_angular_impulse : ndarray, shape (3,)
         Angular impulse (a couple, N m s) the bearing exerts about the pivot, perpendicular to the
-        axis: ``I_pivot Δω n̂ − (r − pivot) × J − (its n̂ part, which is zero)``. It is zero when the
-        axis is a principal axis at the pivot and the blow lands in the pivot's plane; a hinge
-        supplies it otherwise.
+        axis: ``I_pivot Δω n̂ − (r − pivot) × J`` (its n̂ part is zero). It vanishes when the axis is
+        a principal axis at the pivot and the blow (point and direction) lies in the plane through
+        the pivot perpendicular to the axis; otherwise a hinge must supply it.
     """
 
     delta_omega: float
@@ -459,20 +459,29 @@ class PhysicalPendulum:
         return self.pivot + rot @ (self.mass_properties.center_of_mass - self.pivot)
 
     # -- percussion -----------------------------------------------------------------------------
-    def strike(self, impulse: ArrayLike, point: ArrayLike) -> Strike:
+    def _pose(self, theta: float | None) -> NDArray[np.float64]:
+        """Rotation from the modelling pose to angle ``theta`` (identity for ``None``), shape (3, 3)."""
+        if theta is None:
+            return np.eye(3)
+        return self.attitude(_finite(theta, "theta", ()))
+
+    def strike(self, impulse: ArrayLike, point: ArrayLike, theta: float | None = None) -> Strike:
         """A sharp blow: impulse ``J`` at ``point``, and the pivot's reaction (lecture, centre of percussion).
 
         The axis is fixed, so only the moment of ``J`` about it turns the body:
         ``I Δω = n̂ · ((r − pivot) × J)``; the centre of mass then gains ``Δv = Δω n̂ × a⊥``, and the
         pivot supplies the rest of the momentum, ``R = M Δv − J`` (the lecture's ``ΔP − F Δt``).
-        Gravity is finite, so during the blow it adds nothing.
+        Gravity and the centripetal force are finite, so during the blow they add nothing: the
+        result is the same whether the body is at rest or swinging.
 
         Parameters
         ----------
         impulse : array_like, shape (3,)
             ``J = F Δt``, N s, in the frame of ``pivot`` and ``axis``.
         point : array_like, shape (3,)
-            Where it lands, m (on the body at its modelling pose).
+            Where it lands, m.
+        theta : float, optional
+            The body's angle when struck, rad; default: the modelling pose (:attr:`model_angle`).
 
         Returns
         -------
@@ -480,21 +489,28 @@ class PhysicalPendulum:
         """
         j = _finite(impulse, "impulse", (3,))
         r = _finite(point, "point", (3,)) - self.pivot
+        rot = self._pose(theta)
         n = self.axis
         delta_omega = float(n @ np.cross(r, j)) / self.moment_of_inertia
-        delta_v = delta_omega * np.cross(n, self.a_perp_vector)
+        delta_v = delta_omega * np.cross(n, rot @ self.a_perp_vector)
         reaction = self.mass * delta_v - j
-        couple = self.mass_properties.tensor_about(self.pivot) @ (delta_omega * n) - np.cross(r, j)
+        tensor_pivot = rot @ self.mass_properties.tensor_about(self.pivot) @ rot.T
+        couple = tensor_pivot @ (delta_omega * n) - np.cross(r, j)
         couple = couple - (couple @ n) * n  # its n̂ part is zero by construction; drop round-off
         return Strike(delta_omega, delta_v, reaction, couple)
 
-    def center_of_percussion(self) -> NDArray[np.float64]:
+    def center_of_percussion(self, theta: float | None = None) -> NDArray[np.float64]:
         """The point ``pivot + ℓ a⊥/|a⊥|``, m, shape (3,): struck there perpendicular to the plane of
         ``(n̂, a⊥)``, the body needs no impulse from the pivot (DESIGN.md erratum 2).
 
         Any point on the line through it parallel to the axis does the same for the reaction
         *force*; a general body on a hinge may still need a reaction couple
         (:attr:`Strike.reaction_angular_impulse`).
+
+        Parameters
+        ----------
+        theta : float, optional
+            The body's angle, rad; default: the modelling pose (:attr:`model_angle`).
 
         Raises
         ------
@@ -506,4 +522,5 @@ class PhysicalPendulum:
                 "the centre of mass is on the axis (a_perp = 0): every blow pushes on the pivot and the "
                 "centre of percussion is at infinity"
             )
-        return self.pivot + self.effective_length * self.a_perp_vector / self.a_perp
+        rot = self._pose(theta)
+        return self.pivot + self.effective_length * (rot @ self.a_perp_vector) / self.a_perp
