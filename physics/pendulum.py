@@ -5,7 +5,8 @@ pivot-to-centre-of-mass vector perpendicular to the axis ``n̂``:
 
 * parallel-axis theorem ``I = I_cm,nn + M |a⊥|²  = M k²`` (``k`` the radius of gyration);
 * equation of motion ``M k² θ̈ = −|a⊥| M g⊥ sin θ``, i.e. a simple pendulum of effective length
-  ``ℓ = k² / |a⊥|``, with ``ℓ > k > |a⊥|`` unless the mass sits at one point (``ℓ = k = |a⊥|``);
+  ``ℓ = k² / |a⊥|``, with ``ℓ > k > |a⊥|`` unless all the mass lies on one line parallel to the axis
+  (a point mass, a rod along the axis direction: ``I_cm,nn = 0`` and ``ℓ = k = |a⊥|``);
 * a sharp blow at the centre of percussion, a distance ``ℓ`` from the axis, needs no impulse from the
   pivot (DESIGN.md erratum 2: the transcription lost the "no").
 
@@ -178,6 +179,9 @@ class PhysicalPendulum:
     A pivot on the line through the centre of mass along the axis (``a⊥ = 0``) is accepted: the body
     is balanced at every angle and turns uniformly; :attr:`effective_length` and the periods are
     ``inf`` and :meth:`center_of_percussion` raises (it is at infinity).
+
+    The derived quantities are computed once, here: build a new pendulum to change the body, pivot,
+    axis or ``g`` rather than assigning to the attributes.
     """
 
     def __init__(self, mass_properties: MassProperties, pivot: ArrayLike, axis: ArrayLike, g: float = G) -> None:

@@ -127,6 +127,10 @@ def test_point_mass_has_effective_length_equal_to_its_distance():
     assert pend.radius_of_gyration == pytest.approx(a, rel=1e-15)
     assert pend.effective_length == pytest.approx(a, rel=1e-15)
     assert pend.small_oscillation_period == pytest.approx(2 * np.pi * np.sqrt(a / G), rel=1e-15)
+    # A thin rod parallel to the axis has its mass on one such line too: ℓ = k = |a⊥| = 0.7 m.
+    parallel = PhysicalPendulum(rod(1.0, 2.0), pivot=[0.7, 0.0, 0.0], axis=[0.0, 0.0, 1.0])
+    assert parallel.effective_length == pytest.approx(0.7, rel=1e-15)
+    assert parallel.radius_of_gyration == pytest.approx(0.7, rel=1e-15)
 
 
 def test_moment_about_axis_equals_direct_sum_over_point_masses():
