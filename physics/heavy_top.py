@@ -394,9 +394,8 @@ class HeavyTop:
             t1 = np.where(dm == 0.0, 0.0, dm**2 / (8.0 * i1**2 * half_lo))
             t2 = np.where(dp == 0.0, 0.0, dp**2 / (8.0 * i1**2 * half_hi))
         # (Lz − L3 u)²/(1 − u²) = dm²/(2(1−u)) + dp²/(2(1+u)) − ... exactly:
-        # (Lz − L3u)² = ((1+u) dm + (1−u) dp)²/4, divided by (1−u)(1+u).
-        cross = dm * dp / (4.0 * i1**2)
-        return t1 + t2 + cross + (self.mgl / i1) * np.cos(theta)
+        # (Lz − L3 u)² / (1 − u²) = dm²/(2(1−u)) + dp²/(2(1+u)) − L3², dm, dp = Lz ∓ L3.
+        return t1 + t2 - L3**2 / (2.0 * i1**2) + (self.mgl / i1) * np.cos(theta)
 
     def effective_potential_derivative(self, theta: ArrayLike, Lz: float, L3: float) -> NDArray[np.float64]:
         """``dU/dθ`` of :meth:`effective_potential`, 1/s²; ``θ̈ = −dU/dθ`` (lecture's θ equation).
@@ -694,9 +693,8 @@ class HeavyTop:
     def _evaluate(self, mo: _Motion, t: NDArray[np.float64]):
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
         tau = lam * t + mo.c
-        k = np.round(tau / (2.0 * K))
-        r = tau - 2.0 * K * k  # in [−K, K]: sn² has period 2K
-        sn, cn, dn, _ = ellipj(r, m)
+        k, r = _reduce(tau, K)
+        sn, cn, dn = _jacobi(r, m, cu.u3_minus_u2 / cu.u3_minus_u1, K)
         sn2, cn2 = sn * sn, cn * cn
         u21 = cu.u2_minus_u1
         # 1 ∓ u as sums of non-negative terms: no cancellation near the poles.
@@ -731,7 +729,7 @@ class HeavyTop:
             if coef == 0.0:
                 continue
             big = 2.0 * k * pic + _incomplete_third_kind(r, sn, cn2, dn * dn, n, one_n)
-            c0 = _incomplete_third_kind_scalar(mo.c, K, pic, m, n, one_n)
+            c0 = _incomplete_third_kind_scalar(mo.c, K, pic, m, cu.u3_minus_u2 / cu.u3_minus_u1, n, one_n)
             phi = phi + coef * (big - c0)
             psi = psi + coef_psi * (big - c0)
             dist = one_mu if pole == +1 else one_pu
@@ -776,9 +774,32 @@ def _incomplete_third_kind(r, sn, cn2, dn2, n: float, one_n: float):
     return r + term
 
 
-def _incomplete_third_kind_scalar(tau: float, K: float, pic: float, m: float, n: float, one_n: float) -> float:
-    k = round(tau / (2.0 * K))
-    r = tau - 2.0 * K * k
+def _jacobi(r, m: float, one_m: float, K: float):
+    """sn, cn, dn of r in [−K, K) with cn keeping its relative digits near r = ±K (the top turning
+    point, where 1 − u ∝ cn² may be all that separates the axis from the pole): there
+    ``sn(K − x) = cd x``, ``cn(K − x) = sqrt(1 − m) sd x``, ``dn(K − x) = sqrt(1 − m) nd x``."""
+    r = np.asarray(r, dtype=float)
     sn, cn, dn, _ = ellipj(r, m)
-    return float(2.0 * k * pic + _incomplete_third_kind(np.array([r]), np.array([sn]), np.array([cn * cn]),
-                                                        np.array([dn * dn]), n, one_n)[0])
+    far = np.abs(r) > 0.5 * K
+    if np.any(far):
+        x = K - np.abs(r[far])  # exact (Sterbenz)
+        sx, cx, dx, _ = ellipj(x, m)
+        k1 = math.sqrt(one_m)
+        sn[far] = np.sign(r[far]) * cx / dx
+        cn[far] = k1 * sx / dx
+        dn[far] = k1 / dx
+    return sn, cn, dn
+
+
+def _reduce(tau, K: float):
+    """``τ = 2K k + r`` with r in [−K, K): sn² has period 2K. The half-open interval puts τ = K (the
+    top turning point) at r = −K, on the side the pole-jump count already counts as passed."""
+    k = np.floor((tau + K) / (2.0 * K))
+    return k, tau - 2.0 * K * k
+
+
+def _incomplete_third_kind_scalar(tau: float, K: float, pic: float, m: float, one_m: float, n: float,
+                                  one_n: float) -> float:
+    k, r = _reduce(tau, K)
+    sn, cn, dn = _jacobi(np.array([r]), m, one_m, K)
+    return float(2.0 * k * pic + _incomplete_third_kind(np.array([r]), sn, cn * cn, dn * dn, n, one_n)[0])
