@@ -50,6 +50,7 @@ __all__ = [
     "symmetry_axis",
     "omega_body_from_euler",
     "simulate_heavy_body",
+    "TransverseAirDrag",
 ]
 
 _EPS = np.finfo(float).eps
@@ -264,6 +265,41 @@ class HeavyTopSolution:
         return top.angular_momenta(self.theta, self.phidot, self.psidot)
 
 
+@dataclass(frozen=True)
+class _PoleTerm:
+    """One pole's share of φ: ``φ̇ ⊃ half_d / (1 ∓ u)`` (pole = ±1), integrated in closed form.
+
+    As a function of τ = λ t + c the integral is ``a0 x + a1 Π(n; x)`` with ``x = τ − shift``,
+    ``Π(n; x) = ∫₀ˣ dτ'/(1 − n sn²τ')`` (quasi-periodic: + 2 Π(n|m) per 2K). If the axis passes exactly
+    through the pole (``1 − n = 0``) the term is the limit: ``±π`` at each passage (x = K mod 2K).
+    ψ gets the same term times ``−pole``.
+    """
+
+    pole: int
+    half_d: float
+    jump: float
+    shift: float
+    a0: float
+    a1: float
+    n: float
+    one_n: float
+    pic: float
+
+    def integral(self, tau, K: float, m: float, one_m: float, jac=None):
+        x = np.asarray(tau, dtype=float) - self.shift
+        if self.jump:
+            return self.jump * math.pi * np.floor((x + K) / (2.0 * K))
+        if self.a0 == 0.0 and self.a1 == 0.0:
+            return np.zeros_like(x)
+        if jac is None or self.shift != 0.0:
+            k, r = _reduce(x, K)
+            sn, cn, dn = _jacobi(r, m, one_m, K)
+            cn2, dn2 = cn * cn, dn * dn
+        else:
+            k, r, sn, cn2, dn2 = jac
+        return self.a0 * x + self.a1 * (2.0 * k * self.pic + _incomplete_third_kind(r, sn, cn2, dn2, self.n, self.one_n))
+
+
 @dataclass
 class _Motion:
     """Everything the closed form needs, computed once per initial condition."""
@@ -283,7 +319,7 @@ class _Motion:
     K: float = 0.0
     c: float = 0.0
     spin_rate: float = 0.0  # L3/I3 − L3/I1: the constant part of ψ̇
-    terms: list = field(default_factory=list)  # per pole: (coef φ, coef ψ, n, 1−n, jump_sign, pole)
+    terms: list = field(default_factory=list)  # two _PoleTerm
     period: float = math.inf
     precession_rate: float = 0.0
 
@@ -566,27 +602,38 @@ class HeavyTop:
         mo.c = -c if udot0 < 0.0 else c
         mo.spin_rate = L3 / I3 - beta
         mo.period = 2.0 * K / lam
-        # The two pole terms of φ̇: (α ∓ β) / (2 (1 ∓ u)), ∫ dt/(1 ∓ u) = Π(n±; τ) / (λ (1 ∓ u1)).
+        # The two pole terms of φ̇: (α ∓ β) / (2 (1 ∓ u)); their time integrals are elliptic integrals of
+        # the third kind (Carlson R_J). See _PoleTerm.
         terms = []
-        for pole, d, one_mu1, one_mu2 in ((+1, dm, r1.p, r2.p), (-1, dp, r1.q, r2.q)):
-            if one_mu2 == 0.0 and pole == -1:
-                continue  # cannot happen: u2 = −1 means u1 = u2
-            if one_mu1 == 0.0:  # u1 = −1 exactly (axis through the bottom pole)
-                terms.append((0.0, 0.0, 0.0, 0.0, math.copysign(1.0, d) if d != 0 else 1.0, pole, 0.0))
-                continue
-            n = pole * u21 / one_mu1  # 1 − pole u = (1 − pole u1)(1 − n sn²)
-            one_n = one_mu2 / one_mu1 if pole == +1 else 1.0 - n
-            jump = 0.0
-            if pole == +1 and one_mu2 == 0.0:  # u2 = 1 exactly (axis through the top pole)
-                jump = math.copysign(1.0, d) if d != 0 else 1.0
-            coef = 0.5 * d / (one_mu1 * lam)
-            pic = 0.0 if jump else _complete_third_kind(n, one_n, m, one_m, K)
-            terms.append((coef, -pole * coef, n, one_n, jump, pole, pic))
+        for pole, d in ((+1, dm), (-1, dp)):
+            half_d = 0.5 * d
+            if pole == +1:
+                # 1 − u = (1 − u1)(1 − n sn²τ), n = (u2 − u1)/(1 − u1) ≤ 1.
+                d1, d2 = r1.p, r2.p
+                n, one_n, shift = u21 / d1, d2 / d1, 0.0
+                a0, a1 = 0.0, half_d / (lam * d1)
+            elif u21 <= r1.q:
+                # 1 + u = (1 + u1)(1 − n sn²τ), n = −(u2 − u1)/(1 + u1) ∈ [−1, 0].
+                n = -u21 / r1.q
+                one_n, shift = 1.0 - n, 0.0
+                a0, a1 = 0.0, half_d / (lam * r1.q)
+            else:
+                # Near the bottom pole n → −∞ and Π(n) cancels; instead 1 + u = (1 + u2)(1 − n' cn²τ) and with
+                # x = τ − K, ∫ dτ/(1 − n' cn²) = (m/N) x + (1 − m/N) Π(N; x), N = m + n'(1 − m) ∈ [m, 1]:
+                # the same well-conditioned form as the top pole.
+                npr = u21 / r2.q
+                n = m + npr * (1.0 - m)
+                one_n = one_m * r1.q / r2.q
+                shift = K
+                scale = half_d / (lam * r2.q)
+                a0, a1 = scale * m / n, scale * npr * one_m / n
+            through = one_n == 0.0  # the axis passes exactly through this pole
+            jump = (math.copysign(1.0, d) if d != 0.0 else 1.0) if through else 0.0
+            pic = 0.0 if through else _complete_third_kind(n, one_n, m, one_m, K)
+            terms.append(_PoleTerm(pole, half_d, jump, shift, a0, a1, n, one_n, pic))
         mo.terms = terms
-        # Mean φ̇ over one period: each pole term advances by 2 coef Π(n|m), or by ±π per pole passage.
-        adv = 0.0
-        for coef, _, n, one_n, jump, pole, pic in terms:
-            adv += jump * math.pi if jump else 2.0 * coef * pic
+        # Mean φ̇ over one period: each pole term advances by 2K a0 + 2 a1 Π(n|m), or by ±π per passage.
+        adv = sum(tm.jump * math.pi if tm.jump else 2.0 * K * tm.a0 + 2.0 * tm.a1 * tm.pic for tm in terms)
         mo.precession_rate = adv / mo.period
         return mo
 
@@ -690,6 +737,47 @@ class HeavyTop:
                                 nutation_period=mo.period, precession_rate=mo.precession_rate,
                                 theta_min=tmin, theta_max=tmax)
 
+    def simulate(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float, t_final: float,
+                         dt: float, *, spin_friction: float = 0.0, air_drag: float = 0.0, method: str | type = "LieRK4",
+                         save_every: int = 1, phi0: float = 0.0, psi0: float = 0.0) -> FrictionRun:
+        """The top with friction, integrated step by step on (R, L_body) by :mod:`physics.integrators`.
+
+        Friction model (both at the tip, both only remove energy):
+
+        * spin friction at the tip: body torque ``−c ω3 e3`` about the symmetry axis
+          (:class:`physics.integrators.SpinFriction`), so ``dL3/dt = −c L3 / I3`` and
+          ``dE/dt = −c ω3² ≤ 0``; L3 decays as ``exp(−c t / I3)``;
+        * optional air drag on the wobble: ``−c_air (ω1, ω2, 0)`` (:class:`TransverseAirDrag`),
+          ``dE/dt = −c_air (ω1² + ω2²)``.
+
+        The lecture's story: a sleeping top (θ0 ≈ 0) with ``L3 > 2 sqrt(M g ℓ I1)`` stays up; as friction
+        takes L3 below :meth:`sleeping_threshold` the vertical turns unstable (U''(0) < 0), the top starts
+        to wobble and falls. No Euler angles are integrated, so θ = 0 and θ = π/2 are ordinary points.
+
+        Parameters
+        ----------
+        theta0, thetadot0, phidot0, psidot0 : float
+            Initial Euler angle θ (rad, in [0, π]) and rates (rad/s), as in :meth:`solve`.
+        t_final, dt : float
+            Duration and step, s (the step is shortened to fit a whole number of steps).
+        spin_friction : float
+            ``c ≥ 0``, N m s.
+        air_drag : float
+            ``c_air ≥ 0``, N m s.
+        method : str or integrator class
+            ``"LieRK4"`` (default), ``"Yoshida4"``, ``"LiePoissonStrang"`` or ``"ExactFreeSplitting"``.
+        save_every : int
+            Keep every this many steps.
+        phi0, psi0 : float
+            Initial precession and spin angles, rad.
+
+        Returns
+        -------
+        FrictionRun
+        """
+        return _simulate_symmetric(self, theta0, thetadot0, phidot0, psidot0, t_final, dt, spin_friction, air_drag,
+                                   method, save_every, phi0, psi0)
+
     def _evaluate(self, mo: _Motion, t: NDArray[np.float64]):
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
         tau = lam * t + mo.c
@@ -716,29 +804,17 @@ class HeavyTop:
         phi = np.full_like(t, mo.phi0)
         psi = mo.psi0 + mo.spin_rate * t
         pdd = np.full_like(t, mo.spin_rate)
-        for coef, coef_psi, n, one_n, jump, pole, pic in mo.terms:
-            if jump:
-                # Exact passage through the pole: a jump of ±π per passage (limit of the smooth turn).
-                if pole == +1:
-                    cnt = np.floor((tau + K) / (2.0 * K)) - math.floor((mo.c + K) / (2.0 * K))
-                else:
-                    cnt = np.floor(tau / (2.0 * K)) - math.floor(mo.c / (2.0 * K))
-                phi = phi + jump * math.pi * cnt
-                psi = psi - pole * jump * math.pi * cnt
-                continue
-            if coef == 0.0:
-                continue
-            big = 2.0 * k * pic + _incomplete_third_kind(r, sn, cn2, dn * dn, n, one_n)
-            c0 = _incomplete_third_kind_scalar(mo.c, K, pic, m, cu.u3_minus_u2 / cu.u3_minus_u1, n, one_n)
-            phi = phi + coef * (big - c0)
-            psi = psi + coef_psi * (big - c0)
-            dist = one_mu if pole == +1 else one_pu
-            # coef λ (1 ∓ u1) = (α ∓ β)/2; rate = (α ∓ β) / (2 (1 ∓ u))
-            half_d = coef * lam * (cu.one_minus_u1 if pole == +1 else cu.one_plus_u1)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                rate = np.where(dist > 0.0, half_d / dist, 0.0)
-            fd = fd + rate
-            pdd = pdd - pole * rate
+        one_m = cu.u3_minus_u2 / cu.u3_minus_u1
+        for tm in mo.terms:
+            dphi = tm.integral(tau, K, m, one_m, (k, r, sn, cn2, dn * dn)) - tm.integral(np.array([mo.c]), K, m, one_m)
+            phi = phi + dphi
+            psi = psi - tm.pole * dphi
+            if tm.half_d != 0.0:
+                dist = one_mu if tm.pole == +1 else one_pu
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rate = np.where(dist > 0.0, tm.half_d / dist, 0.0)
+                fd = fd + rate
+                pdd = pdd - tm.pole * rate
         return th, phi, psi, thd, fd, pdd, u, st
 
 
@@ -798,8 +874,190 @@ def _reduce(tau, K: float):
     return k, tau - 2.0 * K * k
 
 
-def _incomplete_third_kind_scalar(tau: float, K: float, pic: float, m: float, one_m: float, n: float,
-                                  one_n: float) -> float:
-    k, r = _reduce(tau, K)
-    sn, cn, dn = _jacobi(np.array([r]), m, one_m, K)
-    return float(2.0 * k * pic + _incomplete_third_kind(np.array([r]), sn, cn * cn, dn * dn, n, one_n)[0])
+class TransverseAirDrag:
+    """Air drag on the wobble: body torque ``−c_air (ω1, ω2, 0)`` (opposes the rotation of the symmetry
+    axis, not the spin), N m. A torque object for :mod:`physics.integrators`.
+
+    Parameters
+    ----------
+    coefficient : float
+        ``c_air ≥ 0``, N m s.
+    moments : array_like (3,)
+        Principal moments about the pivot, kg m² (to get ω = L / I).
+    """
+
+    conservative = False
+
+    def __init__(self, coefficient: float, moments: ArrayLike) -> None:
+        self.coefficient = _finite(coefficient, "air_drag")
+        if self.coefficient < 0.0:
+            raise ValueError(f"air_drag must be >= 0 (it removes energy), got {self.coefficient}")
+        self.moments = np.asarray(moments, dtype=float).reshape(3)
+
+    def __call__(self, R: NDArray[np.float64], L_body: NDArray[np.float64]) -> NDArray[np.float64]:
+        w = np.asarray(L_body, dtype=float) / self.moments
+        out = -self.coefficient * w
+        out[..., 2] = 0.0
+        return out
+
+
+@dataclass(frozen=True)
+class FrictionRun:
+    """A heavy body integrated step by step (attitude R and body angular momentum L).
+
+    Attributes
+    ----------
+    t : ndarray (k,)
+        Saved times, s.
+    attitude : ndarray (k, 3, 3)
+        Body-to-space rotations.
+    L_body : ndarray (k, 3)
+        Angular momentum about the pivot in the body frame, kg m²/s.
+    omega_body : ndarray (k, 3)
+        Angular velocity in the body frame, rad/s.
+    axis : ndarray (k, 3)
+        Body axis 3 in space (the symmetry axis of a symmetric top).
+    theta : ndarray (k,)
+        Angle of that axis from +z, rad (from the axis itself: no Euler-angle singularity).
+    energy : ndarray (k,)
+        Kinetic plus gravitational energy, J.
+    L3 : ndarray (k,)
+        Body component 3 of L (the spin angular momentum of a symmetric top), kg m²/s.
+    Lz : ndarray (k,)
+        Space z component of L, kg m²/s (conserved without friction: gravity's torque is horizontal).
+    method : str
+        Name of the integrator.
+    """
+
+    t: NDArray[np.float64]
+    attitude: NDArray[np.float64]
+    L_body: NDArray[np.float64]
+    omega_body: NDArray[np.float64]
+    axis: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    energy: NDArray[np.float64]
+    L3: NDArray[np.float64]
+    Lz: NDArray[np.float64]
+    method: str
+
+
+_METHOD_NAMES = ("LiePoissonStrang", "Yoshida4", "ExactFreeSplitting", "LieRK4")
+
+
+def _method_class(method):
+    from physics import integrators
+
+    if isinstance(method, str):
+        if method not in _METHOD_NAMES:
+            raise ValueError(f"unknown method {method!r}; choose one of {', '.join(_METHOD_NAMES)}")
+        return getattr(integrators, method)
+    return method
+
+
+def simulate_heavy_body(
+    moments: ArrayLike,
+    mass: float,
+    center_of_mass_body: ArrayLike,
+    attitude0: ArrayLike,
+    omega_body0: ArrayLike,
+    t_final: float,
+    dt: float,
+    *,
+    torques: Sequence[Callable] = (),
+    method: str | type = "LieRK4",
+    g: float = G,
+    save_every: int = 1,
+) -> FrictionRun:
+    """Any rigid body with one point (the origin, its pivot) fixed, under gravity ``−g ẑ`` and optional
+    extra torques, integrated by :mod:`physics.integrators` on (R, L_body) — no Euler angles.
+
+    Euler's equations with the gravity torque ``τ_body = c × (−M g Rᵀ ẑ)`` (c = centre of mass in the
+    body frame) and ``Ṙ = R hat(ω_body)``.
+
+    Parameters
+    ----------
+    moments : array_like (3,)
+        Principal moments about the pivot, kg m²; the body frame is their principal frame.
+    mass : float
+        kg (> 0).
+    center_of_mass_body : array_like (3,)
+        Centre of mass relative to the pivot, body frame, m.
+    attitude0 : array_like (3, 3)
+        Initial body-to-space rotation.
+    omega_body0 : array_like (3,)
+        Initial angular velocity, body frame, rad/s.
+    t_final, dt : float
+        Duration and step, s; the step is shortened so that a whole number of steps reaches t_final.
+    torques : sequence of torque objects
+        Extra torques (e.g. :class:`physics.integrators.SpinFriction`, :class:`TransverseAirDrag`).
+    method : str or integrator class
+        ``"LieRK4"`` (default, order 4), ``"Yoshida4"``, ``"LiePoissonStrang"``, ``"ExactFreeSplitting"``.
+    g : float
+        Gravitational acceleration, m/s².
+    save_every : int
+        Keep every this many steps.
+
+    Returns
+    -------
+    FrictionRun
+    """
+    from physics import integrators
+    from physics.inertia import validate_moments
+
+    I = validate_moments(moments)
+    mass = _finite(mass, "mass")
+    if mass <= 0.0:
+        raise ValueError(f"mass must be positive, got {mass}")
+    com = np.asarray(center_of_mass_body, dtype=float).reshape(3)
+    if not np.all(np.isfinite(com)):
+        raise ValueError("center_of_mass_body must be finite")
+    R0 = np.asarray(attitude0, dtype=float).reshape(3, 3)
+    if not np.all(np.isfinite(R0)) or np.max(np.abs(R0.T @ R0 - np.eye(3))) > 1e-10 or np.linalg.det(R0) < 0:
+        raise ValueError("attitude0 must be a rotation matrix (orthonormal, det +1)")
+    w0 = np.asarray(omega_body0, dtype=float).reshape(3)
+    if not np.all(np.isfinite(w0)):
+        raise ValueError("omega_body0 must be finite")
+    t_final, dt = _finite(t_final, "t_final"), _finite(dt, "dt")
+    if t_final <= 0.0 or dt <= 0.0:
+        raise ValueError(f"t_final and dt must be positive, got t_final = {t_final}, dt = {dt}")
+    n_steps = max(1, int(math.ceil(t_final / dt - 1e-9)))
+    h = t_final / n_steps
+    g = _finite(g, "g")
+    all_torques = [integrators.GravityTorque(mass, com, g=g), *torques]
+    stepper = _method_class(method)(I, all_torques)
+    traj = integrators.integrate(stepper, R0, I * w0, h, n_steps, save_every=save_every)
+    R = np.asarray(traj.attitude)
+    L = np.asarray(traj.L_body)
+    w = L / I
+    axis = R[:, :, 2].copy()
+    height = np.einsum("kij,j->ki", R, com)[:, 2]
+    energy = 0.5 * np.sum(L * w, axis=1) + mass * g * height
+    Lz = np.einsum("kij,kj->ki", R, L)[:, 2]
+    theta = np.arctan2(np.hypot(axis[:, 0], axis[:, 1]), axis[:, 2])
+    return FrictionRun(t=np.asarray(traj.t, dtype=float), attitude=R, L_body=L, omega_body=w, axis=axis,
+                       theta=theta, energy=energy, L3=L[:, 2].copy(), Lz=Lz,
+                       method=getattr(stepper, "name", type(stepper).__name__))
+
+
+def _simulate_symmetric(top: "HeavyTop", theta0, thetadot0, phidot0, psidot0, t_final, dt, spin_friction,
+                        air_drag, method, save_every, phi0, psi0) -> FrictionRun:
+    from physics import integrators
+
+    vals = [_finite(v, n) for v, n in ((theta0, "theta0"), (thetadot0, "thetadot0"), (phidot0, "phidot0"),
+                                       (psidot0, "psidot0"), (phi0, "phi0"), (psi0, "psi0"))]
+    if not 0.0 <= vals[0] <= math.pi:
+        raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {vals[0]}")
+    c = _finite(spin_friction, "spin_friction")
+    if c < 0.0:
+        raise ValueError(f"spin_friction must be >= 0 (it removes energy), got {c}")
+    moments = np.array([top.I1, top.I1, top.I3])
+    R0 = euler_attitude(vals[4], vals[0], vals[5])
+    w0 = omega_body_from_euler(vals[0], vals[5], vals[1], vals[2], vals[3])
+    torques: list = []
+    if c > 0.0:
+        torques.append(integrators.SpinFriction(c, moments, axis_body=(0.0, 0.0, 1.0)))
+    if air_drag:
+        torques.append(TransverseAirDrag(air_drag, moments))
+    # M g ℓ = mgl with a unit lever: the torque (and the energy) only depend on the product.
+    return simulate_heavy_body(moments, top.mgl / G, (0.0, 0.0, 1.0), R0, w0, t_final, dt, torques=torques,
+                               method=method, g=G, save_every=save_every)
