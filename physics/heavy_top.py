@@ -498,6 +498,9 @@ class HeavyTop:
         psi0 = _finite(psi0, "psi0")
         if not 0.0 <= th0 <= math.pi:
             raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {th0}")
+        # Squares of these would underflow: to every digit the cubic can see they are 0 (a pole, no rate).
+        th0 = 0.0 if th0 < 1e-150 else th0
+        thd0, phd0, psd0 = (0.0 if abs(x) < 1e-150 else x for x in (thd0, phd0, psd0))
         # At a pole θ̇ < 0 means leaving towards the opposite azimuth: same state, θ̇ > 0.
         if th0 == 0.0 and thd0 < 0.0:
             thd0, phi0, psi0 = -thd0, phi0 + math.pi, psi0 - math.pi
@@ -544,22 +547,33 @@ class HeavyTop:
         near = {"1": int(np.argmin([abs(v - w0) for v in vs])), "-1": int(np.argmin([abs(v + z0) for v in vs])),
                 "0": int(np.argmin([abs(v) for v in vs]))}
         for i, v in enumerate(vs):
-            x1, y1 = v - w0, v + z0  # offsets from u = 1 and u = −1
             if loc0[0] == 0.0 and i == near["0"]:
                 roots.append(_Root(0.0, w0, z0))
             elif dm == 0.0 and i == near["1"]:
                 roots.append(_Root(w0, 0.0, 2.0))
             elif dp == 0.0 and i == near["-1"]:
                 roots.append(_Root(-z0, 2.0, 0.0))
-            elif abs(v) <= min(abs(x1), abs(y1)):
-                v = _polish(loc0, v)
-                roots.append(_Root(v, w0 - v, z0 + v))
-            elif abs(x1) <= abs(y1):
-                x = _polish(loc_p, x1)
-                roots.append(_Root(w0 + x, -x, 2.0 + x))
             else:
-                y = _polish(loc_m, y1)
-                roots.append(_Root(y - z0, 2.0 - y, y))
+                # Polish in the expansion about the nearest anchor; a root that lands closer to another
+                # anchor (e.g. 1e-64 from a pole, 1e-31 from u0) is polished again there.
+                anchor = ""
+                for _ in range(3):
+                    offs = {"0": abs(v), "1": abs(v - w0), "-1": abs(v + z0)}
+                    best = min(offs, key=offs.get)
+                    if best == anchor:
+                        break
+                    anchor = best
+                    if best == "0":
+                        v = _polish(loc0, v)
+                        root = _Root(v, w0 - v, z0 + v)
+                    elif best == "1":
+                        x = _polish(loc_p, v - w0)
+                        root = _Root(w0 + x, -x, 2.0 + x)
+                    else:
+                        y = _polish(loc_m, v + z0)
+                        root = _Root(y - z0, 2.0 - y, y)
+                    v = root.v
+                roots.append(root)
         roots.sort(key=lambda r_: r_.u)
         r1, r2, r3 = roots
         # Rounding may push a root across u0 or a pole by an ulp; the motion lies in [u1, u2] ∋ u0.

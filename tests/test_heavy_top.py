@@ -14,7 +14,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
@@ -234,15 +234,26 @@ def test_attitude_satisfies_kinematics(name):
     assert np.allclose(s.attitude, euler_attitude(s.phi, s.theta, s.psi), atol=1e-15, rtol=0)
 
 
-@settings(max_examples=25, deadline=None, derandomize=True)
+def _rate(hi: float):
+    # 0 or |x| ≥ 1e-3: a rate like 1e-86 rad/s at exactly the sleeping threshold makes the nutation
+    # period 1e43 s, and φ's error ≈ eps·T·|φ̇| (documented limitation of the closed form).
+    mag = st.floats(1e-3, hi)
+    return st.one_of(st.just(0.0), mag, mag.map(lambda x: -x))
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
 @given(
     I1=st.floats(0.01, 1.0), ratio=st.floats(0.05, 2.0), mgl=st.floats(0.01, 10.0),
-    theta0=st.floats(0.0, math.pi), thetadot0=st.floats(-20.0, 20.0), phidot0=st.floats(-20.0, 20.0),
-    psidot0=st.floats(-200.0, 200.0),
+    theta0=st.one_of(st.just(0.0), st.just(math.pi), st.floats(1e-12, math.pi)), thetadot0=_rate(20.0),
+    phidot0=_rate(20.0), psidot0=_rate(200.0),
 )
 def test_random_tops_match_dop853(I1, ratio, mgl, theta0, thetadot0, phidot0, psidot0):
     top = HeavyTop(I1, ratio * I1, mgl)
     ic = (theta0, thetadot0, phidot0, psidot0)
+    cu = top.nutation_cubic(*ic)
+    # Near a separatrix (m → 1: an inverted pendulum barely leaving the top) any rounding of the
+    # data, in the reference too, grows like exp(t/τ): no 1e-10 comparison can be made there.
+    assume(cu is None or cu.u3_minus_u2 > 1e-6 * cu.u3_minus_u1)
     T = top.nutation_period(*ic)
     span = min(T, 2.0) if math.isfinite(T) else 2.0
     t = np.linspace(0.0, span, 21)
