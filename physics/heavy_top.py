@@ -37,7 +37,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import ellipj, ellipkm1, elliprj
+from scipy.special import ellipj, ellipkm1, elliprf, elliprj
 
 from physics import G
 
@@ -844,8 +844,6 @@ def _theta_from(one_mu, one_pu):
 
 def _incomplete_first_kind(sn2: float, cn2: float, m: float) -> float:
     """F(φ | m) with sin²φ = sn2, cos²φ = cn2 given separately (so φ near π/2 keeps its digits)."""
-    from scipy.special import elliprf
-
     return float(math.sqrt(sn2) * elliprf(cn2, cn2 + (1.0 - m) * sn2, 1.0))
 
 
@@ -955,7 +953,7 @@ class FrictionRun:
     method: str
 
 
-_METHOD_NAMES = ("LiePoissonStrang", "Yoshida4", "ExactFreeSplitting", "LieRK4")
+_METHOD_NAMES = ("LiePoissonStrang", "Yoshida4", "Suzuki4", "Yoshida6", "ExactFreeSplitting", "LieRK4")
 
 
 def _method_class(method):
