@@ -7,21 +7,23 @@ import time
 
 
 def main(argv: list[str] | None = None) -> None:
+    from app.scenes import scene_names
+
     parser = argparse.ArgumentParser(prog="rigid-body-lab", description=__doc__)
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8080)
-    parser.add_argument("--scene", default=None)
+    parser.add_argument("--scene", default=None, choices=scene_names(), help="scene shown first")
     args = parser.parse_args(argv)
 
-    import viser
+    from app.server import App
 
-    server = viser.ViserServer(host=args.host, port=args.port)
-    print(f"Rigid Body Lab serving on http://{args.host}:{args.port}", flush=True)
+    app = App(host=args.host, port=args.port, scene=args.scene)
+    print(f"Rigid Body Lab serving on {app.url}", flush=True)
     try:
         while True:
             time.sleep(1.0)
     except KeyboardInterrupt:
-        server.stop()
+        app.stop()
 
 
 if __name__ == "__main__":

@@ -1,0 +1,179 @@
+"""Shared GUI pieces: labelled sliders with a validation hook, readouts, a presets dropdown, a gauge.
+
+All of them are made inside a scene's ``build()`` so they land in the scene's folder, and all of their
+callbacks run through ``ctx.guarded`` (under the simulation lock; an exception is shown to the user).
+
+:class:`ParameterPanel` is the heart of "bad input is refused": a slider change is offered to the
+scene's ``apply(values)`` as a *candidate* set of values; if ``apply`` raises ``ValueError`` the slider
+snaps back to the last accepted value, the user who moved it gets a notification saying why, and the
+model and the picture stay as they were.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable
+
+__all__ = ["SliderSpec", "ParameterPanel", "Readout", "Presets", "Gauge"]
+
+
+@dataclass(frozen=True)
+class SliderSpec:
+    """One parameter slider: key in the values dict, label with units, range, step and initial value."""
+
+    key: str
+    label: str
+    min: float
+    max: float
+    step: float
+    initial: float
+    hint: str | None = None
+
+
+class ParameterPanel:
+    """A group of sliders whose values are accepted or refused together by ``apply(values)``.
+
+    Parameters
+    ----------
+    ctx : SceneContext
+    specs : list of SliderSpec
+    apply : callable(dict[str, float]) -> None
+        Adopts a candidate set of values; raises ``ValueError`` to refuse it (the message is shown).
+    """
+
+    def __init__(self, ctx: Any, specs: list[SliderSpec], apply: Callable[[dict[str, float]], None]) -> None:
+        self.ctx = ctx
+        self._apply = apply
+        self.values: dict[str, float] = {s.key: float(s.initial) for s in specs}
+        self.sliders: dict[str, Any] = {}
+        self._syncing = False
+        self.refusals = 0  # how many changes were refused (tests and the status line read it)
+        for spec in specs:
+            handle = ctx.server.gui.add_slider(
+                spec.label, min=spec.min, max=spec.max, step=spec.step, initial_value=spec.initial, hint=spec.hint
+            )
+            handle.on_update(ctx.guarded(self._on_slider(spec.key)))
+            self.sliders[spec.key] = handle
+
+    def _on_slider(self, key: str) -> Callable[[Any], None]:
+        def on_update(event: Any) -> None:
+            if self._syncing:
+                return
+            value = float(self.sliders[key].value)
+            if value == self.values[key]:
+                return
+            self.offer({key: value}, client=getattr(event, "client", None))
+
+        return on_update
+
+    def offer(self, changes: dict[str, float], client: Any = None) -> bool:
+        """Offer new values (some keys); returns True if accepted. Refused: notify, snap sliders back."""
+        with self.ctx.lock:
+            candidate = {**self.values, **{k: float(v) for k, v in changes.items()}}
+            bad = [k for k, v in candidate.items() if not math.isfinite(v)]
+            try:
+                if bad:
+                    raise ValueError(f"{', '.join(bad)} must be a finite number")
+                self._apply(candidate)
+            except ValueError as exc:
+                self.refusals += 1
+                self.ctx.notify("Refused: that is not a possible body", str(exc), client=client, error=True)
+                self._sync(self.values)
+                return False
+            self.values = candidate
+            self._sync(candidate)
+            self.ctx.request_redraw()
+            return True
+
+    def _sync(self, values: dict[str, float]) -> None:
+        # Setting .value from Python runs the callbacks synchronously: suppress them while syncing.
+        self._syncing = True
+        try:
+            for key, handle in self.sliders.items():
+                if handle.value != values[key]:
+                    handle.value = values[key]
+        finally:
+            self._syncing = False
+
+
+class Readout:
+    """A read-only number with a label and units, rewritten only when its text changes."""
+
+    def __init__(self, ctx: Any, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
+        self.fmt = fmt
+        self.handle = ctx.server.gui.add_text(label, initial_value="—", disabled=True, hint=hint)
+
+    @property
+    def text(self) -> str:
+        return self.handle.value
+
+    def set(self, value: float | str) -> None:
+        if isinstance(value, str):
+            text = value
+        elif not math.isfinite(value):
+            text = "∞" if value > 0 else ("−∞" if value < 0 else "—")
+        else:
+            text = self.fmt.format(value)
+        if self.handle.value != text:
+            self.handle.value = text
+
+
+class Presets:
+    """A dropdown of named presets; choosing one offers its values to a :class:`ParameterPanel`.
+
+    ``presets`` maps a name to a dict of values or to a callable returning one (computed from the
+    current values, e.g. a steady-precession rate). The first entry, ``"—"``, does nothing.
+    """
+
+    NONE = "— choose a preset —"
+
+    def __init__(
+        self,
+        ctx: Any,
+        panel: ParameterPanel,
+        presets: dict[str, dict[str, float] | Callable[[dict[str, float]], dict[str, float]]],
+        label: str = "Preset",
+    ) -> None:
+        self.panel = panel
+        self.presets = presets
+        self.handle = ctx.server.gui.add_dropdown(label, options=(self.NONE, *presets.keys()), initial_value=self.NONE)
+        self.handle.on_update(ctx.guarded(self._chosen))
+        self.last: str | None = None
+
+    def _chosen(self, event: Any) -> None:
+        name = self.handle.value
+        if name == self.NONE:
+            return
+        self.choose(name, client=getattr(event, "client", None))
+
+    def choose(self, name: str, client: Any = None) -> bool:
+        """Apply a preset by name; returns True if accepted."""
+        preset = self.presets[name]
+        values = preset(dict(self.panel.values)) if callable(preset) else preset
+        ok = self.panel.offer(values, client=client)
+        if ok:
+            self.last = name
+        return ok
+
+
+class Gauge:
+    """A value against a threshold: a bar filled to ``value / (2 threshold)`` (the threshold at half),
+    green above the threshold and red below, with a line of text."""
+
+    def __init__(self, ctx: Any, label: str) -> None:
+        self.text = ctx.server.gui.add_markdown(label)
+        self.label = label
+        self.bar = ctx.server.gui.add_progress_bar(0.0, color="red")
+        self._last: tuple[float, str] | None = None
+
+    def set(self, value: float, threshold: float, text: str) -> None:
+        fill = 100.0 * min(max(value / (2.0 * threshold), 0.0), 1.0) if threshold > 0 else 0.0
+        colour = "green" if value > threshold else "red"
+        key = (round(fill, 1), colour + text)
+        if key == self._last:
+            return
+        self._last = key
+        self.bar.value = fill
+        self.bar.color = colour
+        self.text.content = f"{self.label}  \n{text}"

@@ -1,0 +1,406 @@
+"""Shared drawing pieces for every scene: body meshes, arrows, the principal frame, traces, cones, labels.
+
+Every piece is created once (in a scene's ``build``) and then updated *in place* each frame by assigning
+to the kept viser handle (``points``, ``wxyz``, ``position``, ``scale``, ``visible``); nothing is
+re-added per frame. Each physical quantity has one colour in every scene (:data:`COLOURS`), and
+:func:`legend_html` draws the legend for the quantities a scene shows.
+
+Attitudes come from ``physics/`` as rotation matrices (body to space) or scipy quaternions
+``(x, y, z, w)``; :func:`wxyz` is the one place where they become viser's ``(w, x, y, z)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+import viser
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+__all__ = [
+    "COLOURS",
+    "LABELS",
+    "wxyz",
+    "legend_html",
+    "BodyMesh",
+    "Arrow",
+    "PrincipalFrame",
+    "Trace",
+    "Cone",
+    "Caption",
+    "faint_sphere",
+    "top_mesh",
+    "cylinder_mesh",
+]
+
+# One colour per quantity, the same in every scene (RGB 0-255).
+COLOURS: dict[str, tuple[int, int, int]] = {
+    "L": (255, 160, 0),  # angular momentum: amber
+    "omega": (220, 30, 60),  # angular velocity: red
+    "torque": (140, 60, 220),  # torque: violet
+    "trace": (20, 120, 255),  # trace of the symmetry-axis tip: blue
+    "body_cone": (40, 170, 90),  # body cone: green
+    "space_cone": (230, 90, 200),  # space cone: pink
+    "path": (90, 90, 90),  # path of the centre of mass: grey
+    "body": (185, 190, 200),  # the body itself: light steel
+    "impulse": (0, 170, 200),  # an impulse (strike): teal
+    "reaction": (120, 70, 30),  # a constraint's reaction: brown
+}
+
+# Legend text per quantity (Unicode: viser's markdown has no LaTeX).
+LABELS: dict[str, str] = {
+    "L": "L — angular momentum (fixed in space without torque)",
+    "omega": "ω — angular velocity",
+    "torque": "τ — torque",
+    "trace": "trace of the symmetry-axis tip",
+    "body_cone": "body cone (turns with the body)",
+    "space_cone": "space cone (fixed about L)",
+    "path": "path of the centre of mass",
+    "body": "the body",
+    "impulse": "J — impulse",
+    "reaction": "pivot reaction",
+}
+
+
+def wxyz(attitude: ArrayLike) -> NDArray[np.float64]:
+    """viser's ``(w, x, y, z)`` quaternion from a rotation matrix or a scipy ``(x, y, z, w)`` quaternion.
+
+    The only conversion between the physics convention (scipy, scalar last) and viser's (scalar first).
+
+    Parameters
+    ----------
+    attitude : array_like, shape (3, 3) or (4,), or batched (n, 3, 3) / (n, 4)
+        Body-to-space rotation matrix, or scipy quaternion ``(x, y, z, w)``.
+
+    Returns
+    -------
+    ndarray, shape (4,) or (n, 4)
+        ``(w, x, y, z)``, unit norm.
+    """
+    a = np.asarray(attitude, dtype=float)
+    if a.shape[-2:] == (3, 3):
+        q = Rotation.from_matrix(a.reshape(-1, 3, 3)).as_quat()
+        q = q.reshape(a.shape[:-2] + (4,))
+    elif a.shape[-1] == 4:
+        q = a / np.linalg.norm(a, axis=-1, keepdims=True)
+    else:
+        raise ValueError(f"an attitude is a (3, 3) rotation matrix or an (x, y, z, w) quaternion, got shape {a.shape}")
+    return np.concatenate([q[..., 3:4], q[..., :3]], axis=-1)
+
+
+def _rgb_hex(rgb: tuple[int, int, int]) -> str:
+    return "#%02x%02x%02x" % rgb
+
+
+def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
+    """HTML legend: a coloured swatch and a name for each quantity key of :data:`COLOURS`."""
+    rows = []
+    for key in quantities:
+        colour = _rgb_hex(COLOURS[key])
+        rows.append(
+            f'<div style="display:flex;align-items:center;gap:6px;font-size:0.85em;margin:1px 0">'
+            f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{colour}"></span>'
+            f"{LABELS[key]}</div>"
+        )
+    return '<div class="rbl-legend">' + "".join(rows) + "</div>"
+
+
+def _rotation_z_to(direction: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A rotation taking +z to the unit vector ``direction`` (the shortest one; any one at -z)."""
+    z = np.array([0.0, 0.0, 1.0])
+    c = float(direction @ z)
+    axis = np.cross(z, direction)
+    s = float(np.linalg.norm(axis))
+    if s < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    return Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_matrix()
+
+
+# ---------------------------------------------------------------------------------------------------
+# Meshes
+# ---------------------------------------------------------------------------------------------------
+
+
+def top_mesh(length: float = 1.0, radius: float = 0.35, sections: int = 48) -> trimesh.Trimesh:
+    """A spinning top: a cone on its tip at the origin, a disc body and a short stem, axis +z.
+
+    A painted stripe is not possible on one mesh colour, so the disc is made slightly faceted
+    (``sections``) to let the eye see the spin.
+    """
+    cone_h = 0.55 * length
+    cone = trimesh.creation.cone(radius=radius, height=cone_h, sections=sections)
+    # trimesh's cone has its base at z = 0 and its apex at +z: flip so the apex (the tip) is at the origin.
+    cone.apply_transform(trimesh.transformations.rotation_matrix(math.pi, [1, 0, 0]))
+    cone.apply_translation([0, 0, cone_h])
+    disc = trimesh.creation.cylinder(radius=radius, height=0.12 * length, sections=12)
+    disc.apply_translation([0, 0, cone_h + 0.06 * length])
+    stem = trimesh.creation.cylinder(radius=0.05 * length, height=0.33 * length, sections=16)
+    stem.apply_translation([0, 0, cone_h + 0.12 * length + 0.165 * length])
+    return trimesh.util.concatenate([cone, disc, stem])
+
+
+def cylinder_mesh(radius: float, length: float, sections: int = 40) -> trimesh.Trimesh:
+    """A solid cylinder centred at the origin, axis +z, with a notch-free but faceted rim."""
+    return trimesh.creation.cylinder(radius=radius, height=length, sections=sections)
+
+
+class BodyMesh:
+    """A body drawn from any ``trimesh.Trimesh`` (rod, cylinder, sphere, box, asset, upload).
+
+    The mesh is given in body coordinates (principal frame, origin at the body's reference point);
+    :meth:`set_pose` places it with a body-to-space attitude and a position.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        mesh: trimesh.Trimesh,
+        *,
+        colour: tuple[int, int, int] = COLOURS["body"],
+        opacity: float | None = None,
+        flat_shading: bool = True,
+    ) -> None:
+        self.handle = server.scene.add_mesh_simple(
+            name,
+            vertices=np.asarray(mesh.vertices, dtype=np.float32),
+            faces=np.asarray(mesh.faces, dtype=np.uint32),
+            color=colour,
+            opacity=opacity,
+            flat_shading=flat_shading,
+        )
+
+    def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Place the body: ``attitude`` (3, 3) body-to-space or scipy quaternion (4,); position (3,), m."""
+        self.handle.wxyz = wxyz(attitude)
+        self.handle.position = np.asarray(position, dtype=float)
+
+    def set_mesh(self, mesh: trimesh.Trimesh) -> None:
+        """Replace the geometry in place (a parameter change, not every frame)."""
+        self.handle.vertices = np.asarray(mesh.vertices, dtype=np.float32)
+        self.handle.faces = np.asarray(mesh.faces, dtype=np.uint32)
+
+
+class Arrow:
+    """One arrow (L, ω, torque, ...) kept as a viser handle and moved in place.
+
+    ``scale`` converts the quantity's units to metres on screen (e.g. 0.2 m per kg m²/s); the caption of a
+    scene says which. A zero or non-finite vector hides the arrow.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        quantity: str,
+        *,
+        scale: float = 1.0,
+        shaft_radius: float = 0.02,
+        label: str | None = None,
+    ) -> None:
+        self.quantity = quantity
+        self.scale = float(scale)
+        self.shaft_radius = shaft_radius
+        self.handle = server.scene.add_arrows(
+            name,
+            points=np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1e-3]]]),
+            colors=COLOURS[quantity],
+            shaft_radius=shaft_radius,
+            head_radius=2.4 * shaft_radius,
+            head_length=6.0 * shaft_radius,
+        )
+        self.label = (
+            server.scene.add_label(name + "_label", label or quantity, font_screen_scale=1.1, anchor="bottom-left")
+            if label
+            else None
+        )
+        self.tip = np.zeros(3)
+
+    def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Draw ``vector`` (the quantity, its own units) from ``origin`` (m)."""
+        v = np.asarray(vector, dtype=float) * self.scale
+        o = np.asarray(origin, dtype=float)
+        length = float(np.linalg.norm(v))
+        visible = math.isfinite(length) and length > 1e-6
+        if visible:
+            self.tip = o + v
+            self.handle.points = np.array([[o, self.tip]])
+            # Keep the head in proportion for short arrows.
+            self.handle.head_length = min(6.0 * self.shaft_radius, 0.45 * length)
+        self.handle.visible = visible
+        if self.label is not None:
+            self.label.visible = visible
+            if visible:
+                self.label.position = self.tip
+
+
+class PrincipalFrame:
+    """The principal axes e1, e2, e3 of the body (viser's frame: red, green, blue)."""
+
+    def __init__(self, server: viser.ViserServer, name: str, *, length: float = 0.6, radius: float = 0.012) -> None:
+        self.handle = server.scene.add_frame(name, axes_length=length, axes_radius=radius, origin_radius=0.0)
+
+    def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        self.handle.wxyz = wxyz(attitude)
+        self.handle.position = np.asarray(position, dtype=float)
+
+
+class Trace:
+    """A bounded trace (ring buffer) of a point, drawn as line segments updated in place.
+
+    Parameters
+    ----------
+    capacity : int
+        Number of points kept (the oldest drop out); :meth:`resize` changes it.
+    min_step : float
+        A new point closer than this (m) to the last one replaces nothing and is skipped, so a paused or
+        slow motion does not fill the buffer with duplicates.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        *,
+        quantity: str = "trace",
+        capacity: int = 1500,
+        thickness: float = 2.5,
+        min_step: float = 1e-4,
+    ) -> None:
+        self._server = server
+        self._name = name
+        self._quantity = quantity
+        self._thickness = thickness
+        self.min_step = min_step
+        self.handle: viser.LineSegmentsHandle | None = None
+        self.resize(capacity)
+
+    def resize(self, capacity: int) -> None:
+        """Change the number of points kept (re-creates the handle once; the trace restarts)."""
+        if capacity < 2:
+            raise ValueError(f"a trace needs at least 2 points, got {capacity}")
+        self.capacity = int(capacity)
+        self._buf = np.zeros((self.capacity, 3))
+        self._count = 0
+        self._head = 0  # index of the next write
+        if self.handle is not None:
+            self.handle.remove()
+        self.handle = self._server.scene.add_line_segments(
+            self._name,
+            points=np.zeros((self.capacity - 1, 2, 3), dtype=np.float32),
+            colors=COLOURS[self._quantity],
+            thickness=self._thickness,
+            thickness_units="screen",
+        )
+        self.handle.visible = False
+
+    def clear(self) -> None:
+        self._count = 0
+        self._head = 0
+        self.handle.visible = False
+
+    def points(self) -> NDArray[np.float64]:
+        """The kept points, oldest first, shape (k, 3)."""
+        if self._count < self.capacity:
+            return self._buf[: self._count].copy()
+        return np.roll(self._buf, -self._head, axis=0)
+
+    def append(self, point: ArrayLike) -> None:
+        """Add a point (m) and redraw the segments in place."""
+        p = np.asarray(point, dtype=float)
+        if self._count and np.linalg.norm(p - self._buf[(self._head - 1) % self.capacity]) < self.min_step:
+            return
+        self._buf[self._head] = p
+        self._head = (self._head + 1) % self.capacity
+        self._count = min(self._count + 1, self.capacity)
+        pts = self.points()
+        if len(pts) < 2:
+            return
+        segs = np.empty((self.capacity - 1, 2, 3), dtype=np.float32)
+        k = len(pts) - 1
+        segs[:k, 0] = pts[:-1]
+        segs[:k, 1] = pts[1:]
+        # Unused segments collapse onto the newest point (invisible, and the buffer shape never changes).
+        segs[k:] = pts[-1]
+        self.handle.points = segs
+        self.handle.visible = True
+
+
+class Cone:
+    """A translucent cone with its apex at a point, drawn from one unit mesh scaled in place.
+
+    :meth:`set` takes the cone's axis direction, half-angle and slant length; a degenerate cone (angle
+    0 or non-finite) is hidden.
+    """
+
+    def __init__(self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.35, sections: int = 64):
+        ang = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
+        # Unit cone: apex at the origin, base circle of radius 1 at z = 1 (open: no base disc).
+        vertices = np.vstack([[0.0, 0.0, 0.0], np.column_stack([np.cos(ang), np.sin(ang), np.ones_like(ang)])])
+        faces = np.array([[0, 1 + i, 1 + (i + 1) % sections] for i in range(sections)], dtype=np.uint32)
+        self.handle = server.scene.add_mesh_simple(
+            name,
+            vertices=vertices.astype(np.float32),
+            faces=faces,
+            color=COLOURS[quantity],
+            opacity=opacity,
+            side="double",
+            cast_shadow=False,
+            receive_shadow=False,
+        )
+        self.rim = server.scene.add_line_segments(
+            name + "_rim",
+            points=np.stack([vertices[1:], np.roll(vertices[1:], -1, axis=0)], axis=1).astype(np.float32),
+            colors=COLOURS[quantity],
+            thickness=2.0,
+            thickness_units="screen",
+        )
+
+    def set(self, axis: ArrayLike, half_angle: float, slant: float, apex: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Axis (3,) (any length), half-angle (rad), slant length (m), apex (3,) (m)."""
+        a = np.asarray(axis, dtype=float)
+        n = float(np.linalg.norm(a))
+        ok = math.isfinite(n) and n > 0 and math.isfinite(half_angle) and 1e-4 < half_angle < math.pi - 1e-4
+        self.handle.visible = ok
+        self.rim.visible = ok
+        if not ok:
+            return
+        q = wxyz(_rotation_z_to(a / n))
+        r, h = slant * math.sin(half_angle), slant * math.cos(half_angle)
+        for hd in (self.handle, self.rim):
+            hd.wxyz = q
+            hd.scale = (r, r, h)
+            hd.position = np.asarray(apex, dtype=float)
+
+
+@dataclass
+class Caption:
+    """A caption in the scene's panel (markdown, Unicode equations) that can be rewritten in place."""
+
+    handle: viser.GuiMarkdownHandle
+
+    @classmethod
+    def add(cls, server: viser.ViserServer, text: str) -> "Caption":
+        return cls(server.gui.add_markdown(text))
+
+    def set(self, text: str) -> None:
+        if self.handle.content != text:
+            self.handle.content = text
+
+
+def faint_sphere(server: viser.ViserServer, name: str, radius: float, *, opacity: float = 0.08) -> viser.MeshHandle:
+    """A faint reference sphere (the axis tip of a top moves on it), with a thin equator."""
+    handle = server.scene.add_icosphere(
+        name, radius=radius, color=(150, 170, 200), subdivisions=4, opacity=opacity, cast_shadow=False,
+        receive_shadow=False,
+    )
+    ang = np.linspace(0, 2 * np.pi, 97)
+    ring = radius * np.column_stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)])
+    server.scene.add_line_segments(
+        name + "_equator", points=np.stack([ring[:-1], ring[1:]], axis=1), colors=(150, 170, 200), thickness=1.0,
+        thickness_units="screen",
+    )
+    return handle

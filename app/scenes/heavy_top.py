@@ -1,0 +1,237 @@
+"""The heavy symmetric top on its tip: precession with nutation (waves, loops, cusps), sleeping, friction.
+
+Model: :class:`physics.heavy_top.HeavyTop`. Without friction the motion is the exact closed form,
+evaluated at the clock's time; with friction it is stepped by :func:`physics.heavy_top.simulate_heavy_body`
+(spin friction ``−c ω₃`` about the axis at the tip), so the spin decays, L₃ falls below the sleeping
+threshold and the top falls.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+import viser
+
+from app import controls, draw
+from app.scenes import Scene, register
+from physics import G
+from physics.heavy_top import HeavyTop
+
+LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
+ELL = 0.5  # pivot-to-centre-of-mass distance used to split M g ℓ into M and ℓ for the stepping model (m)
+PLOT_HZ = 10.0  # the U(θ) plot is refreshed at most this often (it sends arrays to every browser)
+
+
+def _theta_grid() -> np.ndarray:
+    return np.radians(np.linspace(0.5, 179.5, 359))
+
+
+def _start(values: dict[str, float]) -> tuple[float, float, float, float]:
+    """(θ0, θ̇0, φ̇0, ψ̇0) from the sliders: released at rest in θ with spin ω3 = ψ̇ + φ̇ cos θ."""
+    theta0 = math.radians(values["theta0"])
+    return theta0, 0.0, values["phidot0"], values["spin"] - values["phidot0"] * math.cos(theta0)
+
+
+def _steady(values: dict[str, float]) -> float:
+    top = HeavyTop(values["I1"], values["I3"], values["mgl"])
+    return top.steady_precession_rates(math.radians(values["theta0"]), values["I3"] * values["spin"])[0]
+
+
+def _with_phidot(factor: float):
+    def preset(values: dict[str, float]) -> dict[str, float]:
+        v = {**values, "spin": 10.0, "theta0": 60.0, "friction": 0.0}
+        return {**v, "phidot0": round(factor * _steady(v), 3)}
+
+    return preset
+
+
+PRESETS = {
+    "cusps (released from rest)": {"spin": 10.0, "theta0": 60.0, "phidot0": 0.0, "friction": 0.0},
+    "waves (φ̇0 = 2 × steady)": _with_phidot(2.0),
+    "loops (φ̇0 = −1 × steady)": _with_phidot(-1.0),
+    "steady precession (slow rate)": _with_phidot(1.0),
+    "sleeping top (above threshold)": {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.0},
+    "sleeping top with friction: falls": {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.02},
+}
+
+
+@register
+class HeavyTopScene(Scene):
+    name = "heavy_top"
+    title = "Heavy top"
+    order = 10
+    quantities = ("L", "omega", "torque", "trace")
+    caption = (
+        "**Heavy symmetric top** on a fixed tip. Gravity's torque τ = ℓ ê₃ × (−M g ẑ) is horizontal, so "
+        "L_z and L₃ are conserved and θ moves in the effective potential "
+        "U(θ) = (L_z − L₃ cos θ)²/(2 I₁² sin²θ) + (M g ℓ/I₁) cos θ between two turning points: the axis tip "
+        "draws waves, loops or cusps. Stable upright (sleeping) when L₃ > 2√(M g ℓ I₁). "
+        "Exact solution without friction; with friction the spin decays and the top falls."
+    )
+    camera = ((2.3, -2.3, 1.7), (0.0, 0.0, 0.45))
+
+    def build(self) -> None:
+        server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
+        draw.faint_sphere(server, root + "/sphere", LENGTH)
+        self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH))
+        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
+        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
+        self.torque_arrow = draw.Arrow(server, root + "/torque", "torque", label="τ")
+        self.trace = draw.Trace(server, root + "/trace", capacity=1500)
+        self.traces = [self.trace]
+        self.params = controls.ParameterPanel(
+            self.ctx,
+            [
+                controls.SliderSpec("spin", "spin ω₃ (rad/s)", 0.0, 40.0, 0.1, 10.0),
+                controls.SliderSpec("theta0", "tilt θ₀ (°)", 0.0, 179.0, 0.5, 60.0),
+                controls.SliderSpec("phidot0", "initial precession φ̇₀ (rad/s)", -3.0, 3.0, 0.005, 0.0),
+                controls.SliderSpec("I1", "I₁ about the tip (kg m²)", 0.05, 1.0, 0.01, 0.4),
+                controls.SliderSpec("I3", "I₃ about the axis (kg m²)", 0.02, 1.0, 0.01, 0.2),
+                controls.SliderSpec("mgl", "M g ℓ (J)", 0.05, 3.0, 0.05, 1.0),
+                controls.SliderSpec("friction", "spin friction c (N m s)", 0.0, 0.05, 0.001, 0.0,
+                                    hint="torque −c ω₃ about the axis at the tip; 0 = exact solution"),
+            ],
+            apply=self.apply,
+        )
+        self.presets = controls.Presets(self.ctx, self.params, PRESETS)
+        self.trace_length = gui.add_slider("trace length (points)", min=100, max=5000, step=100, initial_value=1500)
+        self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
+        self.plot = gui.add_uplot(
+            data=(np.degrees(_theta_grid()), np.zeros(359), np.zeros(359), np.full(359, np.nan)),
+            series=(
+                viser.uplot.Series(label="θ (°)"),
+                viser.uplot.Series(label="U(θ)", stroke="#1478ff", width=2),
+                viser.uplot.Series(label="energy ℰ", stroke="#888888", width=1, dash=[6, 4]),
+                viser.uplot.Series(label="now", stroke="#dc1e3c", width=0,
+                                   points={"show": True, "size": 10, "fill": "#dc1e3c"}),
+            ),
+            scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0))},
+            title="Effective potential U(θ) (1/s²)",
+            aspect=1.6,
+        )
+        self.precession_readout = controls.Readout(self.ctx, "precession ⟨φ̇⟩ (rad/s)")
+        self.nutation_readout = controls.Readout(self.ctx, "nutation period (s)")
+        self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
+        self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
+        self._plot_time = 0.0
+        self.apply(self.params.values)
+
+    # -- parameters
+    def apply(self, values: dict[str, float]) -> None:
+        top = HeavyTop(values["I1"], values["I3"], values["mgl"])  # raises for an impossible body
+        start = _start(values)
+        if values["friction"] < 0:
+            raise ValueError("friction must be zero or positive")
+        if values["friction"] > 0:
+            try:
+                from physics import integrators  # noqa: F401 - the stepping model needs it
+            except ImportError:
+                raise ValueError("friction needs physics.integrators, which is not installed yet") from None
+        sol = top.solve(*start, [0.0])
+        self.top, self.values, self.start, self.exact = top, dict(values), start, sol
+        L0 = sol.attitude[0] @ (np.array([top.I1, top.I1, top.I3]) * sol.omega_body[0])
+        self.L_scale = 1.2 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
+        self.omega_scale = 1.2 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
+        self.torque_scale = 0.6 * LENGTH / top.mgl
+        self._curve_key = None
+        self.reset()
+        self.ctx.restart()
+
+    def reset(self) -> None:
+        super().reset()
+        sol = self.exact
+        # Stepping state (friction): attitude and body angular momentum about the tip.
+        self.R = sol.attitude[0].copy()
+        self.L_body = np.array([self.top.I1, self.top.I1, self.top.I3]) * sol.omega_body[0]
+        self._plot_time = 0.0
+        self._curve_key = None
+
+    # -- the state
+    def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        from physics.heavy_top import simulate_heavy_body
+        from physics.integrators import SpinFriction
+
+        top = self.top
+        moments = np.array([top.I1, top.I1, top.I3])
+        if dt <= 0.0:
+            return self.R, self.L_body
+        n = max(1, math.ceil(dt / (1.0 / 240.0)))
+        run = simulate_heavy_body(
+            moments, top.mgl / (G * ELL), [0.0, 0.0, ELL], self.R, self.L_body / moments, dt, dt / n,
+            torques=[SpinFriction(self.values["friction"], moments)], method="LieRK4", save_every=n,
+        )
+        return run.attitude[-1], run.L_body[-1]
+
+    def compute(self, t: float, dt: float) -> dict[str, Any]:
+        top = self.top
+        moments = np.array([top.I1, top.I1, top.I3])
+        if self.values["friction"] > 0.0:
+            R, L_body = self._step_friction(dt)
+        else:
+            sol = top.solve(*self.start, [t])
+            R, L_body = sol.attitude[0], moments * sol.omega_body[0]
+        axis = R[:, 2]
+        return {
+            "R": R,
+            "L_body": L_body,
+            "axis": axis,
+            "L": R @ L_body,
+            "omega": R @ (L_body / moments),
+            "torque": top.mgl * np.cross(axis, [0.0, 0.0, -1.0]),
+            "theta": math.atan2(math.hypot(axis[0], axis[1]), axis[2]),
+        }
+
+    def draw(self, state: dict[str, Any]) -> None:
+        self.R, self.L_body = state["R"], state["L_body"]  # adopt the stepped state (friction)
+        self.body.set_pose(state["R"])
+        self.L_arrow.set(state["L"] * self.L_scale)
+        self.omega_arrow.set(state["omega"] * self.omega_scale)
+        self.torque_arrow.set(state["torque"] * self.torque_scale, 0.55 * LENGTH * state["axis"])
+        self.trace.append(LENGTH * state["axis"])
+        self._readouts(state)
+
+    def _readouts(self, state: dict[str, Any]) -> None:
+        top = self.top
+        L3 = float(state["L_body"][2])
+        Lz = float(state["L"][2])
+        theta = state["theta"]
+        threshold = top.sleeping_threshold()
+        self.gauge.set(abs(L3), threshold, f"L₃ = {L3:.3g} kg m²/s, threshold {threshold:.3g}: "
+                       + ("stable upright (sleeping)" if abs(L3) > threshold else "too slow to sleep"))
+        now = time.monotonic()
+        friction = self.values["friction"] > 0.0
+        if friction:
+            self.precession_readout.set("— (friction: no fixed rate)")
+            self.nutation_readout.set("—")
+            self.theta_readout.set(f"now {math.degrees(theta):.1f}")
+        else:
+            sol = self.exact
+            self.precession_readout.set(sol.precession_rate)
+            self.nutation_readout.set(sol.nutation_period)
+            self.theta_readout.set(f"{math.degrees(sol.theta_min):.1f} and {math.degrees(sol.theta_max):.1f}")
+        if now - self._plot_time < 1.0 / PLOT_HZ and self._curve_key is not None:
+            return
+        self._plot_time = now
+        grid = _theta_grid()
+        key = (round(L3, 4), round(Lz, 4), id(top))
+        if key != self._curve_key:
+            self._curve_key = key
+            self._U = top.effective_potential(grid, Lz, L3)
+        # Energy per I1: ℰ = θ̇²/2 + U(θ), with θ̇² from |ω⊥|² = θ̇² + sin²θ φ̇² (φ̇ from L_z).
+        w = state["L_body"] / np.array([top.I1, top.I1, top.I3])
+        s = math.sin(theta)
+        phidot_s = (Lz - L3 * math.cos(theta)) / (top.I1 * s) if s > 1e-9 else 0.0
+        thetadot2 = max(float(w[0] ** 2 + w[1] ** 2) - phidot_s**2, 0.0)
+        energy = 0.5 * thetadot2 + float(top.effective_potential(np.array([theta]), Lz, L3)[0])
+        finite = self._U[np.isfinite(self._U)]
+        lo = float(finite.min()) if finite.size else 0.0
+        hi = max(energy, lo) + max(abs(energy - lo), 0.05 * max(abs(lo), 1.0))
+        now_series = np.full(grid.size, np.nan)
+        now_series[int(np.clip(np.searchsorted(grid, theta), 0, grid.size - 1))] = energy - 0.5 * thetadot2
+        self.plot.data = (np.degrees(grid), np.where(self._U <= hi * 1.5 + 1.0, self._U, np.nan), np.full(grid.size, energy),
+                          now_series)
+        self.plot.scales = {"x": viser.uplot.Scale(time=False, auto=True),
+                            "y": viser.uplot.Scale(auto=False, range=(lo - 0.1 * (hi - lo), hi))}

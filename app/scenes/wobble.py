@@ -1,0 +1,129 @@
+"""Torque-free symmetric body (the wobble): L fixed, ω precessing about the symmetry axis, the two cones.
+
+Model: :class:`physics.free_body.FreeBody`, evaluated in closed form at the clock's time (lecture,
+"the symmetric body": Ω = ω3 (I1 − I3)/I1 in the body, φ̇ = L/I1 in space).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from app import controls, draw
+from app.scenes import Scene, register
+from physics.free_body import FreeBody
+from physics.inertia import validate_moments
+from physics.rotations import frame_from_axis
+
+
+def cylinder_for_ratio(ratio: float, size: float) -> tuple[float, float]:
+    """Radius and length (m) of a solid cylinder with I3/I1 = ``ratio`` whose larger dimension is ``size``.
+
+    For a cylinder ``I1 = M (a²/4 + h²/12)`` and ``I3 = M a²/2`` (ERRATA 1), so ``h² = a² (6/ratio − 3)``:
+    ratio 2 is a flat disc (a lamina), ratio 1 has h = a√3, small ratios are long rods.
+    """
+    h_over_a = math.sqrt(max(6.0 / ratio - 3.0, 0.0))
+    a = size / max(2.0, h_over_a)
+    return a, a * h_over_a
+
+
+def _angle(u: np.ndarray, v: np.ndarray) -> float:
+    return math.atan2(float(np.linalg.norm(np.cross(u, v))), float(u @ v))
+
+
+@register
+class Wobble(Scene):
+    name = "wobble"
+    title = "Torque-free wobble"
+    order = 20
+    quantities = ("L", "omega", "body_cone", "space_cone", "trace")
+    caption = (
+        "**Torque-free symmetric body.** L is fixed in space. In the body, ω turns about the symmetry axis "
+        "at Ω = ω₃ (I₁ − I₃)/I₁; in space the axis turns about L at φ̇ = L/I₁. The body cone (about the "
+        "axis) rolls on the space cone (about L) along ω. I₃/I₁ < 1: prolate (rod-like), > 1: oblate (disc). "
+        "Arrows are drawn 1 m long per unit of their initial size."
+    )
+    camera = ((2.6, -2.6, 2.0), (0.0, 0.0, 1.0))
+    centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass sits (m)
+    size = 1.0  # largest dimension of the body (m); arrows and cones scale with it
+
+    def build(self) -> None:
+        server, root = self.ctx.server, self.ctx.root
+        self.body = draw.BodyMesh(server, root + "/body", draw.cylinder_mesh(0.5, 0.5))
+        self.frame = draw.PrincipalFrame(server, root + "/frame", length=0.75 * self.size)
+        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
+        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
+        self.body_cone = draw.Cone(server, root + "/body_cone", "body_cone")
+        self.space_cone = draw.Cone(server, root + "/space_cone", "space_cone")
+        self.trace = draw.Trace(server, root + "/trace", capacity=600)
+        self.traces = [self.trace]
+        self.params = controls.ParameterPanel(
+            self.ctx,
+            [
+                controls.SliderSpec("ratio", "I₃/I₁ (shape)", 0.1, 2.5, 0.05, 1.6,
+                                    hint="< 1 prolate (rod-like), > 1 oblate (disc); 2 is a flat disc, above is impossible"),
+                controls.SliderSpec("spin", "|ω| (rad/s)", 0.2, 10.0, 0.1, 3.0),
+                controls.SliderSpec("tilt", "angle of ω from the axis (°)", 0.0, 89.0, 1.0, 20.0),
+            ],
+            apply=self.apply,
+        )
+        self.presets = controls.Presets(
+            self.ctx, self.params,
+            {"disc (oblate)": {"ratio": 1.9}, "sphere-like (I₃ = I₁)": {"ratio": 1.0}, "rod-like (prolate)": {"ratio": 0.3}},
+        )
+        self.body_view = self.ctx.server.gui.add_checkbox("Body view (ride with the body)", initial_value=False)
+        self.body_view.on_update(self.ctx.guarded(lambda _: self.ctx.restart()))
+        self.Omega_readout = controls.Readout(self.ctx, "Ω body precession (rad/s)")
+        self.phidot_readout = controls.Readout(self.ctx, "L/I₁ space precession (rad/s)")
+        self.moments_readout = controls.Readout(self.ctx, "I₁, I₃ (kg m², M = 1 kg)", fmt="{}")
+        self.apply(self.params.values)
+
+    # -- parameters
+    def apply(self, values: dict[str, float]) -> None:
+        ratio = values["ratio"]
+        validate_moments([1.0, 1.0, ratio])  # the triangle inequality: I3 ≤ 2 I1 (raises with the reason)
+        a, h = cylinder_for_ratio(ratio, self.size)
+        moments = np.array([a * a / (2.0 * ratio), a * a / (2.0 * ratio), a * a / 2.0])  # M = 1 kg
+        model = FreeBody(moments)
+        alpha = math.radians(values["tilt"])
+        omega0 = values["spin"] * np.array([math.sin(alpha), 0.0, math.cos(alpha)])
+        L_body = moments * omega0
+        # Start with L along +z: R0 maps the unit L (body) to ẑ.
+        self.attitude0 = frame_from_axis(L_body).T
+        self.model, self.omega0, self.moments = model, omega0, moments
+        self.L_space = self.attitude0 @ L_body
+        self.L_scale = 1.1 * self.size / float(np.linalg.norm(L_body))
+        self.omega_scale = 1.1 * self.size / float(np.linalg.norm(omega0))
+        self.body.set_mesh(draw.cylinder_mesh(a, max(h, 0.01 * self.size)))
+        rates = model.precession_rates(omega0)
+        self.Omega_readout.set(rates.body)
+        self.phidot_readout.set(rates.space)
+        self.moments_readout.set(f"{moments[0]:.4g}, {moments[2]:.4g}")
+        self.ctx.restart()
+
+    # -- the state
+    def centre_at(self, t: float) -> np.ndarray:
+        """Position of the centre of mass at time t (m); fixed here, a parabola in free fall."""
+        return self.centre
+
+    def compute(self, t: float, dt: float) -> dict[str, Any]:
+        omega_b, R = self.model.motion(self.omega0, [t], self.attitude0)
+        return {"R": R[0], "omega_space": R[0] @ omega_b[0], "centre": np.asarray(self.centre_at(t), dtype=float), "t": t}
+
+    def draw(self, state: dict[str, Any]) -> None:
+        R, w, c = state["R"], state["omega_space"], state["centre"]
+        # Body view: everything expressed in body axes (the body stands still, L and ω move).
+        V = R.T if self.body_view.value else np.eye(3)
+        axis, L = V @ R[:, 2], V @ self.L_space
+        self.body.set_pose(V @ R, c)
+        self.frame.set_pose(V @ R, c)
+        self.L_arrow.set(L * self.L_scale, c)
+        self.omega_arrow.set(V @ w * self.omega_scale, c)
+        slant = float(np.linalg.norm(w)) * self.omega_scale
+        self.body_cone.set(axis, _angle(w, R[:, 2]), slant, c)
+        self.space_cone.set(L, _angle(w, self.L_space), slant, c)
+        # The trace follows the axis tip in space, the tip of ω in the body view.
+        tip = V @ w * self.omega_scale if self.body_view.value else axis * 0.75 * self.size
+        self.trace.append(c + tip)

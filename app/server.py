@@ -1,0 +1,378 @@
+"""The Rigid Body Lab server: one viser server, one simulation shared by every browser, a real-time clock.
+
+Threads. viser runs GUI callbacks in a thread pool; our loop thread advances the clock. One re-entrant
+lock (:attr:`App.lock`) guards the shared state: callbacks only change parameters (through
+:meth:`App.guarded`), and the loop is the only place that asks the scene's model for the state and
+moves the kept handles (inside ``server.atomic()``, so a browser applies a frame's updates together).
+
+Robustness. An exception in a callback is shown to the user who caused it (a notification), not
+swallowed. An exception or a non-finite number in a frame pauses the clock with a message to everyone;
+the last valid picture stays (a frame's state is computed and checked completely before any handle is
+touched). The loop catches everything, so the server never dies of a scene.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import threading
+import time
+import traceback
+from typing import Any, Callable
+
+import numpy as np
+import viser
+
+from app import draw
+from app.scenes import REGISTRY, Scene, load_all, scene_names
+
+__all__ = ["App", "NumericalFailure", "check_finite"]
+
+FPS = 60.0
+SPEED_MIN, SPEED_MAX = 0.1, 10.0
+MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
+
+
+class NumericalFailure(ValueError):
+    """A scene produced NaN or inf."""
+
+
+def check_finite(state: dict[str, Any], where: str = "") -> None:
+    """Raise :class:`NumericalFailure` naming the first non-finite number in a state dict (recursing
+    into nested dicts, lists and tuples of numbers/arrays; other values are ignored)."""
+    for key, value in state.items():
+        name = f"{where}{key}"
+        if isinstance(value, dict):
+            check_finite(value, name + ".")
+        elif isinstance(value, (float, int, np.floating, np.integer)) and not isinstance(value, bool):
+            if not math.isfinite(float(value)):
+                raise NumericalFailure(f"{name} = {value} is not a finite number")
+        elif isinstance(value, np.ndarray) and value.dtype.kind in "fc":
+            if not np.all(np.isfinite(value)):
+                raise NumericalFailure(f"{name} contains NaN or inf")
+        elif isinstance(value, (list, tuple)) and value and all(isinstance(v, (float, int, np.ndarray)) for v in value):
+            check_finite({str(i): v for i, v in enumerate(value)}, name + "[")
+
+
+class App:
+    """The app: viser server, scene picker, clock, the shared simulation and its real-time loop.
+
+    Parameters
+    ----------
+    host, port : str, int
+        Where to serve (default http://127.0.0.1:8080).
+    scene : str, optional
+        Name of the first scene (default: the first in the picker).
+    start_loop : bool
+        Start the real-time loop thread (tests and the benchmark drive :meth:`frame` themselves).
+    verbose : bool
+        Let viser print its banner.
+    """
+
+    root = "/scene"
+
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        scene: str | None = None,
+        *,
+        start_loop: bool = True,
+        verbose: bool = False,
+        fps: float = FPS,
+    ) -> None:
+        load_all()
+        names = scene_names()
+        if not names:
+            raise RuntimeError("no scenes are registered")
+        if scene is not None and scene not in REGISTRY:
+            raise ValueError(f"unknown scene {scene!r}; choose one of: {', '.join(names)}")
+        self.lock = threading.RLock()
+        self.fps = float(fps)
+        self.server = viser.ViserServer(host=host, port=port, verbose=verbose)
+        self.host, self.port = host, self.server.get_port()
+        self.scene: Scene | None = None
+        self.messages: list[tuple[str, str]] = []  # every notification sent (title, body), newest last
+        self.frames = 0  # frames drawn
+        self._t = 0.0
+        self._playing = True
+        self._speed = 1.0
+        self._steps = 0
+        self._dirty = True
+        self._folder: Any = None
+        self._switching = False
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._last_time_text = 0.0
+
+        self.server.scene.set_up_direction("+z")
+        self.server.scene.add_grid("/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0))
+        self.server.gui.configure_theme(control_width="large")
+        self._build_global_gui(names)
+        self.server.on_client_connect(self._on_connect)
+        self.switch_scene(scene or names[0])
+        if start_loop:
+            self.start()
+
+    # ------------------------------------------------------------------ GUI shared by all scenes
+    def _build_global_gui(self, names: list[str]) -> None:
+        gui = self.server.gui
+        gui.add_markdown("**Rigid Body Lab** — drag a slider, the class sees L and ω change.")
+        titles = {REGISTRY[n].title: n for n in names}
+        self._title_to_name = titles
+        self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=REGISTRY[names[0]].title)
+        self.scene_picker.on_update(self.guarded(self._on_pick))
+        with gui.add_folder("Clock"):
+            self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
+            self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
+            self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
+            self.speed_slider = gui.add_slider(
+                "Speed (×)", min=SPEED_MIN, max=SPEED_MAX, step=0.1, initial_value=1.0, marks=(0.1, 1, 5, 10)
+            )
+            self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
+        self.play_button.on_click(self.guarded(lambda _: self.set_playing(not self._playing)))
+        self.step_button.on_click(self.guarded(lambda _: self.step()))
+        self.reset_button.on_click(self.guarded(lambda _: self.restart()))
+        self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(self.speed_slider.value)))
+        self.status = gui.add_markdown("")
+        self.legend = gui.add_html("")
+
+    def _on_pick(self, event: Any) -> None:
+        if self._switching:
+            return
+        name = self._title_to_name[self.scene_picker.value]
+        if self.scene is None or name != self.scene.name:
+            self.switch_scene(name, client=getattr(event, "client", None))
+
+    def _on_connect(self, client: viser.ClientHandle) -> None:
+        if self.scene is not None:
+            position, look_at = self.scene.camera
+            client.camera.position = position
+            client.camera.look_at = look_at
+
+    # ------------------------------------------------------------------ the context scenes use
+    @property
+    def time(self) -> float:
+        """Simulation time, s."""
+        return self._t
+
+    @property
+    def playing(self) -> bool:
+        return self._playing
+
+    @property
+    def speed(self) -> float:
+        return self._speed
+
+    def guarded(self, fn: Callable[..., Any]) -> Callable[..., Any]:
+        """Wrap a callback: run it under the lock, show an exception to the user, ask for a redraw."""
+
+        @functools.wraps(fn)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            client = getattr(args[0], "client", None) if args else None
+            try:
+                with self.lock:
+                    out = fn(*args, **kwargs)
+                    self._dirty = True
+                    return out
+            except Exception as exc:  # noqa: BLE001 - shown to the user, never swallowed
+                traceback.print_exc()
+                self.notify("Something went wrong", f"{type(exc).__name__}: {exc}", client=client, error=True)
+                return None
+
+        return wrapper
+
+    def notify(self, title: str, body: str, client: Any = None, error: bool = False) -> None:
+        """A notification to one client (the one who acted) or, without one, to every connected client."""
+        self.messages.append((title, body))
+        del self.messages[:-50]
+        clients = [client] if client is not None else list(self.server.get_clients().values())
+        for c in clients:
+            try:
+                c.add_notification(title, body, color="red" if error else "blue", auto_close_seconds=None if error else 6.0)
+            except Exception:  # noqa: BLE001 - a client that just left must not break the caller
+                pass
+        if error:
+            self.status.content = f"⚠ **{title}**: {body}"
+
+    def request_redraw(self) -> None:
+        self._dirty = True
+
+    def restart(self) -> None:
+        """t = 0 with the current parameters (the Reset button; scenes call it after a parameter change)."""
+        with self.lock:
+            self._t = 0.0
+            if self.scene is not None:
+                self.scene.reset()
+            self._dirty = True
+
+    def pause(self, reason: str | None = None) -> None:
+        """Stop the clock; with a reason, tell everyone why."""
+        with self.lock:
+            self.set_playing(False)
+            if reason:
+                self.notify("Paused", reason, error=True)
+
+    def set_playing(self, playing: bool) -> None:
+        with self.lock:
+            self._playing = bool(playing)
+            self.play_button.label = "Pause" if self._playing else "Play"
+            self.play_button.icon = viser.Icon.PLAYER_PAUSE if self._playing else viser.Icon.PLAYER_PLAY
+            if self._playing:
+                self.status.content = ""
+
+    def step(self) -> None:
+        """Pause and advance one frame's worth of simulation time (1/60 s × speed)."""
+        with self.lock:
+            self.set_playing(False)
+            self._steps += 1
+
+    def set_speed(self, speed: float) -> None:
+        speed = float(speed)
+        if not (math.isfinite(speed) and SPEED_MIN - 1e-9 <= speed <= SPEED_MAX + 1e-9):
+            raise ValueError(f"speed must be between {SPEED_MIN}× and {SPEED_MAX}×, got {speed}")
+        with self.lock:
+            self._speed = speed
+            if self.speed_slider.value != speed:
+                self.speed_slider.value = speed
+
+    def switch_to(self, name: str, payload: Any = None) -> None:
+        """For scenes: switch to another scene and hand it a payload (see Scene.accept)."""
+        self.switch_scene(name, payload=payload)
+
+    # ------------------------------------------------------------------ scenes
+    def switch_scene(self, name: str, payload: Any = None, client: Any = None) -> None:
+        """Tear the current scene down and build ``name``; on failure go back to the previous one."""
+        if name not in REGISTRY:
+            raise ValueError(f"unknown scene {name!r}; choose one of: {', '.join(scene_names())}")
+        with self.lock:
+            previous = type(self.scene) if self.scene is not None else None
+            self._teardown()
+            try:
+                self._build(REGISTRY[name])
+                if payload is not None:
+                    self.scene.accept(payload)
+            except Exception as exc:
+                traceback.print_exc()
+                self._teardown()
+                self.notify(f"Could not open {REGISTRY[name].title}", f"{type(exc).__name__}: {exc}", client=client,
+                            error=True)
+                if previous is None or previous is REGISTRY[name]:
+                    raise
+                self._build(previous)
+            cls = type(self.scene)
+            self._switching = True
+            try:
+                self.scene_picker.value = cls.title
+            finally:
+                self._switching = False
+            self.legend.content = draw.legend_html(cls.quantities)
+            position, look_at = cls.camera
+            for c in self.server.get_clients().values():
+                c.camera.position = position
+                c.camera.look_at = look_at
+            self.server.initial_camera.position = position
+            self.server.initial_camera.look_at = look_at
+            self._t = 0.0
+            self._dirty = True
+
+    def _build(self, cls: type[Scene]) -> None:
+        self.server.scene.add_frame(self.root, show_axes=False)
+        self._folder = self.server.gui.add_folder(cls.title)
+        scene = cls(self)
+        with self._folder:
+            if cls.caption:
+                self.server.gui.add_markdown(cls.caption)
+            scene.build()
+        self.scene = scene
+
+    def _teardown(self) -> None:
+        if self.scene is not None:
+            try:
+                self.scene.teardown()
+            except Exception:  # noqa: BLE001
+                traceback.print_exc()
+        self.scene = None
+        for remove in (lambda: self.server.scene.remove_by_name(self.root), lambda: self._folder.remove()):
+            try:
+                remove()
+            except Exception:  # noqa: BLE001 - nothing to remove yet
+                pass
+        self._folder = None
+
+    # ------------------------------------------------------------------ the loop
+    def frame(self, wall_dt: float = 1.0 / FPS) -> bool:
+        """Advance the clock by ``wall_dt`` × speed (if playing) and redraw; True if a frame was drawn."""
+        with self.lock:
+            scene = self.scene
+            if scene is None:
+                return False
+            if self._playing:
+                advance = min(max(wall_dt, 0.0), MAX_FRAME_DT) * self._speed
+            elif self._steps:
+                advance = self._steps * self._speed / self.fps
+                self._steps = 0
+            else:
+                advance = 0.0
+            if advance == 0.0 and not self._dirty:
+                return False
+            t_new = self._t + advance
+            try:
+                state = scene.compute(t_new, advance)
+                check_finite(state)
+            except Exception as exc:  # noqa: BLE001 - pause with a message; keep the last valid picture
+                self._failed(exc)
+                return False
+            self._t = t_new
+            try:
+                with self.server.atomic():
+                    scene.draw(state)
+                    now = time.monotonic()
+                    if now - self._last_time_text > 0.1 or not self._playing:
+                        self._last_time_text = now
+                        self.time_text.value = f"{self._t:.2f}"
+            except Exception as exc:  # noqa: BLE001
+                self._failed(exc)
+                return False
+            self._dirty = False
+            self.frames += 1
+            return True
+
+    def _failed(self, exc: Exception) -> None:
+        traceback.print_exc()
+        self._dirty = False
+        what = "a numerical failure" if isinstance(exc, (NumericalFailure, FloatingPointError, ArithmeticError)) else "an error"
+        self.pause(f"{what} at t = {self._t:.3f} s — {type(exc).__name__}: {exc}. The last valid state is shown; "
+                   "change a parameter or press Reset.")
+
+    def start(self) -> None:
+        """Start the real-time loop thread (daemon)."""
+        if self._thread is not None:
+            return
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._run, name="rbl-loop", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        period = 1.0 / self.fps
+        last = time.perf_counter()
+        while not self._stop.is_set():
+            now = time.perf_counter()
+            dt, last = now - last, now
+            try:
+                self.frame(dt)
+            except Exception:  # noqa: BLE001 - the loop never dies
+                traceback.print_exc()
+            self._stop.wait(max(0.0, period - (time.perf_counter() - now)))
+
+    def stop(self) -> None:
+        """Stop the loop and the server."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+            self._thread = None
+        self.server.stop()
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.host}:{self.port}"
