@@ -27,6 +27,16 @@ turning point, or the axis passing through a pole) is deflated, so no digits are
 Poles. When the axis passes exactly through θ = 0 (``Lz = L3``) φ jumps by +π and ψ by −π (φ + ψ and
 the attitude are continuous); through θ = π (``Lz = −L3``) both jump by +π. Near (not through) a pole
 the same turn happens smoothly and fast; the closed form handles it without a special case.
+
+Limits. Right at a pole φ̇ and ψ̇ are each huge and only their combination is well conditioned; the
+attitude, the axis and ``omega_body`` are returned accurately there. The phase error of φ, ψ is about
+eps × (nutation period) × |φ̇|, which only matters when the period itself is astronomically long (a top
+exactly at the sleeping threshold nudged by 1e-80 rad/s). Near a separatrix (m → 1) the motion itself
+amplifies any rounding of the data exponentially.
+
+Step by step. :meth:`HeavyTop.simulate` (spin friction, air drag) and :func:`simulate_heavy_body` (any
+body, e.g. an asymmetric top) integrate (R, L_body) with :mod:`physics.integrators`: no Euler angles, so
+θ = 0 and θ = π/2 are ordinary points.
 """
 
 from __future__ import annotations
