@@ -316,6 +316,19 @@ def test_steady_precession_rates(which):
     assert s.precession_rate == pytest.approx(rate, rel=1e-12)
 
 
+@pytest.mark.parametrize("name", ["steady precession, slow", "steady precession, fast", "sleeping top"])
+def test_steady_motions_are_uniform_for_100_periods(name):
+    """Exact reference: θ = θ0, φ = φ̇0 t, ψ = ψ̇0 t."""
+    ic = CASES[name]
+    t = np.linspace(-10.0, 100.0, 23) * _period(ic)
+    s = TOP.solve(*ic, t)
+    # Rounding of the data leaves a nutation of ~1e-18 in cos θ; φ and ψ reach ~1e3 rad.
+    assert np.max(np.abs(s.theta - ic[0])) < 1e-11
+    assert np.max(np.abs(s.phi - ic[2] * t)) < 1e-11
+    assert np.max(np.abs(s.psi - ic[3] * t)) < 1e-11
+    assert np.max(np.abs(s.axis - symmetry_axis(ic[2] * t, np.full(t.size, ic[0])))) < 1e-11
+
+
 def test_steady_precession_limits_and_errors():
     th = 0.5
     L3 = 100 * TOP.sleeping_threshold()
@@ -461,6 +474,12 @@ def accuracy_table() -> str:
     for name, ic in CASES.items():
         T = _period(ic)
         cells = ["—"] * 4
+        if "steady" in name or name == "sleeping top":  # exact: θ0, φ̇0 t, ψ̇0 t
+            t = (np.linspace(-10.0, 100.0, 12) + 0.37) * T
+            s = TOP.solve(*ic, t)
+            cells = [f"{np.max(np.abs(x)):.1e}*" for x in (
+                s.theta - ic[0], s.phi - ic[2] * t, s.psi - ic[3] * t,
+                s.axis - symmetry_axis(ic[2] * t, np.full(t.size, ic[0])))]
         if name in MP_CASES:
             t = (np.linspace(-10.0, 100.0, 12) + 0.37) * T  # off the pole instants (φ jumps there)
             ref, *_ = mp_reference(TOP, ic, t, dps=50 if "1e-9" in name else 30)
