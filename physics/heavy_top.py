@@ -393,6 +393,62 @@ class HeavyTop:
     def __repr__(self) -> str:
         return f"HeavyTop(I1={self.I1!r}, I3={self.I3!r}, mgl={self.mgl!r})"
 
+    @classmethod
+    def from_mass_properties(cls, body, tip: ArrayLike, *, g: float = G, rtol: float = 1e-9) -> "HeavyTop":
+        """The top made of ``body`` (a :class:`physics.inertia.MassProperties`) spinning on ``tip``.
+
+        The symmetry axis is the line from the tip to the centre of mass; the inertia tensor about the tip
+        (parallel-axis theorem) must have that line as an axis with moment I3 and equal moments I1 about
+        every perpendicular line.
+
+        Parameters
+        ----------
+        body : MassProperties
+            Mass, centre of mass and inertia tensor, modelling frame.
+        tip : array_like (3,)
+            The fixed point, modelling frame, m.
+        g : float
+            Gravitational acceleration, m/s².
+        rtol : float
+            Relative tolerance for the symmetry check.
+
+        Raises
+        ------
+        ValueError
+            If the tip is at the centre of mass, or the body is not symmetric about the tip–centre line.
+        """
+        tip = np.asarray(tip, dtype=float).reshape(3)
+        if not np.all(np.isfinite(tip)):
+            raise ValueError("tip must be finite")
+        d = np.asarray(body.center_of_mass, dtype=float) - tip
+        ell = float(np.linalg.norm(d))
+        if ell == 0.0:
+            raise ValueError("the tip is at the centre of mass: gravity exerts no torque (use physics.free_body)")
+        e3 = d / ell
+        tensor = np.asarray(body.tensor_about(tip), dtype=float)
+        I3 = float(e3 @ tensor @ e3)
+        P = np.eye(3) - np.outer(e3, e3)
+        I1 = float(np.trace(P @ tensor @ P)) / 2.0
+        scale = float(np.max(np.abs(tensor)))
+        if (np.max(np.abs(tensor @ e3 - I3 * e3)) > rtol * scale
+                or np.max(np.abs(P @ tensor @ P - I1 * P)) > rtol * scale):
+            raise ValueError("the body is not symmetric about the line from the tip to its centre of mass "
+                             f"(tensor about the tip: {tensor.tolist()})")
+        return cls(I1, I3, _finite(body.mass, "mass") * _finite(g, "g") * ell)
+
+    def threshold_crossing_time(self, L3: float, spin_friction: float) -> float:
+        """When spin friction ``−c ω3`` (see :meth:`simulate`) takes ``L3`` down to :meth:`sleeping_threshold`,
+        s: ``L3(t) = L3 exp(−c t / I3)`` gives ``t* = (I3 / c) ln(L3 / L3_threshold)``
+        (0 if already below, inf without friction)."""
+        L3 = abs(_finite(L3, "L3"))
+        c = _finite(spin_friction, "spin_friction")
+        if c < 0.0:
+            raise ValueError(f"spin_friction must be >= 0 (it removes energy), got {c}")
+        thr = self.sleeping_threshold()
+        if L3 <= thr:
+            return 0.0
+        return math.inf if c == 0.0 else self.I3 / c * math.log(L3 / thr)
+
     # ------------------------------------------------------------------ conserved quantities
     def angular_momenta(
         self, theta: ArrayLike, phidot: ArrayLike, psidot: ArrayLike

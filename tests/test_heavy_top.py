@@ -448,6 +448,29 @@ def test_solution_at_zero_reproduces_initial_data():
         assert np.allclose(s.omega_body[0], w0, atol=1e-12 * np.abs(w0).max(), rtol=0), name
 
 
+def test_top_from_a_body_on_its_tip():
+    from physics import inertia
+    from physics.rotations import rotation_about
+
+    M, a, ell = 2.0, 0.1, 0.4
+    cyl = inertia.solid_cylinder(M, a, ell)
+    top = HeavyTop.from_mass_properties(cyl, (0.0, 0.0, -ell / 2))
+    # ERRATA 1 plus the parallel-axis theorem to the tip; M g ℓ with ℓ = half the length.
+    assert top.I1 == pytest.approx(M * (a**2 / 4 + ell**2 / 12) + M * (ell / 2) ** 2, rel=1e-14)
+    assert top.I3 == pytest.approx(M * a**2 / 2, rel=1e-14)
+    assert top.mgl == pytest.approx(M * 9.81 * ell / 2, rel=1e-15)
+    # The same body turned and moved anywhere is the same top.
+    R = rotation_about([1.0, 2.0, 0.5], 0.7)
+    moved = cyl.transformed(R, np.array([0.3, -1.0, 2.0]))
+    tip = R @ np.array([0.0, 0.0, -ell / 2]) + np.array([0.3, -1.0, 2.0])
+    again = HeavyTop.from_mass_properties(moved, tip)
+    assert (again.I1, again.I3, again.mgl) == pytest.approx((top.I1, top.I3, top.mgl), rel=1e-12)
+    with pytest.raises(ValueError, match="not symmetric"):
+        HeavyTop.from_mass_properties(inertia.box(1.0, (0.1, 0.2, 0.3)), (0.0, 0.0, -0.15))
+    with pytest.raises(ValueError, match="centre of mass"):
+        HeavyTop.from_mass_properties(cyl, (0.0, 0.0, 0.0))
+
+
 # ---------------------------------------------------------------------------------------- bad input
 
 

@@ -92,9 +92,13 @@ def test_a_sleeping_top_wobbles_and_falls_once_L3_is_below_the_threshold():
     # Without friction the same top sleeps on.
     calm = TOP.simulate(*ic, 7.0, 4e-3, save_every=5)
     assert calm.theta.max() < 2e-3
-    # U''(0) changes sign where the fall begins: the axis has not left before the crossing.
-    t_cross = TOP.I3 / c * math.log(1.5)
+    # U''(0) changes sign where the fall begins: the axis has not left before the crossing, whose time
+    # is the model's (I3/c) ln(L3/threshold), and the simulated L3 crosses there.
+    t_cross = TOP.threshold_crossing_time(1.5 * thr, c)
+    assert t_cross == pytest.approx(TOP.I3 / c * math.log(1.5), rel=1e-15)
     assert run.theta[run.t < t_cross].max() < 1e-2
+    assert np.interp(t_cross, run.t, run.L3) == pytest.approx(thr, rel=1e-4)  # linear interpolation
+    assert TOP.threshold_crossing_time(0.5 * thr, c) == 0.0 and TOP.threshold_crossing_time(thr * 2, 0.0) == math.inf
 
 
 def _dop853_body(moments, mass, com, R0, w0, t, g=9.81):
