@@ -124,7 +124,7 @@ def _rotation_z_to(direction: NDArray[np.float64]) -> NDArray[np.float64]:
 # ---------------------------------------------------------------------------------------------------
 
 
-def top_mesh(length: float = 1.0, radius: float = 0.35, sections: int = 48) -> trimesh.Trimesh:
+def top_mesh(length: float = 1.0, radius: float = 0.3, sections: int = 48) -> trimesh.Trimesh:
     """A spinning top: a cone on its tip at the origin, a disc body and a short stem, axis +z.
 
     A painted stripe is not possible on one mesh colour, so the disc is made slightly faceted
@@ -336,7 +336,7 @@ class Cone:
     0 or non-finite) is hidden.
     """
 
-    def __init__(self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.35, sections: int = 64):
+    def __init__(self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.25, sections: int = 64):
         ang = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
         # Unit cone: apex at the origin, base circle of radius 1 at z = 1 (open: no base disc).
         vertices = np.vstack([[0.0, 0.0, 0.0], np.column_stack([np.cos(ang), np.sin(ang), np.ones_like(ang)])])

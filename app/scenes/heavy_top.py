@@ -71,14 +71,14 @@ class HeavyTopScene(Scene):
         "draws waves, loops or cusps. Stable upright (sleeping) when L₃ > 2√(M g ℓ I₁). "
         "Exact solution without friction; with friction the spin decays and the top falls."
     )
-    camera = ((2.3, -2.3, 1.7), (0.0, 0.0, 0.45))
+    camera = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
         self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH))
-        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
-        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
+        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.025)
+        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.025)
         self.torque_arrow = draw.Arrow(server, root + "/torque", "torque", label="τ")
         self.trace = draw.Trace(server, root + "/trace", capacity=1500)
         self.traces = [self.trace]
@@ -133,8 +133,8 @@ class HeavyTopScene(Scene):
         sol = top.solve(*start, [0.0])
         self.top, self.values, self.start, self.exact = top, dict(values), start, sol
         L0 = sol.attitude[0] @ (np.array([top.I1, top.I1, top.I3]) * sol.omega_body[0])
-        self.L_scale = 1.2 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
-        self.omega_scale = 1.2 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
+        self.L_scale = 1.6 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
+        self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key = None
         self.reset()

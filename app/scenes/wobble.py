@@ -45,7 +45,7 @@ class Wobble(Scene):
         "axis) rolls on the space cone (about L) along ω. I₃/I₁ < 1: prolate (rod-like), > 1: oblate (disc). "
         "Arrows are drawn 1 m long per unit of their initial size."
     )
-    camera = ((2.6, -2.6, 2.0), (0.0, 0.0, 1.0))
+    camera = ((2.2, -2.2, 1.9), (0.0, 0.0, 1.15))
     centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass sits (m)
     size = 1.0  # largest dimension of the body (m); arrows and cones scale with it
 

@@ -1,0 +1,57 @@
+"""A body in free fall: the same torque-free wobble while the centre of mass follows a parabola.
+
+Gravity acts at the centre of mass, so it exerts no torque about it (lecture): the rotation is exactly
+the torque-free motion of :mod:`app.scenes.wobble`, and the centre of mass moves on
+``r(τ) = r0 + v0 τ − ½ g τ² ẑ``. The throw repeats every flight time (τ = t mod T), the spin does not.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from app import draw
+from app.scenes import register
+from app.scenes.wobble import Wobble
+from physics import G
+
+START = np.array([-0.9, 0.0, 0.3])  # launch point of the centre of mass (m)
+VELOCITY = np.array([1.6, 0.0, 5.0])  # launch velocity (m/s): flight time 2 v_z / g ≈ 1.02 s
+
+
+@register
+class FreeFall(Wobble):
+    name = "free_fall"
+    title = "Body in free fall"
+    order = 30
+    quantities = ("L", "omega", "body_cone", "space_cone", "trace", "path")
+    caption = (
+        "**Body in free fall.** Gravity acts at the centre of mass: no torque about it, so L about the "
+        "centre of mass stays fixed and the body wobbles exactly as in the torque-free scene while the "
+        "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ (the throw repeats every flight time)."
+    )
+    camera = ((0.4, -3.3, 1.5), (0.0, 0.0, 0.9))
+    size = 0.45
+
+    def build(self) -> None:
+        self.flight_time = 2.0 * VELOCITY[2] / G
+        tau = np.linspace(0.0, self.flight_time, 80)
+        path = START + VELOCITY * tau[:, None] - 0.5 * G * tau[:, None] ** 2 * np.array([0.0, 0.0, 1.0])
+        self.ctx.server.scene.add_line_segments(
+            self.ctx.root + "/path", points=np.stack([path[:-1], path[1:]], axis=1), colors=draw.COLOURS["path"],
+            thickness=1.5, thickness_units="screen",
+        )
+        super().build()
+
+    def centre_at(self, t: float) -> np.ndarray:
+        tau = t % self.flight_time
+        return START + VELOCITY * tau - 0.5 * G * tau * tau * np.array([0.0, 0.0, 1.0])
+
+    def draw(self, state: dict[str, Any]) -> None:
+        # A new throw starts a new trace (the axis tip trace would otherwise jump across the scene).
+        tau = state["t"] % self.flight_time
+        if getattr(self, "_last_tau", 0.0) > tau:
+            self.trace.clear()
+        self._last_tau = tau
+        super().draw(state)

@@ -1,0 +1,128 @@
+"""Shared helpers for the app's headless and browser tests (both app helpers use them).
+
+* :func:`free_port` — a free TCP port on 127.0.0.1 (one per test server).
+* :func:`running_app` — an :class:`app.server.App` on a free port, stopped afterwards.
+* :func:`chromium_or_skip` — Debian's Chromium through Playwright's sync API, or a skip when it is
+  missing; under ``RBL_REQUIRE_BROWSER=1`` (CI) a missing browser is a failure, never a skip.
+* :func:`open_page` — load the app in a page and wait until the server sees the client and the
+  3D canvas exists.
+* :func:`wait_for` — poll a condition with a timeout (no fixed sleeps in tests).
+* :func:`slider_by_label` / :func:`nudge_slider` — drive a viser slider in the page with the keyboard.
+* :func:`image_stats` — is a render blank; how much two renders differ.
+
+Fixtures built on them live in ``tests/conftest.py`` (``browser``) — module-scoped so one Chromium
+serves a whole test module.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import socket
+import time
+from typing import Any, Callable, Iterator
+
+import numpy as np
+import pytest
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+VIEWPORT = {"width": 1280, "height": 800}
+
+
+def free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@contextlib.contextmanager
+def running_app(scene: str | None = None, *, start_loop: bool = True) -> Iterator[Any]:
+    """An App on a free port; stopped on exit."""
+    from app.server import App
+
+    app = App(host="127.0.0.1", port=free_port(), scene=scene, start_loop=start_loop)
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+def chromium_or_skip() -> str:
+    """Path of Debian's Chromium; skip (or, under RBL_REQUIRE_BROWSER=1, fail) when it is missing."""
+    if os.path.exists(CHROMIUM):
+        return CHROMIUM
+    message = f"{CHROMIUM} not found: the browser tests need Debian's chromium (apt-get install chromium)"
+    if os.environ.get("RBL_REQUIRE_BROWSER") == "1":
+        pytest.fail(message + " and RBL_REQUIRE_BROWSER=1 requires them")
+    pytest.skip(message)
+
+
+@contextlib.contextmanager
+def launch_chromium() -> Iterator[Any]:
+    """A headless Chromium (Playwright sync API, Debian's binary; never ``playwright install``)."""
+    path = chromium_or_skip()
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=path, args=CHROMIUM_ARGS, headless=True)
+        try:
+            yield browser
+        finally:
+            browser.close()
+
+
+def wait_for(condition: Callable[[], Any], timeout: float = 20.0, interval: float = 0.05, what: str = "condition") -> Any:
+    """Poll ``condition`` until it returns something truthy; fail after ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = condition()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(interval)
+
+
+def open_page(browser: Any, app: Any, timeout: float = 30.0) -> tuple[Any, Any]:
+    """Open the app in a new page; returns (page, client) once connected and the canvas exists."""
+    before = set(app.server.get_clients())
+    page = browser.new_page(viewport=VIEWPORT)
+    page.goto(app.url, wait_until="domcontentloaded")
+    client_id = wait_for(lambda: set(app.server.get_clients()) - before, timeout, what="the page to connect")
+    page.wait_for_selector("canvas", timeout=timeout * 1000)
+    client = app.server.get_clients()[next(iter(client_id))]
+    return page, client
+
+
+def slider_by_label(page: Any, label: str) -> Any:
+    """The slider thumb (role=slider) of the viser slider whose label text is ``label``."""
+    row = page.locator("div", has=page.locator(f"text='{label}'")).filter(has=page.locator("[role=slider]")).last
+    return row.locator("[role=slider]").first
+
+
+def nudge_slider(page: Any, label: str, key: str = "ArrowRight", times: int = 1) -> None:
+    """Focus a slider in the page and press a key (one step per press), like a user with a keyboard."""
+    thumb = slider_by_label(page, label)
+    thumb.scroll_into_view_if_needed()
+    thumb.focus()
+    for _ in range(times):
+        thumb.press(key)
+
+
+def image_stats(image: np.ndarray) -> float:
+    """Standard deviation of the pixel values: about 0 for a blank (single-colour) image."""
+    return float(np.asarray(image, dtype=float)[..., :3].std())
+
+
+def image_difference(a: np.ndarray, b: np.ndarray) -> float:
+    """Mean absolute difference of two renders (0-255 scale)."""
+    return float(np.abs(np.asarray(a, dtype=float)[..., :3] - np.asarray(b, dtype=float)[..., :3]).mean())
