@@ -327,6 +327,7 @@ class _Motion:
     m: float = 0.0
     lam: float = 0.0
     K: float = 0.0
+    one_m: float = 1.0
     c: float = 0.0
     spin_rate: float = 0.0  # L3/I3 − L3/I1: the constant part of ψ̇
     terms: list = field(default_factory=list)  # two _PoleTerm
@@ -665,7 +666,10 @@ class HeavyTop:
 
         mo = _Motion(kind="nutating", cubic=cubic, **base)
         m = u21 / u31
-        one_m = u32 / u31
+        # Exactly on a separatrix (u2 = u3: the axis creeps up to an unstable position for ever) K = inf;
+        # with 1 − m = 1e-300 instead the approach takes ~350/λ and differs by e^-350: invisible.
+        one_m = max(u32 / u31, 1e-300)
+        mo.one_m = one_m
         mo.m = m
         mo.lam = lam = math.sqrt(a * u31 / 2.0)
         mo.K = K = float(ellipkm1(one_m))  # accurate even as m → 1 (near a separatrix)
@@ -862,7 +866,7 @@ class HeavyTop:
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
         tau = lam * t + mo.c
         k, r = _reduce(tau, K)
-        sn, cn, dn = _jacobi(r, m, cu.u3_minus_u2 / cu.u3_minus_u1, K)
+        sn, cn, dn = _jacobi(r, m, mo.one_m, K)
         sn2, cn2 = sn * sn, cn * cn
         u21 = cu.u2_minus_u1
         # 1 ∓ u as sums of non-negative terms: no cancellation near the poles.
@@ -884,7 +888,7 @@ class HeavyTop:
         phi = np.full_like(t, mo.phi0)
         psi = mo.psi0 + mo.spin_rate * t
         pdd = np.full_like(t, mo.spin_rate)
-        one_m = cu.u3_minus_u2 / cu.u3_minus_u1
+        one_m = mo.one_m
         for tm in mo.terms:
             dphi = tm.integral(tau, K, m, one_m, (k, r, sn, cn2, dn * dn)) - tm.integral(np.array([mo.c]), K, m, one_m)
             phi = phi + dphi

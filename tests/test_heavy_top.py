@@ -265,6 +265,18 @@ def test_random_tops_match_dop853(I1, ratio, mgl, theta0, thetadot0, phidot0, ps
     assert np.max(np.abs(E_body - s.energy)) < 1e-12 * (abs(s.energy) + top.mgl)
 
 
+def test_exact_separatrix_creeps_up_to_the_top():
+    """No spin, started at the bottom with exactly the energy to reach the top: u2 = u3 = 1."""
+    top = HeavyTop(1.0, 1.0, 1.0)
+    ic = (math.pi, -2.0, 0.0, 0.0)  # ½ θ̇² = 2 = 2 M g ℓ / I1: the top is reached after infinite time
+    t = np.linspace(0.0, 5.0, 11)
+    s = top.solve(*ic, t)
+    # Separatrix of the pendulum: tan(θ/4) = e^{−t} (θ from the top, θ(0) = π), with sqrt(Mgℓ/I1) = 1.
+    assert np.allclose(s.theta, 4.0 * np.arctan(np.exp(-t)), rtol=0, atol=1e-13)
+    R = dop853(top, s.attitude[0], _space_L(top, s.attitude[0], s.omega_body[0]), t)
+    assert np.max(np.abs(s.attitude - R)) < 1e-11
+
+
 def test_axis_through_the_pole_is_smooth():
     ic = CASES["through the pole"]
     tp = 0.5 * TOP.nutation_period(*ic)  # released at the lowest point: the top one is half a period on
