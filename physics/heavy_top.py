@@ -759,7 +759,8 @@ class HeavyTop:
 
     def nutation_period(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> float:
         """Period of θ(t), ``2 K(m) / λ``, s. For a steady precession the limit ``π/λ`` (the period of
-        small nutations about it); for a top exactly vertical see :meth:`_vertical_period`."""
+        small nutations about it); for a top exactly vertical the same limit for nearby motions with
+        ``Lz = ±L3`` (inf below the sleeping threshold, where the vertical is unstable)."""
         return self._motion(theta0, thetadot0, phidot0, psidot0).period
 
     def precession_rate(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> float:
