@@ -103,10 +103,21 @@ def open_page(browser: Any, app: Any, timeout: float = 30.0) -> tuple[Any, Any]:
     return page, client
 
 
+def control_id(page: Any, label: str) -> str:
+    """The DOM id of the viser control whose label text is ``label`` (viser labels it with for=id)."""
+    found = page.evaluate(
+        """(text) => { for (const el of document.querySelectorAll('label[for]')) {
+               if (el.textContent.trim() === text) return el.getAttribute('for'); } return null; }""",
+        label,
+    )
+    if not found:
+        raise AssertionError(f"no control labelled {label!r} in the page")
+    return found
+
+
 def slider_by_label(page: Any, label: str) -> Any:
     """The slider thumb (role=slider) of the viser slider whose label text is ``label``."""
-    row = page.locator("div", has=page.locator(f"text='{label}'")).filter(has=page.locator("[role=slider]")).last
-    return row.locator("[role=slider]").first
+    return page.locator(f"[id='{control_id(page, label)}'] [role=slider]")
 
 
 def nudge_slider(page: Any, label: str, key: str = "ArrowRight", times: int = 1) -> None:

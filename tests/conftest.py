@@ -29,3 +29,26 @@ def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Co
             f"RBL_NO_SKIP=1: {len(_skipped)} test(s) skipped that must run: " + ", ".join(_skipped),
             red=True,
         )
+
+
+# --------------------------------------------------------------------------------------------------
+# App fixtures (issue 4; helpers in tests/browser.py). Module-scoped: one Chromium per test module.
+# --------------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def chromium():
+    """A headless Debian Chromium (Playwright sync API); skipped when missing unless RBL_REQUIRE_BROWSER=1."""
+    from browser import launch_chromium
+
+    with launch_chromium() as browser:
+        yield browser
+
+
+@pytest.fixture(scope="module")
+def live_app():
+    """The app with its real-time loop on a free port (first scene: the heavy top)."""
+    from browser import running_app
+
+    with running_app("heavy_top") as app:
+        yield app
