@@ -1,0 +1,217 @@
+"""Checking a mesh a student uploads before it becomes a body in the inertia explorer.
+
+Pure functions: bytes in, a :class:`UploadedBody` out, or :class:`ValueError` with a message that
+says what is wrong and what to do. Nothing here touches viser, so the checks are tested headless and
+the scene only shows the message (and keeps its previous body).
+
+What is refused, in the order it is checked:
+
+1. a file over :data:`MAX_BYTES` (20 MB) — before it is parsed;
+2. a file type other than STL, OBJ, PLY, GLB;
+3. a file the loader cannot read, or reads as *nothing* (trimesh returns an empty scene for an empty
+   or garbage STL without raising);
+4. a mesh over :data:`MAX_FACES` (500,000 triangles), or with non-finite vertices;
+5. a mesh that is not watertight: it encloses no definite volume, so it has no mass distribution.
+   :class:`NotWatertightError` carries its convex hull, which the user may accept instead;
+6. a mesh of zero volume (flat) — :func:`physics.inertia.from_mesh` refuses it.
+
+Units: meshes are taken as metres. CAD exports are usually in millimetres, so a mesh larger than
+:data:`MILLIMETRE_GUESS` metres is scaled by 1/1000, and the note says so.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+from pathlib import PurePath
+
+import numpy as np
+import trimesh
+
+from physics.inertia import MassProperties, from_mesh
+
+__all__ = [
+    "MAX_BYTES",
+    "MAX_FACES",
+    "FORMATS",
+    "MILLIMETRE_GUESS",
+    "UploadedBody",
+    "NotWatertightError",
+    "read_mesh",
+    "body_from_mesh",
+    "body_from_upload",
+]
+
+MAX_BYTES = 20 * 1024 * 1024
+"""Largest upload accepted, bytes (20 MB)."""
+MAX_FACES = 500_000
+"""Most triangles accepted: more would make every frame slow for every connected browser."""
+FORMATS = ("stl", "obj", "ply", "glb")
+"""File extensions accepted (lower case)."""
+MILLIMETRE_GUESS = 5.0
+"""A mesh whose largest extent exceeds this many metres is taken to be in millimetres."""
+DEFAULT_MASS = 1.0
+"""kg given to an uploaded body (uniform density); moments scale with it."""
+
+
+class NotWatertightError(ValueError):
+    """The mesh has holes. ``hull`` is its convex hull (watertight), which the user may use instead."""
+
+    def __init__(self, message: str, hull: trimesh.Trimesh | None) -> None:
+        super().__init__(message)
+        self.hull = hull
+
+
+@dataclass(frozen=True)
+class UploadedBody:
+    """An accepted upload: the mesh (m, recentred nowhere: as given), its mass properties and a note."""
+
+    name: str
+    mesh: trimesh.Trimesh
+    mass_properties: MassProperties
+    note: str
+
+
+def _size_text(n_bytes: int) -> str:
+    return f"{n_bytes / 1024 / 1024:.1f} MB" if n_bytes >= 1024 * 1024 else f"{n_bytes / 1024:.0f} kB"
+
+
+def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
+    """Parse an uploaded file into one triangle mesh, refusing what is not a usable mesh.
+
+    Parameters
+    ----------
+    filename : str
+        The uploaded file's name; its extension selects the format (STL, OBJ, PLY, GLB).
+    content : bytes
+        The file's bytes.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        With duplicate vertices merged (an STL stores each triangle's corners separately). Not yet
+        checked for watertightness: see :func:`body_from_mesh`.
+
+    Raises
+    ------
+    ValueError
+        Too large, unknown type, unreadable, empty, too many faces, or non-finite vertices; the
+        message names the file and the problem.
+    """
+    name = PurePath(filename or "upload").name
+    if len(content) > MAX_BYTES:
+        raise ValueError(
+            f"{name} is {_size_text(len(content))}; the limit is {_size_text(MAX_BYTES)}. "
+            "Simplify the mesh (fewer triangles) and upload it again."
+        )
+    ext = PurePath(name).suffix.lower().lstrip(".")
+    if ext not in FORMATS:
+        raise ValueError(
+            f"{name} is not a mesh file this app reads: upload an STL, OBJ, PLY or GLB file "
+            f"(got {'.' + ext if ext else 'no extension'})."
+        )
+    if len(content) == 0:
+        raise ValueError(f"{name} is empty (0 bytes): there is no mesh in it.")
+    try:
+        loaded = trimesh.load(io.BytesIO(content), file_type=ext, process=True)
+    except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable mesh"
+        raise ValueError(f"{name} could not be read as a {ext.upper()} mesh ({type(exc).__name__}: {exc}).") from exc
+    if isinstance(loaded, trimesh.Scene):
+        # GLB (and a failed STL/OBJ parse) come back as a scene: flatten its geometry into one mesh.
+        meshes = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if loaded.geometry else []
+        loaded = trimesh.util.concatenate(meshes) if meshes else None
+    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0 or len(loaded.vertices) == 0:
+        raise ValueError(
+            f"{name} contains no triangles: the file is empty or is not really a {ext.upper()} mesh "
+            "(a point cloud, lines only, or garbage)."
+        )
+    if len(loaded.faces) > MAX_FACES:
+        raise ValueError(
+            f"{name} has {len(loaded.faces):,} triangles; the limit is {MAX_FACES:,}. "
+            "Decimate the mesh and upload it again."
+        )
+    if not np.all(np.isfinite(loaded.vertices)):
+        raise ValueError(f"{name} has vertices that are not finite numbers (NaN or infinity).")
+    mesh = trimesh.Trimesh(vertices=np.asarray(loaded.vertices, dtype=float), faces=loaded.faces, process=True)
+    mesh.merge_vertices()
+    mesh.remove_unreferenced_vertices()
+    return mesh
+
+
+def body_from_mesh(
+    mesh: trimesh.Trimesh, name: str = "upload", *, use_convex_hull: bool = False, mass: float = DEFAULT_MASS
+) -> UploadedBody:
+    """Turn a parsed mesh into a body of uniform density, or refuse it saying why.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Vertices in m (or mm: see :data:`MILLIMETRE_GUESS`).
+    name : str
+        Shown in messages.
+    use_convex_hull : bool
+        If the mesh is not watertight, use its convex hull instead of refusing it.
+    mass : float
+        Total mass, kg.
+
+    Raises
+    ------
+    NotWatertightError
+        The mesh is not watertight and ``use_convex_hull`` is False; ``.hull`` is offered.
+    ValueError
+        The mesh has zero volume, or a convex hull cannot be formed (all points on a plane).
+    """
+    notes = []
+    extent = float(np.max(np.ptp(mesh.vertices, axis=0)))
+    if extent > MILLIMETRE_GUESS:
+        mesh = mesh.copy()
+        mesh.apply_scale(1e-3)
+        notes.append(f"its largest size was {extent:.4g}, so it was read as millimetres ({extent / 1000:.3g} m)")
+    if not mesh.is_watertight:
+        open_edges = _open_edge_count(mesh)
+        hull = _convex_hull_or_none(mesh)
+        why = (
+            f"{name} is not watertight: {open_edges} edge{'s' if open_edges != 1 else ''} belong to only one "
+            "triangle (holes or a surface that is not closed), so it encloses no definite volume and has no "
+            "mass distribution."
+        )
+        if not use_convex_hull:
+            offer = " You can use its convex hull instead (the shape shrink-wrapped)." if hull is not None else ""
+            raise NotWatertightError(why + offer, hull)
+        if hull is None:
+            raise ValueError(why + " Its points all lie on a plane, so it has no convex hull with volume either.")
+        mesh = hull
+        notes.append("replaced by its convex hull because it was not watertight")
+    try:
+        props = from_mesh(mesh, mass=mass)
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from exc
+    note = f"{name}: {len(mesh.faces):,} triangles, {mass:g} kg of uniform density"
+    if notes:
+        note += "; " + "; ".join(notes)
+    return UploadedBody(name, mesh, props, note + ".")
+
+
+def body_from_upload(
+    filename: str, content: bytes, *, use_convex_hull: bool = False, mass: float = DEFAULT_MASS
+) -> UploadedBody:
+    """:func:`read_mesh` then :func:`body_from_mesh`: the whole check of one uploaded file."""
+    name = PurePath(filename or "upload").name
+    return body_from_mesh(read_mesh(filename, content), name, use_convex_hull=use_convex_hull, mass=mass)
+
+
+def _open_edge_count(mesh: trimesh.Trimesh) -> int:
+    # Edges used by exactly one face (a closed surface uses each edge twice).
+    edges = np.sort(mesh.edges, axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    return int(np.sum(counts == 1))
+
+
+def _convex_hull_or_none(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
+    try:
+        hull = mesh.convex_hull
+    except Exception:  # noqa: BLE001 - qhull fails on coplanar points
+        return None
+    if not isinstance(hull, trimesh.Trimesh) or len(hull.faces) < 4 or not hull.is_watertight or hull.volume <= 0:
+        return None
+    return hull
