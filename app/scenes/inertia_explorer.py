@@ -1,0 +1,267 @@
+"""Inertia explorer: pick or upload a body; see its principal axes, moments and inertia ellipsoid, and the
+tensor about a movable pivot by the parallel-axis theorem.
+
+Model: :mod:`physics.inertia` (``MassProperties``: principal moments ``I1 >= I2 >= I3`` and axes,
+``tensor_about(point)`` = ``I_CM + M (a² δ − a aᵀ)``). Uploaded meshes are checked by :mod:`app.upload`:
+a refused file leaves the previous body in place and says why. "Spin it" hands the body to the
+torque-free tennis-racket scene.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from app import controls, draw
+from app.scenes import Scene, register
+from app.upload import NotWatertightError, UploadedBody, body_from_mesh, body_from_upload
+from assets import ASSETS, load_mesh, mass_properties
+from physics.inertia import MassProperties, box, point_masses, rod, solid_cylinder, solid_sphere
+
+PRIMITIVES = ("Rod", "Solid sphere", "Solid cylinder", "Box (L × 2a × a)", "Point masses (4, unequal)")
+ASSET_CHOICES = {ASSETS[k].label: k for k in ASSETS}
+POINT_MASSES = np.array([1.0, 2.0, 1.0, 0.5])  # kg
+POINT_POSITIONS = np.array([[0.5, 0.0, 0.0], [-0.5, 0.2, 0.0], [0.0, -0.4, 0.3], [0.1, 0.3, -0.4]])  # × L
+DISPLAY_SIZE = 1.2  # m: the body is drawn scaled so its largest extent is this
+ELLIPSOID_CAP = 4.0  # a zero moment (rod) would give an infinite ellipsoid axis: cap at 4× the smallest
+
+
+def primitive_body(kind: str, a: float, length: float) -> tuple[trimesh.Trimesh, MassProperties]:
+    """Display mesh (m) and mass properties (1 kg in total) of a primitive of size ``a`` and ``length``."""
+    if kind == "Rod":
+        return trimesh.creation.cylinder(radius=length / 150, height=length, sections=16), rod(1.0, length)
+    if kind == "Solid sphere":
+        return trimesh.creation.icosphere(subdivisions=3, radius=a), solid_sphere(1.0, a)
+    if kind == "Solid cylinder":
+        return trimesh.creation.cylinder(radius=a, height=length, sections=48), solid_cylinder(1.0, a, length)
+    if kind.startswith("Box"):
+        extents = [length, 2 * a, a]
+        return trimesh.creation.box(extents=extents), box(1.0, extents)
+    if kind.startswith("Point masses"):
+        pos = POINT_POSITIONS * length
+        balls = []
+        for m, p in zip(POINT_MASSES, pos):
+            ball = trimesh.creation.icosphere(subdivisions=2, radius=0.06 * length * m ** (1 / 3))
+            ball.apply_translation(p)
+            balls.append(ball)
+        # Thin struts from the centre of mass so the set reads as one rigid body.
+        props = point_masses(POINT_MASSES / POINT_MASSES.sum(), pos)
+        for p in pos:
+            d = p - props.center_of_mass
+            strut = trimesh.creation.cylinder(radius=0.008 * length, segment=[props.center_of_mass, p], sections=8)
+            if np.linalg.norm(d) > 0:
+                balls.append(strut)
+        return trimesh.util.concatenate(balls), props
+    raise ValueError(f"unknown body {kind!r}")
+
+
+def inertia_ellipsoid_axes(moments: np.ndarray, largest: float) -> np.ndarray:
+    """Semi-axes of the inertia ellipsoid ``xᵀ I x = const``, proportional to ``1/√I_i``, scaled so the
+    largest is ``largest`` (m); a zero moment (rod) is capped at :data:`ELLIPSOID_CAP` × the smallest."""
+    m = np.asarray(moments, dtype=float)
+    positive = m[m > 0]
+    inv = np.where(m > 0, 1.0 / np.sqrt(np.where(m > 0, m, 1.0)), np.inf)
+    smallest = float(np.min(inv))
+    inv = np.minimum(inv, ELLIPSOID_CAP * smallest) if positive.size else np.ones(3)
+    return largest * inv / float(np.max(inv))
+
+
+def tensor_markdown(tensor: np.ndarray, title: str) -> str:
+    rows = "\n".join("| " + " | ".join(f"{v: .4g}" for v in row) + " |" for row in tensor)
+    return f"**{title}** (kg m²)\n\n| x | y | z |\n|---|---|---|\n{rows}"
+
+
+@register
+class InertiaExplorer(Scene):
+    name = "inertia_explorer"
+    title = "Inertia explorer"
+    order = 5
+    quantities = ("body",)
+    caption = (
+        "**The inertia tensor.** Pick a body (1 kg) or upload your own mesh. The axes at the centre of mass are "
+        "the principal axes (labelled 1, 2, 3 with I₁ ≥ I₂ ≥ I₃); the translucent ellipsoid is the "
+        "inertia ellipsoid xᵀ I x = const (long where I is small). Move the pivot: the tensor about it is "
+        "I(a) = I_CM + M (a² δ − a aᵀ) (parallel-axis theorem)."
+    )
+    camera = ((2.4, -2.4, 2.0), (0.0, 0.0, 1.0))
+    centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass is drawn (m)
+
+    def build(self) -> None:
+        server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
+        self.uploaded: UploadedBody | None = None
+        self.pending_hull: tuple[str, trimesh.Trimesh] | None = None
+        self.upload_refusals = 0
+        self.last_upload_message = ""
+        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.85)
+        self.frame = draw.PrincipalFrame(server, root + "/principal", length=0.7)
+        self.axis_labels = [server.scene.add_label(f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
+        self.ellipsoid = server.scene.add_icosphere(root + "/ellipsoid", radius=1.0, color=(255, 200, 60),
+                                                    subdivisions=4, opacity=0.25, cast_shadow=False)
+        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=(20, 20, 20))
+        self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)
+        self.lever = server.scene.add_line_segments(root + "/lever", points=np.zeros((1, 2, 3), dtype=np.float32),
+                                                    colors=(20, 20, 20), thickness=2.0, thickness_units="screen")
+
+        self.choice = gui.add_dropdown("Body", options=(*PRIMITIVES, *ASSET_CHOICES), initial_value="Box (L × 2a × a)")
+        self.choice.on_update(self.ctx.guarded(lambda e: self._choice_changed(getattr(e, "client", None))))
+        self.params = controls.ParameterPanel(
+            self.ctx,
+            [
+                controls.SliderSpec("a", "radius / size a (m)", 0.02, 0.5, 0.01, 0.15),
+                controls.SliderSpec("length", "length L (m)", 0.05, 2.0, 0.05, 0.8),
+                controls.SliderSpec("px", "pivot x from the CM (m)", -1.0, 1.0, 0.05, 0.4),
+                controls.SliderSpec("py", "pivot y from the CM (m)", -1.0, 1.0, 0.05, 0.0),
+                controls.SliderSpec("pz", "pivot z from the CM (m)", -1.0, 1.0, 0.05, 0.0),
+            ],
+            apply=self.apply,
+        )
+        self.upload = gui.add_upload_button("Upload a mesh (STL, OBJ, PLY, GLB)", icon=None,
+                                            hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)")
+        self.upload.on_upload(self.ctx.guarded(self._on_upload))
+        self.hull_button = gui.add_button("Use its convex hull instead", visible=False)
+        self.hull_button.on_click(self.ctx.guarded(self._use_hull))
+        self.spin_button = gui.add_button("Spin it (torque-free)")
+        self.spin_button.on_click(self.ctx.guarded(self._spin_it))
+        self.moments_readout = controls.Readout(self.ctx, "I₁ ≥ I₂ ≥ I₃ at the CM (kg m²)", fmt="{}")
+        self.pivot_readout = controls.Readout(self.ctx, "principal moments about the pivot", fmt="{}")
+        self.note = gui.add_markdown("")
+        self.tensor_md = gui.add_markdown("")
+        self._last_choice = self.choice.value
+        self.apply(self.params.values)
+
+    # -- bodies ------------------------------------------------------------------------------------
+    def current_body(self, values: dict[str, float]) -> tuple[str, trimesh.Trimesh, MassProperties]:
+        choice = self.choice.value
+        if self.uploaded is not None and choice == self._upload_label():
+            return self.uploaded.name, self.uploaded.mesh, self.uploaded.mass_properties
+        if choice in ASSET_CHOICES:
+            key = ASSET_CHOICES[choice]
+            return choice, load_mesh(key), mass_properties(key)
+        mesh, props = primitive_body(choice, values["a"], values["length"])
+        return choice, mesh, props
+
+    def _upload_label(self) -> str:
+        return f"Uploaded: {self.uploaded.name}" if self.uploaded is not None else ""
+
+    def _choice_changed(self, client: Any = None) -> None:
+        if self.choice.value == self._last_choice:
+            return
+        try:
+            self.apply(self.params.values)
+        except ValueError as exc:
+            self.choice.value = self._last_choice
+            self.ctx.notify("Refused", str(exc), client=client, error=True)
+
+    def apply(self, values: dict[str, float]) -> None:
+        label, mesh, props = self.current_body(values)
+        moments, axes = props.principal()
+        pivot_offset = np.array([values["px"], values["py"], values["pz"]])
+        pivot = props.center_of_mass + pivot_offset
+        tensor_pivot = props.tensor_about(pivot)
+        pivot_moments, pivot_axes = np.linalg.eigh(tensor_pivot)
+        order = np.argsort(-pivot_moments)
+        pivot_moments, pivot_axes = pivot_moments[order], pivot_axes[:, order]
+        if np.linalg.det(pivot_axes) < 0:
+            pivot_axes[:, 2] *= -1
+        # Display: the body scaled so its largest extent is DISPLAY_SIZE, its CM at `centre`.
+        extent = float(np.max(np.ptp(mesh.vertices, axis=0)))
+        scale = DISPLAY_SIZE / max(extent, 1e-9)
+        drawn = mesh.copy()
+        drawn.apply_translation(-props.center_of_mass)
+        drawn.apply_scale(scale)
+        self.body.set_mesh(drawn)
+        self.body.set_pose(np.eye(3), self.centre)
+        self.frame.set_pose(axes, self.centre)
+        for i, lab in enumerate(self.axis_labels):
+            lab.position = self.centre + 0.75 * axes[:, i]
+        semi = inertia_ellipsoid_axes(moments, 0.55 * DISPLAY_SIZE)
+        self.ellipsoid.scale = tuple(float(s) for s in semi)
+        self.ellipsoid.wxyz = draw.wxyz(axes)
+        self.ellipsoid.position = self.centre
+        p_draw = self.centre + scale * pivot_offset
+        self.pivot_marker.position = p_draw
+        self.pivot_frame.set_pose(pivot_axes, p_draw)
+        self.lever.points = np.array([[self.centre, p_draw]], dtype=np.float32)
+        self.label, self.mesh, self.props = label, mesh, props
+        self.moments, self.axes, self.pivot, self.tensor_pivot = moments, axes, pivot, tensor_pivot
+        self.pivot_moments = pivot_moments
+        self.display_scale = scale
+        self.moments_readout.set(", ".join(f"{m:.4g}" for m in moments))
+        self.pivot_readout.set(", ".join(f"{m:.4g}" for m in pivot_moments))
+        self.tensor_md.content = tensor_markdown(tensor_pivot, "Tensor about the pivot") + "\n\n" + tensor_markdown(
+            props.tensor, "Tensor about the centre of mass")
+        self.note.content = (f"**{label}**, {props.mass:g} kg; drawn at {scale:.3g}× its size. "
+                             f"Pivot {np.linalg.norm(pivot_offset):.3g} m from the CM: M a² = "
+                             f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m².")
+        self._last_choice = self.choice.value
+        self.ctx.request_redraw()
+
+    # -- uploads -----------------------------------------------------------------------------------
+    def _on_upload(self, event: Any) -> None:
+        client = getattr(event, "client", None)
+        file = self.upload.value
+        self.load_upload(file.name, file.content, client=client)
+
+    def load_upload(self, filename: str, content: bytes, client: Any = None) -> bool:
+        """Check an uploaded file; on success show it, on refusal keep the previous body and say why."""
+        try:
+            body = body_from_upload(filename, content)
+        except NotWatertightError as exc:
+            self.pending_hull = (filename, exc.hull) if exc.hull is not None else None
+            self.hull_button.visible = self.pending_hull is not None
+            return self._refuse(str(exc), client)
+        except ValueError as exc:
+            return self._refuse(str(exc), client)
+        self._adopt(body, client)
+        return True
+
+    def _refuse(self, message: str, client: Any) -> bool:
+        self.upload_refusals += 1
+        self.last_upload_message = message
+        self.ctx.notify("Upload refused — the previous body stays", message, client=client, error=True)
+        return False
+
+    def _use_hull(self, event: Any) -> None:
+        if self.pending_hull is None:
+            return
+        filename, hull = self.pending_hull
+        body = body_from_mesh(hull, f"{filename} (convex hull)")
+        self._adopt(body, getattr(event, "client", None))
+
+    def _adopt(self, body: UploadedBody, client: Any) -> None:
+        previous = (self.uploaded, self.choice.options, self.choice.value)
+        self.uploaded = body
+        self.pending_hull = None
+        self.hull_button.visible = False
+        self.choice.options = (*PRIMITIVES, *ASSET_CHOICES, self._upload_label())
+        self.choice.value = self._upload_label()
+        try:
+            self.apply(self.params.values)
+        except ValueError as exc:
+            self.uploaded, self.choice.options, self.choice.value = previous
+            self._refuse(str(exc), client)
+            return
+        self.last_upload_message = body.note
+        self.ctx.notify("Mesh loaded", body.note, client=client)
+
+    # -- hand over ---------------------------------------------------------------------------------
+    def _spin_it(self, event: Any) -> None:
+        m = self.moments
+        if np.isclose(m[0], m[1], rtol=1e-6) or np.isclose(m[1], m[2], rtol=1e-6):
+            raise ValueError(
+                f"{self.label} has two equal moments ({', '.join(f'{v:.4g}' for v in m)} kg m²): it is symmetric, "
+                "so it wobbles steadily and cannot show the flip; the torque-free wobble scene shows that case"
+            )
+        self.ctx.switch_to("tennis_racket", payload={"label": self.label, "mesh": self.mesh,
+                                                     "mass_properties": self.props})
+
+    def compute(self, t: float, dt: float) -> dict[str, Any]:
+        return {"t": t}
+
+    def draw(self, state: dict[str, Any]) -> None:
+        # A static scene: everything is placed when a parameter changes (apply).
+        return None
+
+

@@ -1,0 +1,291 @@
+"""The tennis racket (the intermediate axis): any asymmetric body spun about a principal axis, torque-free.
+
+Model: :class:`physics.free_body.FreeBody`, evaluated in closed form at the clock's time (Jacobi
+elliptic functions), so a flip is exact however close the start is to the separatrix. Lecture, end
+of the free-body section: linearising about spin Ω on axis i gives
+``η̈ = −[Ω² (I_i − I_j)(I_i − I_k) / (I_j I_k)] η`` — an oscillation about the largest and the
+smallest axis, exponential growth (the flip) about the intermediate one.
+
+This is also the general torque-free scene: the inertia explorer's "Spin it" hands its body here.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import trimesh
+import viser
+
+from app import controls, draw
+from app.scenes import Scene, register
+from assets import ASSETS, load_mesh, mass_properties
+from physics.free_body import FreeBody
+from physics.inertia import MassProperties, validate_moments
+from physics.rotations import frame_from_axis
+
+SLIDERS = "moments from the sliders (a box)"
+BODIES = {
+    "Tennis racket (mesh)": "tennis_racket",
+    "T-handle, Dzhanibekov (mesh)": "t_handle",
+    "Book (mesh)": "book",
+    SLIDERS: None,
+}
+AXES = {"1 — largest moment": 0, "2 — intermediate (flips)": 1, "3 — smallest moment": 2}
+HISTORY = 600  # samples of ω kept for the plot
+PLOT_EVERY = 3  # frames between plot updates (each update sends the whole history)
+
+
+def principal_body(mesh: trimesh.Trimesh, props: MassProperties) -> tuple[np.ndarray, trimesh.Trimesh]:
+    """Moments ``I1 >= I2 >= I3`` and the mesh moved into its principal frame (origin at the centre of mass)."""
+    moments, axes = props.principal()
+    body = mesh.copy()
+    body.vertices = (np.asarray(mesh.vertices) - props.center_of_mass) @ axes  # rows: axesᵀ (v − c)
+    return moments, body
+
+
+def box_for_moments(moments: np.ndarray, mass: float = 1.0) -> trimesh.Trimesh:
+    """A box whose principal moments (about its centre, axes 1, 2, 3 = x, y, z) are ``moments``.
+
+    ``I1 = M (b² + c²)/12`` etc. give ``a² = 6 (I2 + I3 − I1)/M``; the triangle inequality makes it >= 0.
+    """
+    i1, i2, i3 = moments
+    sq = 6.0 / mass * np.array([i2 + i3 - i1, i1 + i3 - i2, i1 + i2 - i3])
+    extents = np.sqrt(np.maximum(sq, 0.0))
+    return trimesh.creation.box(extents=np.maximum(extents, 0.01 * extents.max()))
+
+
+def separatrix_circles(moments: np.ndarray, n: int = 181) -> np.ndarray:
+    """The separatrix on the unit L-sphere seen in the body: ``L² = 2 E I2`` on ``|L| = 1``.
+
+    ``Σ l_i² (1/I_i − 1/I2) = 0`` is the pair of planes ``l3 = ± s l1`` with
+    ``s = sqrt((1/I2 − 1/I1) / (1/I3 − 1/I2))``, through the intermediate axis. Returns the two great
+    circles as line segments, shape (2 (n − 1), 2, 3).
+    """
+    i1, i2, i3 = moments
+    s = math.sqrt((1 / i2 - 1 / i1) / (1 / i3 - 1 / i2))
+    ang = np.linspace(0, 2 * np.pi, n)
+    segs = []
+    for sign in (1.0, -1.0):
+        u = np.array([1.0, 0.0, sign * s]) / math.hypot(1.0, s)
+        pts = np.outer(np.cos(ang), u) + np.outer(np.sin(ang), [0.0, 1.0, 0.0])
+        segs.append(np.stack([pts[:-1], pts[1:]], axis=1))
+    return np.concatenate(segs)
+
+
+@register
+class TennisRacket(Scene):
+    name = "tennis_racket"
+    title = "Tennis racket: the intermediate axis"
+    order = 40
+    quantities = ("L", "omega", "trace")
+    caption = (
+        "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
+        "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like e^{λt}, "
+        "λ = Ω √((I₁ − I₂)(I₂ − I₃)/(I₁ I₃)), and the body flips over and back, again and again. L stays fixed. "
+        "Right: L seen from the body, on the L-sphere: the polhode (blue) and the separatrix (grey)."
+    )
+    camera = ((2.6, -2.6, 1.9), (0.7, 0.0, 1.0))
+    centre = np.array([0.0, 0.0, 1.0])
+    sphere_centre = np.array([1.6, 0.0, 1.0])
+    sphere_radius = 0.45
+    size = 0.9  # largest dimension the body is drawn at (m)
+
+    def build(self) -> None:
+        server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
+        self.handed: dict[str, Any] | None = None  # a body from the inertia explorer
+        self._last_source = ""
+        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
+        self.frame = draw.PrincipalFrame(server, root + "/frame", length=0.6 * self.size)
+        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
+        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
+        # The L-sphere in body axes: faint sphere, body axes, separatrix, polhode, current L.
+        server.scene.add_frame(root + "/lsphere_axes", axes_length=1.25 * self.sphere_radius, axes_radius=0.006,
+                               origin_radius=0.0, position=self.sphere_centre)
+        self.sphere_sphere = server.scene.add_icosphere(root + "/lsphere_shell", radius=self.sphere_radius,
+                                                        color=(150, 170, 200), opacity=0.08,
+                                                        position=self.sphere_centre, cast_shadow=False)
+        self.separatrix = server.scene.add_line_segments(
+            root + "/separatrix", points=np.zeros((2, 2, 3), dtype=np.float32), colors=(110, 110, 110), thickness=1.5,
+            thickness_units="screen")
+        self.polhode = server.scene.add_line_segments(
+            root + "/polhode", points=np.zeros((2, 2, 3), dtype=np.float32), colors=draw.COLOURS["trace"],
+            thickness=3.0, thickness_units="screen")
+        self.L_dot = server.scene.add_icosphere(root + "/L_dot", radius=0.03, color=draw.COLOURS["L"])
+        server.scene.add_label(root + "/lsphere_label", "L seen from the body",
+                               position=self.sphere_centre + [0, 0, 1.3 * self.sphere_radius])
+
+        self.source = gui.add_dropdown("Body", options=tuple(BODIES), initial_value="Tennis racket (mesh)")
+        self.source.on_update(self.ctx.guarded(lambda e: self._source_changed(getattr(e, "client", None))))
+        self.axis = gui.add_dropdown("Spin about principal axis", options=tuple(AXES), initial_value="2 — intermediate (flips)")
+        self.axis.on_update(self.ctx.guarded(lambda _: self.apply(self.params.values)))
+        self.params = controls.ParameterPanel(
+            self.ctx,
+            [
+                controls.SliderSpec("spin", "spin Ω (rad/s)", 0.5, 20.0, 0.5, 6.0),
+                controls.SliderSpec("log_eps", "push off the axis, log₁₀ ε", -8.0, -0.5, 0.5, -3.0,
+                                    hint="ε = ratio of the off-axis ω to Ω at t = 0"),
+                controls.SliderSpec("I1", "I₁ (kg m², slider body)", 0.1, 5.0, 0.1, 3.0),
+                controls.SliderSpec("I2", "I₂ (kg m², slider body)", 0.1, 5.0, 0.1, 2.0),
+                controls.SliderSpec("I3", "I₃ (kg m², slider body)", 0.1, 5.0, 0.1, 1.0),
+            ],
+            apply=self.apply,
+        )
+        self.moments_readout = controls.Readout(self.ctx, "I₁, I₂, I₃ (kg m²)", fmt="{}")
+        self.stability_readout = controls.Readout(self.ctx, "lecture: this axis is", fmt="{}")
+        self.rate_readout = controls.Readout(self.ctx, "growth rate λ (1/s)")
+        self.first_flip_readout = controls.Readout(self.ctx, "lecture's first flip ≈ ln(1/ε)/λ (s)")
+        self.period_readout = controls.Readout(self.ctx, "measured flip period (s)")
+        self.plot = gui.add_uplot(
+            data=(np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2)),
+            series=(
+                viser.uplot.Series(label="t (s)"),
+                viser.uplot.Series(label="ω₁", stroke="#dc1e3c", width=2),
+                viser.uplot.Series(label="ω₂", stroke="#28aa5a", width=2),
+                viser.uplot.Series(label="ω₃", stroke="#1478ff", width=2),
+            ),
+            title="ω in body axes (rad/s)",
+            scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
+            aspect=1.6,
+        )
+        self._hist_t = np.zeros(HISTORY)
+        self._hist_w = np.zeros((HISTORY, 3))
+        self._hist_n = 0
+        self._frames = 0
+        self.trace = draw.Trace(server, root + "/trace", capacity=800)
+        self.traces = [self.trace]
+        self.apply(self.params.values)
+
+    # -- parameters --------------------------------------------------------------------------------
+    def _source_changed(self, client: Any = None) -> None:
+        if self.source.value == self._last_source:
+            return
+        try:
+            self.apply(self.params.values)
+        except ValueError as exc:
+            self.source.value = self._last_source  # the previous body stays
+            self.ctx.notify("Refused", str(exc), client=client, error=True)
+
+    def _body(self, values: dict[str, float]) -> tuple[np.ndarray, trimesh.Trimesh, str]:
+        """Moments (I1 >= I2 >= I3), the mesh in the principal frame, and a description."""
+        choice = self.source.value
+        if self.handed is not None and choice == self.handed["label"]:
+            moments, mesh = principal_body(self.handed["mesh"], self.handed["mass_properties"])
+            return moments, mesh, self.handed["label"]
+        asset = BODIES.get(choice)
+        if asset is not None:
+            moments, mesh = principal_body(load_mesh(asset), mass_properties(asset))
+            return moments, mesh, ASSETS[asset].label
+        moments = validate_moments([values["I1"], values["I2"], values["I3"]])
+        if not (moments[0] >= moments[1] >= moments[2]):
+            raise ValueError(
+                f"order the moments I₁ ≥ I₂ ≥ I₃ (got {moments.tolist()}): the axes are numbered by their moment"
+            )
+        return moments, box_for_moments(moments), "box"
+
+    def apply(self, values: dict[str, float]) -> None:
+        moments, mesh, label = self._body(values)
+        if np.any(np.diff(moments) == 0.0) or moments[2] <= 0.0:
+            raise ValueError(f"the three moments must differ for the tennis-racket effect, got {moments.tolist()}")
+        model = FreeBody(moments)
+        axis = AXES[self.axis.value]
+        spin, eps = values["spin"], 10.0 ** values["log_eps"]
+        omega0 = np.full(3, eps * spin)
+        omega0[axis] = spin
+        L_body = moments * omega0
+        self.attitude0 = frame_from_axis(L_body).T  # L along +z in space
+        self.model, self.omega0, self.moments, self.axis_index, self.eps = model, omega0, moments, axis, eps
+        self.L_space = self.attitude0 @ L_body
+        self.L_norm = float(np.linalg.norm(L_body))
+        scale = self.size / float(np.max(np.ptp(mesh.vertices, axis=0)))
+        drawn = mesh.copy()
+        drawn.apply_scale(scale)
+        self.body.set_mesh(drawn)
+        self.mesh_scale = scale
+        self.L_scale = 0.9 * self.size / self.L_norm
+        self.omega_scale = 0.9 * self.size / float(np.linalg.norm(omega0))
+        # Readouts: lecture's linear stability, and the flip period measured from the exact ω(t).
+        stab = model.stability(axis, spin)
+        self.stability = stab
+        self.moments_readout.set(", ".join(f"{m:.4g}" for m in moments))
+        self.stability_readout.set(f"{stab.kind} ({'flips' if stab.kind == 'unstable' else 'wobbles'})")
+        self.rate_readout.handle.label = "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
+        self.rate_readout.set(stab.rate)
+        self.first_flip_readout.set(math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else float("nan"))
+        self.flip_period = self.measured_flip_period()
+        self.period_readout.set(self.flip_period)
+        # Polhode: L/|L| in body axes over one period of ω.
+        period = model.period(omega0)
+        span = period if math.isfinite(period) else 20.0 / max(stab.rate, 1e-3)
+        w = model.omega(omega0, np.linspace(0.0, span, 721))
+        l_hat = w * moments
+        l_hat /= np.linalg.norm(l_hat, axis=1, keepdims=True)
+        pts = self.sphere_centre + 1.01 * self.sphere_radius * l_hat
+        self.polhode.points = np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
+        sep = self.sphere_centre + 1.005 * self.sphere_radius * separatrix_circles(moments)
+        self.separatrix.points = sep.astype(np.float32)
+        self.description = label
+        self._last_source = self.source.value
+        self.ctx.restart()
+
+    def measured_flip_period(self) -> float:
+        """Period of ω, measured from the exact ω(t) (time between every other sign change of ω along
+        the axis it flips about; for a stable axis, of the largest off-axis component). inf if none."""
+        period = self.model.period(self.omega0)
+        if not math.isfinite(period):
+            return float("inf")
+        t = np.linspace(0.0, 2.2 * period, 4001)
+        w = self.model.omega(self.omega0, t)
+        k = self.axis_index if self.stability.kind == "unstable" else (self.axis_index + 1) % 3
+        s = w[:, k]
+        idx = np.nonzero(np.signbit(s[:-1]) != np.signbit(s[1:]))[0]
+        if len(idx) < 3:
+            return float("inf")
+        # Linear interpolation of each crossing; a full period spans two crossings.
+        tc = t[idx] - s[idx] * (t[idx + 1] - t[idx]) / (s[idx + 1] - s[idx])
+        return float(np.mean(tc[2:] - tc[:-2]))
+
+    def accept(self, payload: Any) -> None:
+        """Take a body from another scene: ``{"label", "mesh", "mass_properties"}``."""
+        label = f"{payload['label']} (from the explorer)"
+        self.handed = {"label": label, "mesh": payload["mesh"], "mass_properties": payload["mass_properties"]}
+        self.source.options = (*BODIES, label)
+        previous = self.source.value
+        self.source.value = label
+        try:
+            self.apply(self.params.values)
+        except ValueError:
+            self.source.value = previous
+            raise
+
+    def reset(self) -> None:
+        super().reset()
+        self._hist_n = 0
+
+    # -- the state --------------------------------------------------------------------------------
+    def compute(self, t: float, dt: float) -> dict[str, Any]:
+        omega_b, R = self.model.motion(self.omega0, [t], self.attitude0)
+        return {"R": R[0], "omega_body": omega_b[0], "t": t}
+
+    def draw(self, state: dict[str, Any]) -> None:
+        R, w, c = state["R"], state["omega_body"], self.centre
+        self.body.set_pose(R, c)
+        self.frame.set_pose(R, c)
+        self.L_arrow.set(self.L_space * self.L_scale, c)
+        self.omega_arrow.set(R @ w * self.omega_scale, c)
+        l_hat = self.moments * w / self.L_norm
+        self.L_dot.position = self.sphere_centre + 1.02 * self.sphere_radius * l_hat
+        # The tip of the spin axis traces its flips in space.
+        self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
+        t = state["t"]
+        if self._hist_n == 0 or t != self._hist_t[(self._hist_n - 1) % HISTORY]:
+            i = self._hist_n % HISTORY
+            self._hist_t[i], self._hist_w[i] = t, w
+            self._hist_n += 1
+        self._frames += 1
+        if self._frames % PLOT_EVERY == 0 or self._hist_n < 3:
+            n = min(self._hist_n, HISTORY)
+            order = np.arange(self._hist_n - n, self._hist_n) % HISTORY
+            if n >= 2:
+                self.plot.data = (self._hist_t[order], *self._hist_w[order].T)
