@@ -434,6 +434,12 @@ class FreeBody:
         s0, c0 = xb / h, xc / h
         d0 = np.sqrt(np.abs(ia * dac_f)) * np.abs(wa) / np.sqrt(np.abs(gc))
         kk = np.where(mc > 0.0, ellipkm1(np.where(mc > 0.0, mc, 0.5)), np.inf)
+        # On the separatrix cn = sech > 0 never changes sign: the branch with ω_c < 0 is
+        # ω_c = −A_c sech u, which Euler's equations pair with −λ.
+        flip_c = (mc == 0.0) & (c0 < 0.0)
+        c0 = np.where(flip_c, -c0, c0)
+        lam = np.where(flip_c, -lam, lam)
+        pc = np.where(flip_c, -1.0, 1.0)
         v0 = s0 * elliprf(c0 * c0, d0 * d0, 1.0)
         u0 = np.where(c0 >= 0.0, v0, np.where(s0 >= 0.0, 2.0 * kk, -2.0 * kk) - v0)
         n = -ia * dbc_f / (ic * dab_f)
@@ -441,7 +447,7 @@ class FreeBody:
         p.update(
             ell=ell, q_can=q_can, ia=ia, ib=ib, ic=ic, m=m, mc=mc, K=kk, lam=lam, u0=u0, n=n, Jc=jc,
             amp=np.stack([pa * np.sqrt(np.abs(gc / (ia * dac_f))), np.sqrt(np.abs(ga / (ib * dab_f))),
-                          np.sqrt(np.abs(ga / (ic * dac_f)))], axis=1),
+                          pc * np.sqrt(np.abs(ga / (ic * dac_f)))], axis=1),
             L=ang, E2=energy2,
         )
         sep = mc == 0.0
