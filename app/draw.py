@@ -41,12 +41,13 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "L": (255, 160, 0),  # angular momentum: amber
     "omega": (220, 30, 60),  # angular velocity: red
     "torque": (140, 60, 220),  # torque: violet
-    "trace": (20, 120, 255),  # trace of the symmetry-axis tip: blue
+    "trace": (0, 150, 170),  # trace of the symmetry-axis tip: teal
     "body_cone": (40, 170, 90),  # body cone: green
     "space_cone": (230, 90, 200),  # space cone: pink
-    "path": (90, 90, 90),  # path of the centre of mass: grey
+    "path": (150, 150, 150),  # path of the centre of mass: light grey
+    "axes": (25, 25, 25),  # principal axes e1, e2, e3: black (not RGB: red and green are taken)
     "body": (185, 190, 200),  # the body itself: light steel
-    "impulse": (0, 170, 200),  # an impulse (strike): teal
+    "impulse": (40, 90, 230),  # an impulse (strike): blue
     "reaction": (120, 70, 30),  # a constraint's reaction: brown
 }
 
@@ -59,6 +60,7 @@ LABELS: dict[str, str] = {
     "body_cone": "body cone (turns with the body)",
     "space_cone": "space cone (fixed about L)",
     "path": "path of the centre of mass",
+    "axes": "principal axes e₁, e₂, e₃ (e₃ longest)",
     "body": "the body",
     "impulse": "J — impulse",
     "reaction": "pivot reaction",
@@ -250,6 +252,7 @@ class Arrow:
         self.tip = np.zeros(3)
         self._head = -1.0
         self._visible = True
+        self._origin = np.zeros(3)
 
     def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         """Draw ``vector`` (the quantity, its own units) from ``origin`` (m)."""
@@ -259,7 +262,12 @@ class Arrow:
         visible = math.isfinite(length) and length > 1e-6
         if visible:
             self.tip = o + v
-            self.handle.points = np.array([[o, self.tip]])
+            # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
+            # (the web client does not follow a change of the start point alone).
+            self.handle.points = np.array([[np.zeros(3), v]])
+            if not np.array_equal(o, self._origin):
+                self._origin = o
+                self.handle.position = o
             # Keep the head in proportion for short arrows.
             head = min(6.0 * self.shaft_radius, 0.45 * length)
             if head != self._head:
@@ -273,10 +281,18 @@ class Arrow:
 
 
 class PrincipalFrame:
-    """The principal axes e1, e2, e3 of the body (viser's frame: red, green, blue)."""
+    """The principal axes e1, e2, e3 of the body as black lines (e3, the symmetry axis, drawn longest).
 
-    def __init__(self, server: viser.ViserServer, name: str, *, length: float = 0.6, radius: float = 0.012) -> None:
-        self.handle = server.scene.add_frame(name, axes_length=length, axes_radius=radius, origin_radius=0.0)
+    Not viser's RGB frame: red and green already mean ω and the body cone in every scene.
+    """
+
+    def __init__(self, server: viser.ViserServer, name: str, *, length: float = 0.6, thickness: float = 3.0) -> None:
+        ends = np.diag([0.8 * length, 0.8 * length, length])
+        points = np.stack([-ends, ends], axis=1)  # each axis through the origin, both ways
+        self.handle = server.scene.add_line_segments(
+            name, points=points.astype(np.float32), colors=COLOURS["axes"], thickness=thickness,
+            thickness_units="screen",
+        )
 
     def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         self.handle.wxyz = wxyz(attitude)

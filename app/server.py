@@ -30,6 +30,7 @@ __all__ = ["App", "NumericalFailure", "check_finite"]
 
 FPS = 60.0
 SPEED_MIN, SPEED_MAX = 0.1, 10.0
+FOV = math.radians(50.0)  # vertical field of view (viser's default 75° makes the scene look far away)
 MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
 
 
@@ -147,6 +148,7 @@ class App:
     def _on_connect(self, client: viser.ClientHandle) -> None:
         if self.scene is not None:
             position, look_at = self.scene.camera
+            client.camera.fov = FOV
             client.camera.position = position
             client.camera.look_at = look_at
 
@@ -269,8 +271,10 @@ class App:
             self.legend.content = draw.legend_html(cls.quantities)
             position, look_at = cls.camera
             for c in self.server.get_clients().values():
+                c.camera.fov = FOV
                 c.camera.position = position
                 c.camera.look_at = look_at
+            self.server.initial_camera.fov = FOV
             self.server.initial_camera.position = position
             self.server.initial_camera.look_at = look_at
             self._t = 0.0

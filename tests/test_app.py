@@ -259,7 +259,7 @@ def test_wobble_keeps_L_fixed_and_omega_on_the_cones(app):
     L_tips, angles = [], []
     for _ in range(60):
         app.frame(FRAME)
-        L_tips.append(np.array(scene.L_arrow.handle.points[0, 1]))
+        L_tips.append(np.array(scene.L_arrow.handle.points[0, 1]) + scene.L_arrow.handle.position)
         R = matrix(scene.body.handle)
         w = scene.omega_arrow.handle.points[0, 1] - scene.omega_arrow.handle.points[0, 0]
         angles.append(math.degrees(math.acos(R[:, 2] @ w / np.linalg.norm(w))))
@@ -294,6 +294,9 @@ def test_free_fall_centre_follows_the_parabola_and_spins_like_the_wobble(app):
     tau = app.time % scene.flight_time
     expected = START + VELOCITY * tau - 0.5 * G * tau**2 * np.array([0, 0, 1.0])
     np.testing.assert_allclose(scene.body.handle.position, expected, atol=1e-6)
+    # The arrows start at the centre of mass.
+    np.testing.assert_allclose(scene.L_arrow.handle.position, expected, atol=1e-6)
+    np.testing.assert_allclose(scene.L_arrow.handle.points[0, 0], 0.0)
     R_expected = FreeBody(scene.moments).attitude(scene.omega0, [app.time], scene.attitude0)[0]
     np.testing.assert_allclose(matrix(scene.body.handle), R_expected, atol=2e-6)
 

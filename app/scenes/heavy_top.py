@@ -76,7 +76,7 @@ class HeavyTopScene(Scene):
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
-        self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH))
+        self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH), opacity=0.8)  # L and ω show through
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.025)
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.025)
         self.torque_arrow = draw.Arrow(server, root + "/torque", "torque", label="τ")

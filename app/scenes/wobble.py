@@ -38,7 +38,7 @@ class Wobble(Scene):
     name = "wobble"
     title = "Torque-free wobble"
     order = 20
-    quantities = ("L", "omega", "body_cone", "space_cone", "trace")
+    quantities = ("L", "omega", "body_cone", "space_cone", "trace", "axes")
     caption = (
         "**Torque-free symmetric body.** L is fixed in space. In the body, ω turns about the symmetry axis "
         "at Ω = ω₃ (I₁ − I₃)/I₁; in space the axis turns about L at φ̇ = L/I₁. The body cone (about the "
