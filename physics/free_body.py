@@ -392,8 +392,12 @@ class FreeBody:
             p["Omega"] = w[:, s] * (i_perp - i_s) / i_perp
             p["i_perp"] = i_perp
             return p
-        ws = w @ self._q_sort.T
-        nonzero = np.count_nonzero(ws, axis=1)
+        # Work with ω scaled by a power of two (exact) so that squares neither underflow nor overflow;
+        # a component below 1e-140 of the largest counts as zero (uniform rotation to that accuracy).
+        biggest = np.max(np.abs(w), axis=1)
+        scale = np.where(biggest > 0.0, np.exp2(np.floor(np.log2(np.where(biggest > 0.0, biggest, 1.0)))), 1.0)
+        ws = (w @ self._q_sort.T) / scale[:, None]
+        nonzero = np.count_nonzero(np.abs(ws) > 1e-140, axis=1)
         ell = nonzero > 1
         p["kind"][ell] = 2
         if not np.any(ell):
@@ -406,7 +410,8 @@ class FreeBody:
         g_mid = _dd_add(_dd_term(i1, d12, ws_e[:, 0]), _dd_term(i3, d32, ws_e[:, 2]))
         swap = g_mid[0] < 0.0
         q_can = np.where(swap[:, None, None], _SWAP @ self._q_sort, self._q_sort)
-        wc = np.einsum("kij,kj->ki", q_can, w[ell])
+        sc = scale[ell]
+        wc = np.einsum("kij,kj->ki", q_can, w[ell]) / sc[:, None]
         ia = np.where(swap, i3, i1)
         ib = np.full_like(ia, i2)
         ic = np.where(swap, i1, i3)
@@ -445,10 +450,10 @@ class FreeBody:
         n = -ia * dbc_f / (ic * dab_f)
         jc = np.where(mc > 0.0, elliprj(0.0, np.where(mc > 0.0, mc, 1.0), 1.0, 1.0 - n), 0.0)
         p.update(
-            ell=ell, q_can=q_can, ia=ia, ib=ib, ic=ic, m=m, mc=mc, K=kk, lam=lam, u0=u0, n=n, Jc=jc,
-            amp=np.stack([pa * np.sqrt(np.abs(gc / (ia * dac_f))), np.sqrt(np.abs(ga / (ib * dab_f))),
+            ell=ell, q_can=q_can, ia=ia, ib=ib, ic=ic, m=m, mc=mc, K=kk, lam=lam * sc, u0=u0, n=n, Jc=jc,
+            amp=sc[:, None] * np.stack([pa * np.sqrt(np.abs(gc / (ia * dac_f))), np.sqrt(np.abs(ga / (ib * dab_f))),
                           pc * np.sqrt(np.abs(ga / (ic * dac_f)))], axis=1),
-            L=ang, E2=energy2,
+            L=ang * sc, E2=energy2 * sc * sc,
         )
         sep = mc == 0.0
         p["ladder"] = _landen_ladder(np.where(sep, 0.0, m), np.where(sep, 1.0, mc))
@@ -721,6 +726,7 @@ def _frame_from_momentum(wc, ia, ib, ic):
     """Frame B (columns, canonical body coordinates) with third column L̂ = I ω / |I ω| and first
     column ``e_a × L̂`` normalised; shape (k, 3, 3)."""
     lv = np.stack([ia * wc[:, 0], ib * wc[:, 1], ic * wc[:, 2]], axis=1)
+    lv = lv / np.max(np.abs(lv), axis=1)[:, None]  # no underflow in the norm for tiny ω
     lv = lv / np.linalg.norm(lv, axis=1)[:, None]
     la, lb, lc = lv[:, 0], lv[:, 1], lv[:, 2]
     rho = np.hypot(lb, lc)

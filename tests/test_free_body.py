@@ -373,3 +373,16 @@ def test_scalar_time_and_attitude_default():
 def test_bad_input_raises_with_a_clear_message(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_extreme_magnitudes_scale_exactly():
+    """ω(t; c ω0) = c ω(c t; ω0): a power-of-two c is exact, so results agree bit for bit in scale;
+    components 1e-214 below the others count as uniform rotation (error ~1e-214)."""
+    fb = FreeBody([2.0, 1.5, 1.2])
+    w0 = np.array([1.0, 0.2, 0.3])
+    t = np.linspace(-9, 9, 7)
+    c = 2.0 ** -600
+    assert np.allclose(fb.omega(c * w0, t / c) / c, fb.omega(w0, t), rtol=0, atol=1e-15)
+    assert np.max(rotation_angle(fb.attitude(c * w0, t / c), fb.attitude(w0, t))) < 1e-14
+    om = fb.omega([0.0, 1.0, 2e-214], t)
+    assert np.all(np.isfinite(om)) and np.allclose(om, [0.0, 1.0, 0.0], rtol=0, atol=1e-200)
