@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 
 from physics.free_body import FreeBody, jacobi_sn_cn_dn
 from physics.rotations import expm_so3, hat, orthonormality_error, rotation_angle
-from test_free_body_reference import reference_motion
+from test_free_body_reference import _symmetric_reference, reference_motion
 
 SEP_MOMENTS = [1.40625, 1.15625, 1.0]  # with ω = (±1, y, 1.5): L² = 2 E I2 exactly in binary
 R_TILT = expm_so3(np.array([0.3, -0.7, 0.5]))
@@ -34,6 +34,7 @@ REGIMES = {
 CLOSE_REGIMES = {  # nearer the separatrix than the guarantee (1 − m < 1e-6)
     "separatrix_1e-10": (SEP_MOMENTS, [1.0, -0.3, 1.5 * (1 + 5e-11)]),
     "separatrix_1e-14": (SEP_MOMENTS, [1.0, -0.3, 1.5 * (1 + 1e-14)]),
+    "separatrix_exact_m_1": (SEP_MOMENTS, [1.0, -0.3, -1.5]),
 }
 
 
@@ -386,3 +387,15 @@ def test_extreme_magnitudes_scale_exactly():
     assert np.max(rotation_angle(fb.attitude(c * w0, t / c), fb.attitude(w0, t))) < 1e-14
     om = fb.omega([0.0, 1.0, 2e-214], t)
     assert np.all(np.isfinite(om)) and np.allclose(om, [0.0, 1.0, 0.0], rtol=0, atol=1e-200)
+
+
+@pytest.mark.parametrize("moments, w0", [([2.0, 1.0, 2.0], [0.3, -1.0, 0.7]), ([0.0, 1.0, 1.0], [2.5, 0.3, -1.0]),
+                                         ([1.0, 1.0, 1.0], [0.3, -1.0, 2.5]), ([1.0, 2.0, 2.0], [-4.0, 0.1, 0.0])])
+def test_symmetric_rod_and_sphere_over_a_thousand_rotation_periods(moments, w0):
+    w0 = np.asarray(w0, float)
+    big_t = 1000 * _rotation_period(w0)
+    times = np.array([0.37, -0.61 * big_t, 0.999 * big_t, -big_t])
+    ref_w, ref_r = _symmetric_reference(moments, w0, times, R_TILT)
+    om, rr = FreeBody(moments).motion(w0, times, R_TILT)
+    assert np.max(np.linalg.norm(om - ref_w, axis=1) / np.linalg.norm(ref_w, axis=1)) < 1e-12
+    assert np.max(rotation_angle(rr, ref_r)) < 1e-10
