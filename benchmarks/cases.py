@@ -1,0 +1,132 @@
+"""The hard cases of the work-precision benchmark, each with its exact reference solution.
+
+A case is a rigid body about a fixed point (free body: its centre of mass) with an initial attitude
+``R0`` (body to space), body angular momentum ``L0``, a final time ``t_end`` and the exact final state from
+the closed forms (:class:`physics.free_body.FreeBody`, :class:`physics.heavy_top.HeavyTop`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from physics import G
+from physics.free_body import FreeBody
+from physics.heavy_top import HeavyTop
+
+
+@dataclass
+class Case:
+    """One benchmark problem.
+
+    Attributes
+    ----------
+    name, description : str
+    moments : ndarray (3,)
+        Principal moments about the fixed point, kg m².
+    mass, com : float, ndarray (3,)
+        Mass (kg) and centre of mass in body axes (m) for gravity; ``mass = 0`` means no torque.
+    R0 : ndarray (3, 3); L0 : ndarray (3,)
+    t_end : float
+        Final time, s.
+    exact : callable () -> (R (3,3), omega (3,))
+        The closed-form final state (timed as "our exact solution").
+    """
+
+    name: str
+    description: str
+    moments: NDArray[np.float64]
+    R0: NDArray[np.float64]
+    L0: NDArray[np.float64]
+    t_end: float
+    exact: Callable
+    mass: float = 0.0
+    com: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
+    time_scale: float = 1.0  # a typical period, s (to choose the coarsest step)
+    R_ref: NDArray[np.float64] | None = None
+    omega_ref: NDArray[np.float64] | None = None
+
+    def reference(self):
+        if self.R_ref is None:
+            self.R_ref, self.omega_ref = self.exact()
+        return self.R_ref, self.omega_ref
+
+    def energy(self, R, L):
+        """Kinetic + potential energy, J, for (k,3,3),(k,3) or single states."""
+        inv = np.where(self.moments > 0, 1.0 / np.where(self.moments > 0, self.moments, 1.0), 0.0)
+        e = 0.5 * np.sum(np.asarray(L) ** 2 * inv, axis=-1)
+        if self.mass:
+            e = e + self.mass * G * (np.asarray(R)[..., 2, :] @ self.com)
+        return e
+
+
+def _free(name, description, moments, omega0, t_end, periods_hint=None) -> Case:
+    moments = np.asarray(moments, dtype=float)
+    omega0 = np.asarray(omega0, dtype=float)
+    body = FreeBody(moments)
+
+    def exact():
+        w, R = body.motion(omega0, t_end)
+        return R[0], w[0]
+
+    period = body.period(omega0)
+    scale = period if np.isfinite(period) else 2 * np.pi / np.linalg.norm(omega0)
+    scale = min(scale, 2 * np.pi / np.linalg.norm(omega0))
+    return Case(name, description, moments, np.eye(3), moments * omega0, float(t_end), exact, time_scale=scale)
+
+
+def _top(name, description, theta0, thetadot0, phidot0, psidot0, t_end, I1=1.0, I3=0.5, mass=1.0, ell=0.3) -> Case:
+    top = HeavyTop(I1, I3, mass * G * ell)
+    sol0 = top.solve(theta0, thetadot0, phidot0, psidot0, [0.0])
+    moments = np.array([I1, I1, I3])
+
+    def exact():
+        s = top.solve(theta0, thetadot0, phidot0, psidot0, [t_end])
+        return s.attitude[0], s.omega_body[0]
+
+    w = sol0.omega_body[0]
+    scale = 2 * np.pi / max(np.linalg.norm(w), np.sqrt(mass * G * ell / I1))
+    return Case(name, description, moments, sol0.attitude[0], moments * w, float(t_end), exact,
+                mass=mass, com=np.array([0.0, 0.0, ell]), time_scale=scale)
+
+
+def all_cases(quick: bool = False) -> list[Case]:
+    """The benchmark's cases; ``quick`` shortens the long run (100 instead of 10^4 periods)."""
+    generic_w = np.array([1.0, 0.3, 2.0])
+    gen_period = FreeBody([2.0, 1.5, 1.0]).period(generic_w)
+    long_periods = 100 if quick else 10_000
+    # Sleeping top: threshold L3 = 2 sqrt(M g l I1) (lecture); spin ω3 = L3 / I3.
+    I1, I3, mgl = 1.0, 0.5, 1.0 * G * 0.3
+    w_crit = 2.0 * np.sqrt(mgl * I1) / I3
+    # Axis passing near the vertical: Lz = L3 (1 - 1e-6) (Lz = L3 exactly passes through the pole).
+    th0, w3 = 0.3, 10.0
+    phidot_pole = I3 * w3 * (1.0 - np.cos(th0)) * (1.0 - 1e-6) / (I1 * np.sin(th0) ** 2)
+    cases = [
+        _free("free_generic", "free body, I = (2, 1.5, 1), ω0 = (1, 0.3, 2), 10 periods",
+              [2.0, 1.5, 1.0], generic_w, 10 * gen_period),
+        _free("free_separatrix", "free body, spin 2 rad/s about the intermediate axis perturbed by 1e-6, t = 40 s",
+              [2.0, 1.5, 1.0], [1e-6, 2.0, 1e-6], 40.0),
+        _free("free_near_symmetric", "free body, I = (1, 1 − 1e-9, 0.5), ω0 = (1, 0.5, 3), t = 20 s",
+              [1.0, 1.0 - 1e-9, 0.5], [1.0, 0.5, 3.0], 20.0),
+        _free("free_flat_lamina", "flat lamina I = (3, 2, 1) (I1 = I2 + I3), ω0 = (0.5, 1, 1.5), t = 20 s",
+              [3.0, 2.0, 1.0], [0.5, 1.0, 1.5], 20.0),
+        _free("free_fast_spin", "fast spin ω0 = (0.5, 0.3, 100) rad/s, I = (2, 1.5, 1), t = 2 s",
+              [2.0, 1.5, 1.0], [0.5, 0.3, 100.0], 2.0),
+        _free("free_long_run", f"free generic body over {long_periods} periods ({long_periods * gen_period:.0f} s)",
+              [2.0, 1.5, 1.0], generic_w, long_periods * gen_period),
+        _top("top_big_nutation", "heavy top I1 = 1, I3 = 0.5, Mgl = 2.94 J; θ0 = 0.8, φ̇0 = −2 (loops), ψ̇0 = 15, t = 10 s",
+             0.8, 0.0, -2.0, 15.0, 10.0),
+        _top("top_cusps", "heavy top released from rest in θ, φ (cusps): θ0 = 0.8, ψ̇0 = 15, t = 10 s",
+             0.8, 0.0, 0.0, 15.0, 10.0),
+        _top("top_fast", "fast top ω3 = 500 rad/s, θ0 = 0.5, t = 2 s", 0.5, 0.0, 0.0, 500.0, 2.0),
+        _top("top_sleeping_above", "sleeping top, ω3 = 1.05 × threshold, θ0 = 1e-3, t = 10 s",
+             1e-3, 0.0, 0.0, 1.05 * w_crit, 10.0),
+        _top("top_sleeping_below", "sleeping top, ω3 = 0.95 × threshold, θ0 = 1e-3 (falls), t = 10 s",
+             1e-3, 0.0, 0.0, 0.95 * w_crit, 10.0),
+        _top("top_near_vertical", "axis passing 1e-6 (in Lz/L3) from the vertical: θ0 = 0.3, ω3 = 10, t = 10 s",
+             th0, 0.0, phidot_pole, w3 - phidot_pole * np.cos(th0), 10.0),
+    ]
+    return cases
