@@ -76,7 +76,7 @@ class HeavyTopScene(Scene):
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
-        self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH), opacity=0.8)  # L and ω show through
+        self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH))
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.025)
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.025)
         self.torque_arrow = draw.Arrow(server, root + "/torque", "torque", label="τ")
@@ -100,12 +100,12 @@ class HeavyTopScene(Scene):
         self.trace_length = gui.add_slider("trace length (points)", min=100, max=5000, step=100, initial_value=1500)
         self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
         self.plot = gui.add_uplot(
-            data=(np.degrees(_theta_grid()), np.zeros(359), np.zeros(359), np.full(359, np.nan)),
+            data=(np.degrees(_theta_grid()), np.zeros(359), np.zeros(359), np.full(359, -1e3)),
             series=(
                 viser.uplot.Series(label="θ (°)"),
                 viser.uplot.Series(label="U(θ)", stroke="#1478ff", width=2),
                 viser.uplot.Series(label="energy ℰ", stroke="#888888", width=1, dash=[6, 4]),
-                viser.uplot.Series(label="now", stroke="#dc1e3c", width=0,
+                viser.uplot.Series(label="now (θ, U)", stroke="#dc1e3c", width=0,
                                    points={"show": True, "size": 10, "fill": "#dc1e3c"}),
             ),
             scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0))},
@@ -117,6 +117,7 @@ class HeavyTopScene(Scene):
         self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
         self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
         self._plot_time = 0.0
+        self._y_range = None
         self.apply(self.params.values)
 
     # -- parameters
@@ -148,6 +149,7 @@ class HeavyTopScene(Scene):
         self.L_body = np.array([self.top.I1, self.top.I1, self.top.I3]) * sol.omega_body[0]
         self._plot_time = 0.0
         self._curve_key = None
+        self._y_range = None
 
     # -- the state
     def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -229,9 +231,16 @@ class HeavyTopScene(Scene):
         finite = self._U[np.isfinite(self._U)]
         lo = float(finite.min()) if finite.size else 0.0
         hi = max(energy, lo) + max(abs(energy - lo), 0.05 * max(abs(lo), 1.0))
-        now_series = np.full(grid.size, np.nan)
+        # uPlot draws nothing at all if a series holds NaN: off-range values (clipped by the fixed y
+        # range) stand in for gaps. The "now" series is one visible point at the current θ.
+        floor, ceiling = lo - 1e3 * (hi - lo + 1.0), hi + 1e3 * (hi - lo + 1.0)
+        now_series = np.full(grid.size, floor)
         now_series[int(np.clip(np.searchsorted(grid, theta), 0, grid.size - 1))] = energy - 0.5 * thetadot2
-        self.plot.data = (np.degrees(grid), np.where(self._U <= hi * 1.5 + 1.0, self._U, np.nan), np.full(grid.size, energy),
-                          now_series)
-        self.plot.scales = {"x": viser.uplot.Scale(time=False, auto=True),
-                            "y": viser.uplot.Scale(auto=False, range=(lo - 0.1 * (hi - lo), hi))}
+        curve = np.clip(np.nan_to_num(self._U, nan=ceiling, posinf=ceiling), floor, ceiling)
+        self.plot.data = (np.degrees(grid), curve, np.full(grid.size, energy), now_series)
+        y_range = (round(lo - 0.1 * (hi - lo), 3), round(hi, 3))
+        if y_range != self._y_range:
+            # New options rebuild the chart in every browser: only when the range really changes.
+            self._y_range = y_range
+            self.plot.scales = {"x": viser.uplot.Scale(time=False, auto=True),
+                                "y": viser.uplot.Scale(auto=False, range=y_range)}
