@@ -271,6 +271,7 @@ class FreeBody:
 
     def __init__(self, moments: ArrayLike) -> None:
         self.moments = validate_moments(moments)
+        self._cache: tuple[bytes, dict] | None = None
         inertia = self.moments
         order = np.argsort(-inertia, kind="stable")
         perm = np.eye(3)[order]
@@ -563,7 +564,17 @@ class FreeBody:
     def _evaluate(self, w, t, r0, which, want_attitude):
         """Evaluate the motion of initial states ``w`` (k, 3), ``r0`` (k, 3, 3) at times ``t`` (n,);
         ``which`` (n,) says which state each time belongs to."""
-        p = self._setup(w)
+        if w.shape[0] == 1:
+            # One initial state, often queried again (an animation asks every frame): keep its setup.
+            key = w.tobytes()
+            cached = self._cache
+            if cached is not None and cached[0] == key:
+                p = cached[1]
+            else:
+                p = self._setup(w)
+                self._cache = (key, p)
+        else:
+            p = self._setup(w)
         n = t.shape[0]
         out_w = np.empty((n, 3))
         out_r = np.empty((n, 3, 3)) if want_attitude else None
@@ -595,8 +606,13 @@ class FreeBody:
                 out_r[sel] = expm_so3(t[sel, None] * l_space / p["i_perp"]) @ rs @ expm_so3(axis)
         sel = np.nonzero(kind == 2)[0]
         if sel.size:
-            e_index = (np.cumsum(p["kind"] == 2) - 1)[which[sel]]
-            wt, rt = self._elliptic(p, e_index, t[sel], r0[which[sel]] if want_attitude else None, w[which[sel]])
+            if w.shape[0] == 1:
+                # One state: its constants stay shape (1,) and broadcast against the times.
+                e_index, ws, rs = np.zeros(1, dtype=int), w, r0
+            else:
+                e_index = (np.cumsum(p["kind"] == 2) - 1)[which[sel]]
+                ws, rs = w[which[sel]], (r0[which[sel]] if want_attitude else None)
+            wt, rt = self._elliptic(p, e_index, t[sel], rs if want_attitude else None, ws)
             out_w[sel] = wt
             if want_attitude:
                 out_r[sel] = rt
@@ -614,7 +630,8 @@ class FreeBody:
         amp = p["amp"][e]
         wc = np.stack([amp[:, 0] * d, amp[:, 1] * sign * s, amp[:, 2] * sign * c], axis=1)
         q = p["q_can"][e]
-        omega = np.einsum("kji,kj->ki", q, wc)
+        qt = np.swapaxes(q, 1, 2)
+        omega = (qt @ wc[:, :, None])[:, :, 0]
         if r0 is None:
             return omega, None
         ia, ib, ic = p["ia"][e], p["ib"][e], p["ic"][e]
@@ -625,9 +642,9 @@ class FreeBody:
         dpsi = big_l * t / ic + cfac * (excess - p["P0"][e])
         frame_t = _frame_from_momentum(wc, ia, ib, ic)
         # Frame at t = 0 and M0 = R0 Qᵀ B(0) (its third column is L̂ in space).
-        wc0 = np.einsum("kij,kj->ki", q, w0)
+        wc0 = (q @ w0[:, :, None])[:, :, 0]
         frame_0 = _frame_from_momentum(wc0, ia, ib, ic)
-        m0 = r0 @ np.swapaxes(q, 1, 2) @ frame_0
+        m0 = r0 @ qt @ frame_0
         cp, sp = np.cos(dpsi), np.sin(dpsi)
         bt = np.swapaxes(frame_t, 1, 2)  # rows b1, b2, b3
         rot_bt = np.empty_like(bt)
