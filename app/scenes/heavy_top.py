@@ -238,6 +238,7 @@ class HeavyTopScene(Scene):
         now_series[int(np.clip(np.searchsorted(grid, theta), 0, grid.size - 1))] = energy - 0.5 * thetadot2
         curve = np.clip(np.nan_to_num(self._U, nan=ceiling, posinf=ceiling), floor, ceiling)
         self.plot.data = (np.degrees(grid), curve, np.full(grid.size, energy), now_series)
+        self.plot_theta = theta  # the θ the plot shows (it is refreshed at most PLOT_HZ times a second)
         y_range = (round(lo - 0.1 * (hi - lo), 3), round(hi, 3))
         if y_range != self._y_range:
             # New options rebuild the chart in every browser: only when the range really changes.
