@@ -38,15 +38,26 @@ reducing ``u`` modulo the period ``4K`` and, above ``K/2``, shifting by the quar
 ``ellipj`` takes only ``m`` and is wrong near ``m = 1`` for large arguments (scipy issue 8480). The
 separatrix itself (``m = 1``) uses ``tanh``/``sech`` and the elementary ``Π(n; ·|1)``.
 
-Measured against 30-digit mpmath (tests/test_free_body.py): the relative error of ω stays below
-1e-12 and the attitude error below 1e-10 rad over 1,000 rotation periods for ``1 − m`` from 1 down to
-1e-6 in every regime; ``|L_space|`` and ``E`` are constant to 1e-14 and ``R`` orthonormal to 1e-15.
-Closer to the separatrix the *evaluation* stays as accurate (down to ``1 − m = 1e-14`` and on it),
-relative to the exact solution for the floating-point ``ω0`` given; but the problem itself becomes
-ill-conditioned: the period ``4K/λ`` grows like ``ln(16/(1 − m))``, and a relative change ``δ`` of ω0
-changes ``1 − m`` by up to ``δ/(1 − m)``, hence the phase after ``N`` periods by about
-``N δ / ((1 − m) ln(16/(1 − m)))``. Any computed motion near the separatrix (ours, or an integrator's)
-is therefore only as good as ``ω0`` is known.
+Measured against 30-digit mpmath (``python tests/test_free_body_reference.py`` prints the table;
+tests/test_free_body.py asserts the bounds), over ±1,000 rotation periods ``2π/|ω0|``: the relative
+error of ω is at most 3e-13 and the attitude error at most 3e-12 rad in every regime, including
+``1 − m`` = 2e-6, 1e-10, 2e-14 and exactly 0, near-symmetric (``ΔI/I = 1e-12``), lamina, rod, sphere;
+``|L_space|`` and ``E`` are constant to 2e-15 relative and ``R`` is orthonormal to 2e-15. The error
+grows like ``eps × (phase)``, the rounding of ``λ t`` itself.
+
+Near the separatrix the *evaluation* stays that accurate relative to the exact solution for the
+floating-point ``ω0`` given, but the *problem* becomes ill-conditioned: the period ``4K/λ`` grows like
+``ln(16/(1 − m))``, and a relative change ``δ`` of ω0 changes ``1 − m`` by up to ``δ/(1 − m)``, hence
+the phase after ``N`` periods by about ``N δ / ((1 − m) ln(16/(1 − m)))``. Any computed motion near the
+separatrix (ours, or an integrator's) is only as good as ``ω0`` is known.
+
+Weak spot: the angle about L is ``L t / I_c + C [P(u) − P(u0)]`` with ``C ∝ 1/I_c``; for a body close
+to a rod (smallest moment ``I_c ≪ I_b``) the two terms cancel and the attitude loses about
+``log10(I_b/I_c)`` digits (measured 9e-10 rad after 1,000 turns for ``I_c/I_b = 1e-3``). An exact rod
+(``I_c = 0``) is handled by the symmetric formula and is exact.
+
+Cost (median, 1,000 times, one initial state; the setup of the last state is cached): ``omega``
+≈ 0.15 ms, ``attitude`` ≈ 0.75 ms; ``flow`` ≈ 3 µs per state for 1,000 states, ≈ 0.14 ms per call.
 """
 
 from __future__ import annotations
@@ -61,7 +72,7 @@ from scipy.special import elliprf, elliprj, ellipkm1
 from physics.inertia import validate_moments
 from physics.rotations import expm_so3
 
-__all__ = ["FreeBody", "Stability", "PrecessionRates"]
+__all__ = ["FreeBody", "Stability", "PrecessionRates", "jacobi_sn_cn_dn"]
 
 # ---------------------------------------------------------------------------------------------------
 # Double-double helpers (Dekker / Knuth error-free transformations), vectorised over numpy arrays.
@@ -267,6 +278,13 @@ class FreeBody:
     ------
     ValueError
         Impossible moments ("no rigid body has these moments: ..."), or all zero.
+
+    Notes
+    -----
+    Methods: :meth:`omega`, :meth:`attitude`, :meth:`motion` (both at once), :meth:`energy`,
+    :meth:`angular_momentum` (space), :meth:`angular_momentum_body`, :meth:`flow` (batched exact step
+    of ``(R, L_body)``), :meth:`stability`, :meth:`precession_rates`, :meth:`elliptic_parameter`,
+    :meth:`period`. Times may be negative; every result is exact up to rounding (module docstring).
     """
 
     def __init__(self, moments: ArrayLike) -> None:

@@ -7,6 +7,7 @@ the lecture's symmetric solution, and exact identities (conservation, periodicit
 
 from __future__ import annotations
 
+import mpmath as mp
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -63,7 +64,6 @@ def _rotation_period(w0):
 
 # ---------------------------------------------------------------------------------------------------
 def test_jacobi_functions_match_mpmath_near_m_equal_one_for_large_arguments():
-    mp = pytest.importorskip("mpmath")
     mp.mp.dps = 30
     for mc in (0.5, 1e-6, 1e-10, 1e-14):
         u = np.array([0.3, 7.1, -55.5, 1234.5, 98765.4])
