@@ -574,6 +574,9 @@ class FreeBody:
         step = np.broadcast_to(np.asarray(dt, dtype=float), (k,))
         if not (np.all(np.isfinite(r)) and np.all(np.isfinite(lb)) and np.all(np.isfinite(step))):
             raise ValueError("flow needs finite attitudes, angular momenta and time steps")
+        zero = self.moments == 0.0
+        if np.any(zero) and np.any(np.abs(lb[:, zero]) > 1e-12 * np.linalg.norm(lb, axis=1)[:, None]):
+            raise ValueError("a rod has no angular momentum along its own axis: L_body must be 0 there")
         safe = np.where(self.moments > 0.0, self.moments, 1.0)
         w = np.where(self.moments > 0.0, lb / safe, 0.0)
         om, rr = self._evaluate(w, step, r, np.arange(k), want_attitude=True)
@@ -701,11 +704,9 @@ class FreeBody:
             # Two equal moments (or a rod spun about a transverse axis): no restoring, no exponential growth.
             return Stability("neutral", 0.0)
         # ij * ik > 0 here: a zero moment belongs to a rod, whose two other moments are equal.
+        # The kind depends on the moments only; the rate scales with |Ω| (0 when not spinning).
         bracket = omega * omega * numerator / (ij * ik)
-        rate = float(np.sqrt(abs(bracket)))
-        if bracket == 0.0:
-            return Stability("neutral", 0.0)
-        return Stability("stable" if numerator > 0 else "unstable", rate)
+        return Stability("stable" if numerator > 0 else "unstable", float(np.sqrt(abs(bracket))))
 
     def precession_rates(self, omega0: ArrayLike) -> PrecessionRates:
         """Body- and space-frame precession rates of a symmetric body (two equal moments).
@@ -733,7 +734,7 @@ class FreeBody:
         s = self._sym_axis
         i_perp = self.moments[(s + 1) % 3]
         big_l = float(np.linalg.norm(self.moments * w))
-        return PrecessionRates(float(w[s] * (i_perp - self.moments[s]) / i_perp), big_l / i_perp, s)
+        return PrecessionRates(float(w[s] * (i_perp - self.moments[s]) / i_perp), float(big_l / i_perp), s)
 
 
 def _third_kind_excess(p, e, u, reduced=None):

@@ -277,6 +277,9 @@ def test_lecture_intermediate_axis_classification_and_rates():
     assert FreeBody([2.0, 2.0, 1.0]).stability(0, omega).kind == "neutral"
     assert FreeBody([1.0, 1.0, 0.0]).stability(0, omega) == FreeBody([1.0, 1.0, 0.0]).stability(1, omega)
     assert FreeBody([1.0, 1.0, 0.0]).stability(2, omega).rate == pytest.approx(omega)  # = Ω = ω3
+    assert fb.stability(0, 0.0).kind == "unstable"  # the kind depends on the moments only
+    assert fb.stability(0, 0.0).rate == 0.0
+    assert FreeBody([1.0, 1.0, 1.0]).stability(2, omega).kind == "neutral"
 
 
 def test_unstable_growth_rate_matches_the_exact_motion():
@@ -369,6 +372,8 @@ def test_scalar_time_and_attitude_default():
         (lambda: FreeBody([2.0, 1.5, 1.2]).stability(3, 1.0), "axis_index"),
         (lambda: FreeBody([2.0, 1.5, 1.2]).precession_rates([1.0, 0.0, 0.0]), "symmetric body"),
         (lambda: jacobi_sn_cn_dn([0.0], 1.5), "elliptic parameter"),
+        (lambda: FreeBody([1.0, 1.0, 0.0]).flow(np.eye(3), [0.0, 1.0, 0.5], 1.0), "rod has no angular momentum"),
+        (lambda: FreeBody([2.0, 1.5, 1.2]).flow(np.eye(3), [0.0, 1.0, np.nan], 1.0), "finite"),
     ],
 )
 def test_bad_input_raises_with_a_clear_message(call, message):
