@@ -53,21 +53,20 @@ class Pendulum(Scene):
     quantities = ("impulse", "reaction", "path")
     caption = (
         "**Physical pendulum.** About a fixed axis I = I_cm + M a⊥² = M k², and the body swings like a simple "
-        "pendulum of length ℓ = k²/a⊥ (ℓ > k > a⊥). **Strike it** (teal arrow): the pivot must push back (brown "
-        "arrow) unless the blow lands at the centre of percussion, ℓ below the pivot — the bat's sweet spot, "
+        "pendulum of length ℓ = k²/a⊥ (ℓ > k > a⊥). **Strike it** (arrow J): the pivot must push back (arrow "
+        "'pivot') unless the blow lands at the centre of percussion, ℓ below the pivot — the bat's sweet spot, "
         "where your hands feel no sting."
     )
-    camera = ((2.6, -2.2, 1.5), (0.0, 0.0, 1.3))
+    camera = ((2.3, -0.8, 1.6), (0.0, 0.0, 1.45))
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
-        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
+        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.6)  # markers show through
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=(30, 30, 30))
         self.axle = server.scene.add_line_segments(root + "/axle", points=np.zeros((1, 2, 3), dtype=np.float32),
                                                    colors=(30, 30, 30), thickness=4.0, thickness_units="screen")
-        self.cm_marker = server.scene.add_icosphere(root + "/cm", radius=0.022, color=draw.COLOURS["path"])
-        self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.03, color=draw.COLOURS["impulse"],
-                                                     opacity=0.8)
+        self.cm_marker = server.scene.add_icosphere(root + "/cm", radius=0.045, color=draw.COLOURS["path"])
+        self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
         self.cop_label = server.scene.add_label(root + "/cop_label", "centre of percussion")
         self.cm_label = server.scene.add_label(root + "/cm_label", "CM")
         self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.02, color=(240, 120, 0))
@@ -116,6 +115,10 @@ class Pendulum(Scene):
                 f"the strike point must be on the body, between the pivot and the end "
                 f"{length - pivot_depth:.2f} m below it (got {values['strike']:.2f} m)"
             )
+        swing = (self.choice.value, pivot_depth, values["amplitude"])
+        if swing == getattr(self, "_swing", None):
+            return  # only the strike point or impulse changed: the swing goes on
+        self._swing = swing
         self.model, self.mesh, self.props, self.length, self.pivot = model, mesh, props, length, pivot
         self.body.set_mesh(mesh)
         self.pivot_marker.position = pivot
@@ -181,7 +184,7 @@ class Pendulum(Scene):
         s = self.last_strike
         if s is not None and 0.0 <= state["t"] - s["t"] <= ARROW_SHOW:
             j = s["impulse"]
-            scale = 0.25 / max(float(np.linalg.norm(j)), 1e-12)  # the blow drawn 0.25 m long
+            scale = 0.4 / max(float(np.linalg.norm(j)), 1e-12)  # the blow drawn 0.4 m long, the reaction alike
             self.impulse_arrow.set(j * scale, s["point"] - j * scale)
             self.reaction_arrow.set(s["result"].reaction_impulse * scale, self.pivot)
         else:

@@ -84,11 +84,11 @@ class TennisRacket(Scene):
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
         "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like e^{λt}, "
         "λ = Ω √((I₁ − I₂)(I₂ − I₃)/(I₁ I₃)), and the body flips over and back, again and again. L stays fixed. "
-        "Right: L seen from the body, on the L-sphere: the polhode (blue) and the separatrix (grey)."
+        "Left: L seen from the body, on the L-sphere: the polhode (blue) and the separatrix (grey)."
     )
-    camera = ((2.6, -2.6, 1.9), (0.7, 0.0, 1.0))
+    camera = ((2.4, -2.6, 1.9), (-0.5, 0.0, 1.0))
     centre = np.array([0.0, 0.0, 1.0])
-    sphere_centre = np.array([1.6, 0.0, 1.0])
+    sphere_centre = np.array([-1.4, 0.3, 1.0])  # left of the body on screen (the GUI is on the right)
     sphere_radius = 0.45
     size = 0.9  # largest dimension the body is drawn at (m)
 
