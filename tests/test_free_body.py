@@ -31,6 +31,9 @@ REGIMES = {
     "near_separatrix_below_1e-6": (SEP_MOMENTS, [-1.0, 0.3, 1.5 * (1 + 1e-6)]),
     "near_symmetric_1e-12": ([2.0, 2.0 * (1 - 1e-12), 1.0], [0.3, -1.0, -0.2]),
     "near_spin_intermediate": ([2.0, 1.5, 1.2], [1e-4, 1.0, -2e-4]),
+    # Nearly a rod (I3/I1 = 1e-3): the frame's pole is the axis L̂ stays far from; both poles are used.
+    "near_rod_tumbling": ([1.0, 0.999, 0.001], [0.3, -1.0, 0.2]),
+    "near_rod_spinning_about_its_axis": ([1.0, 0.999, 0.001], [0.3, -1.0, 20.0]),
 }
 CLOSE_REGIMES = {  # nearer the separatrix than the guarantee (1 − m < 1e-6)
     "separatrix_1e-10": (SEP_MOMENTS, [1.0, -0.3, 1.5 * (1 + 5e-11)]),
@@ -404,3 +407,9 @@ def test_symmetric_rod_and_sphere_over_a_thousand_rotation_periods(moments, w0):
     om, rr = FreeBody(moments).motion(w0, times, R_TILT)
     assert np.max(np.linalg.norm(om - ref_w, axis=1) / np.linalg.norm(ref_w, axis=1)) < 1e-12
     assert np.max(rotation_angle(rr, ref_r)) < 1e-10
+
+
+def test_both_poles_of_the_attitude_frame_are_exercised():
+    poles = {name: bool(FreeBody(mo)._setup(np.array([w], float))["pole_c"][0])
+             for name, (mo, w) in REGIMES.items() if name.startswith("near_rod")}
+    assert poles == {"near_rod_tumbling": True, "near_rod_spinning_about_its_axis": False}

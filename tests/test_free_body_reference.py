@@ -146,6 +146,8 @@ def accuracy_table() -> str:
         ("on the separatrix, m = 1", sep, [1.0, -0.3, -1.5]),
         ("near-symmetric, ΔI/I = 1e-12", [2.0, 2.0 * (1 - 1e-12), 1.0], [0.3, -1.0, -0.2]),
         ("near intermediate-axis spin", [2.0, 1.5, 1.2], [1e-4, 1.0, -2e-4]),
+        ("near rod I3/I1 = 1e-3, tumbling", [1.0, 0.999, 0.001], [0.3, -1.0, 0.2]),
+        ("near rod, spinning about its axis", [1.0, 0.999, 0.001], [0.3, -1.0, 20.0]),
         ("symmetric (trig)", [2.0, 1.0, 2.0], [0.3, -1.0, 0.7]),
         ("rod, spin about own axis", [0.0, 1.0, 1.0], [2.5, 0.3, -1.0]),
         ("sphere", [1.0, 1.0, 1.0], [0.3, -1.0, 2.5]),
