@@ -17,9 +17,10 @@ at any time (also negative), vectorised over the times, never step by step:
 * The attitude as ``R(t) = Rot(L̂_space, ψ(t) − ψ(0)) R(0) B(0) B(t)ᵀ``, where the columns of ``B(t)``
   (body coordinates) are ``e_p × L̂``, ``L̂ × (e_p × L̂)`` (normalised) and ``L̂ = I ω / L`` for a pole
   ``p`` (``a`` or ``c``, see below). The angle
-  turned about ``L`` obeys ``ψ̇ = L (2E − L_a ω_a) / (L² − L_a²)``, which integrates to the elliptic
-  integral of the third kind ``Π(n; am u | m)`` with ``n = −I_a (I_b − I_c) / (I_c (I_a − I_b)) ≤ 0``,
-  evaluated through Carlson's ``R_F``/``R_J`` (:func:`scipy.special.elliprj`).
+  turned about ``L`` obeys ``ψ̇ = L (2E − L_p ω_p) / (L² − L_p²)``, which integrates to the elliptic
+  integral of the third kind ``Π(n; am u | m)``; for the pole ``a``,
+  ``n = −I_a (I_b − I_c) / (I_c (I_a − I_b)) ≤ 0``. It is evaluated through Carlson's ``R_J``
+  (:func:`scipy.special.elliprj`; ``u0`` through ``R_F``).
 * A body with two equal moments ("symmetric", the lecture's case ``I1 = I2``) uses the lecture's
   trigonometric solution: ``ω_⊥`` turns about the symmetry axis ``s`` in the body at
   ``Ω = ω_s (I_⊥ − I_s) / I_⊥`` and the body turns about ``L`` at ``φ̇ = L / I_⊥``; exactly
