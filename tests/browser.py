@@ -35,7 +35,7 @@ CHROMIUM_ARGS = [
     "--disable-sync",
     "--no-first-run",
 ]
-VIEWPORT = {"width": 1280, "height": 800}
+VIEWPORT = {"width": 960, "height": 720}  # small: SwiftShader renders on the CPU
 
 
 def free_port() -> int:
@@ -92,10 +92,10 @@ def wait_for(condition: Callable[[], Any], timeout: float = 20.0, interval: floa
         time.sleep(interval)
 
 
-def open_page(browser: Any, app: Any, timeout: float = 30.0) -> tuple[Any, Any]:
+def open_page(browser: Any, app: Any, timeout: float = 30.0, viewport: dict | None = None) -> tuple[Any, Any]:
     """Open the app in a new page; returns (page, client) once connected and the canvas exists."""
     before = set(app.server.get_clients())
-    page = browser.new_page(viewport=VIEWPORT)
+    page = browser.new_page(viewport=viewport or VIEWPORT)
     page.goto(app.url, wait_until="domcontentloaded")
     client_id = wait_for(lambda: set(app.server.get_clients()) - before, timeout, what="the page to connect")
     page.wait_for_selector("canvas", timeout=timeout * 1000)

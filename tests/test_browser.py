@@ -69,7 +69,7 @@ def test_moving_a_slider_in_the_page_changes_the_simulation(live_app, page_and_c
 
 def test_a_second_browser_sees_the_same_simulation(live_app, chromium, page_and_client):
     page, _ = page_and_client
-    other, other_client = open_page(chromium, live_app)
+    other, _ = open_page(chromium, live_app, viewport={"width": 700, "height": 900})  # tall: the slider is visible
     try:
         assert len(live_app.server.get_clients()) >= 2
         spin = live_app.scene.params.values["spin"]
