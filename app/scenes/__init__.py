@@ -7,6 +7,7 @@ imported by :func:`load_all`) that composes the shared pieces of :mod:`app.draw`
 with one physics model::
 
     import numpy as np
+    import trimesh
     from app import controls, draw
     from app.scenes import Scene, register
 
@@ -58,6 +59,17 @@ clock's reset: go back to t = 0 with the current parameters; the default clears 
 ``teardown()`` (release anything that is not a scene node under ``ctx.root`` nor GUI in the folder),
 ``accept(payload)`` (another scene hands over a body: e.g. the inertia explorer's "Spin it" calls
 ``ctx.switch_to("wobble", payload=...)``).
+
+Time. Closed-form models evaluate the state at the absolute time ``t`` (exact, no drift, any speed);
+a stepping model (friction) advances its own state by ``dt`` and must not mutate it in ``compute``.
+The clock's single step advances ``speed/60`` s; a parameter change usually calls ``ctx.restart()``.
+
+Colours. Use the quantity keys of ``app.draw.COLOURS`` (L amber, ω red, τ violet, trace teal, body
+cone green, space cone pink, principal axes black, ...) and list them in ``quantities`` for the legend;
+add a new key to COLOURS/LABELS rather than a one-off colour.
+
+Tests. ``tests/browser.py`` has ``running_app``, ``open_page``, ``nudge_slider``, ``wait_for``,
+``image_stats``; ``tests/conftest.py`` has the module-scoped ``chromium`` and ``live_app`` fixtures.
 
 Callbacks. Sliders made with :mod:`app.controls` are already guarded. For any raw viser callback use
 ``@self.ctx.guarded`` (or ``handle.on_click(self.ctx.guarded(fn))``): it runs under the simulation lock,
