@@ -309,6 +309,17 @@ def test_pendulum_strike_at_centre_of_percussion_needs_no_pivot_impulse(app):
     assert not sc.impulse_arrow.handle.visible  # arrows go after ARROW_SHOW seconds
 
 
+def test_pendulum_strike_point_slider_does_not_restart_the_swing(app):
+    sc = open_scene(app, "pendulum")
+    for _ in range(20):
+        app.frame(FRAME)
+    t, model = app.time, sc.model
+    assert sc.params.offer({"strike": 0.3, "impulse": 2.0})
+    assert app.time == t and sc.model is model
+    assert sc.params.offer({"amplitude": 45.0})  # a new release angle does restart
+    assert app.time == 0.0 and sc.model is not model
+
+
 def test_pendulum_refuses_pivot_off_or_at_the_centre_of_mass(app):
     sc = open_scene(app, "pendulum")
     sc.choice.value = "Uniform rod 0.84 m, 0.9 kg"
