@@ -69,7 +69,9 @@ def inertia_ellipsoid_axes(moments: np.ndarray, largest: float) -> np.ndarray:
 
 
 def tensor_markdown(tensor: np.ndarray, title: str) -> str:
-    rows = "\n".join("| " + " | ".join(f"{v: .4g}" for v in row) + " |" for row in tensor)
+    # Round-off-sized entries (1e-21 next to 1e-2) print as 0 so the structure reads at a glance.
+    shown = np.where(np.abs(tensor) < 1e-12 * max(float(np.abs(tensor).max()), 1e-300), 0.0, tensor)
+    rows = "\n".join("| " + " | ".join(f"{v: .4g}" for v in row) + " |" for row in shown)
     return f"**{title}** (kg m²)\n\n| x | y | z |\n|---|---|---|\n{rows}"
 
 
