@@ -79,7 +79,7 @@ def tensor_markdown(tensor: np.ndarray, title: str) -> str:
 class InertiaExplorer(Scene):
     name = "inertia_explorer"
     title = "Inertia explorer"
-    order = 5
+    order = 50  # after the frame's scenes: the heavy top stays the first thing a user sees
     quantities = ("body",)
     caption = (
         "**The inertia tensor.** Pick a body (1 kg) or upload your own mesh. The axes at the centre of mass are "

@@ -49,7 +49,7 @@ def hanging_body(choice: str) -> tuple[trimesh.Trimesh, MassProperties, float]:
 class Pendulum(Scene):
     name = "pendulum"
     title = "Physical pendulum & centre of percussion"
-    order = 30
+    order = 55
     quantities = ("impulse", "reaction", "path")
     caption = (
         "**Physical pendulum.** About a fixed axis I = I_cm + M a⊥² = M k², and the body swings like a simple "

@@ -78,7 +78,7 @@ def separatrix_circles(moments: np.ndarray, n: int = 181) -> np.ndarray:
 class TennisRacket(Scene):
     name = "tennis_racket"
     title = "Tennis racket: the intermediate axis"
-    order = 40
+    order = 60
     quantities = ("L", "omega", "trace")
     caption = (
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
