@@ -97,6 +97,17 @@ def test_explorer_every_choice_builds_with_physics_moments(app):
     assert np.all(np.isfinite(inertia_ellipsoid_axes(sc.moments, 1.0)))
 
 
+def test_explorer_point_mass_sets_match_hand_sums(app):
+    sc = open_scene(app, "inertia_explorer")
+    length = sc.params.values["length"]
+    sc.choice.value = "Point masses: dumbbell (2 × 0.5 kg)"
+    # Two 0.5 kg masses at ±L/2: I⊥ = 2 · 0.5 (L/2)² = L²/4, zero along the bar (exact sums).
+    np.testing.assert_allclose(sc.moments, [length**2 / 4, length**2 / 4, 0.0], rtol=1e-14, atol=1e-16)
+    sc.choice.value = "Point masses: square (4 × 0.25 kg)"
+    # Four 0.25 kg masses at (±L/2, ±L/2, 0): I_z = L²/2, I_x = I_y = L²/4 (perpendicular-axis theorem).
+    np.testing.assert_allclose(sc.moments, [length**2 / 2, length**2 / 4, length**2 / 4], rtol=1e-14)
+
+
 def _box_stl(extents=(0.3, 0.2, 0.1)) -> bytes:
     return trimesh.creation.box(extents=extents).export(file_type="stl")
 

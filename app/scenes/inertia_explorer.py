@@ -20,10 +20,16 @@ from app.upload import NotWatertightError, UploadedBody, body_from_mesh, body_fr
 from assets import ASSETS, load_mesh, mass_properties
 from physics.inertia import MassProperties, box, point_masses, rod, solid_cylinder, solid_sphere
 
-PRIMITIVES = ("Rod", "Solid sphere", "Solid cylinder", "Box (L × 2a × a)", "Point masses (4, unequal)")
+PRIMITIVES = ("Rod", "Solid sphere", "Solid cylinder", "Box (L × 2a × a)", "Point masses (4, unequal)",
+              "Point masses: dumbbell (2 × 0.5 kg)", "Point masses: square (4 × 0.25 kg)")
 ASSET_CHOICES = {ASSETS[k].label: k for k in ASSETS}
 POINT_MASSES = np.array([1.0, 2.0, 1.0, 0.5])  # kg
 POINT_POSITIONS = np.array([[0.5, 0.0, 0.0], [-0.5, 0.2, 0.0], [0.0, -0.4, 0.3], [0.1, 0.3, -0.4]])  # × L
+POINT_SETS = {  # name prefix -> (masses kg, positions × L)
+    "Point masses (4": (POINT_MASSES, POINT_POSITIONS),
+    "Point masses: dumbbell": (np.array([1.0, 1.0]), np.array([[0.0, 0.0, 0.5], [0.0, 0.0, -0.5]])),
+    "Point masses: square": (np.ones(4), np.array([[0.5, 0.5, 0.0], [-0.5, 0.5, 0.0], [-0.5, -0.5, 0.0], [0.5, -0.5, 0.0]])),
+}
 DISPLAY_SIZE = 1.2  # m: the body is drawn scaled so its largest extent is this
 ELLIPSOID_CAP = 4.0  # a zero moment (rod) would give an infinite ellipsoid axis: cap at 4× the smallest
 
@@ -39,22 +45,23 @@ def primitive_body(kind: str, a: float, length: float) -> tuple[trimesh.Trimesh,
     if kind.startswith("Box"):
         extents = [length, 2 * a, a]
         return trimesh.creation.box(extents=extents), box(1.0, extents)
-    if kind.startswith("Point masses"):
-        pos = POINT_POSITIONS * length
-        balls = []
-        for m, p in zip(POINT_MASSES, pos):
-            ball = trimesh.creation.icosphere(subdivisions=2, radius=0.06 * length * m ** (1 / 3))
-            ball.apply_translation(p)
-            balls.append(ball)
-        # Thin struts from the centre of mass so the set reads as one rigid body.
-        props = point_masses(POINT_MASSES / POINT_MASSES.sum(), pos)
-        for p in pos:
-            d = p - props.center_of_mass
-            strut = trimesh.creation.cylinder(radius=0.008 * length, segment=[props.center_of_mass, p], sections=8)
-            if np.linalg.norm(d) > 0:
-                balls.append(strut)
-        return trimesh.util.concatenate(balls), props
+    for prefix, (masses, unit_positions) in POINT_SETS.items():
+        if kind.startswith(prefix):
+            return _point_set(masses, unit_positions * length, length)
     raise ValueError(f"unknown body {kind!r}")
+
+
+def _point_set(masses: np.ndarray, pos: np.ndarray, length: float) -> tuple[trimesh.Trimesh, MassProperties]:
+    """Balls (volume ∝ mass) on struts to the centre of mass; 1 kg in total."""
+    props = point_masses(masses / masses.sum(), pos)
+    parts = []
+    for m, p in zip(masses / masses.max(), pos):
+        ball = trimesh.creation.icosphere(subdivisions=2, radius=0.06 * length * m ** (1 / 3))
+        ball.apply_translation(p)
+        parts.append(ball)
+        if np.linalg.norm(p - props.center_of_mass) > 0:
+            parts.append(trimesh.creation.cylinder(radius=0.008 * length, segment=[props.center_of_mass, p], sections=8))
+    return trimesh.util.concatenate(parts), props
 
 
 def inertia_ellipsoid_axes(moments: np.ndarray, largest: float) -> np.ndarray:
@@ -120,7 +127,8 @@ class InertiaExplorer(Scene):
             apply=self.apply,
         )
         self.upload = gui.add_upload_button("Upload a mesh (STL, OBJ, PLY, GLB)", icon=None,
-                                            hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)")
+                                            hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)",
+                                            mime_type=".stl,.obj,.ply,.glb")
         self.upload.on_upload(self.ctx.guarded(self._on_upload))
         self.hull_button = gui.add_button("Use its convex hull instead", visible=False)
         self.hull_button.on_click(self.ctx.guarded(self._use_hull))
