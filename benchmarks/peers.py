@@ -20,13 +20,29 @@ from scipy.spatial.transform import Rotation
 from physics import G
 
 
-def scipy_run(case, method: str, rtol: float):
-    """Integrate ``case`` with ``solve_ivp``; returns (R (3,3), ω (3,), number of RHS evaluations)."""
+class PeerTimeout(Exception):
+    """A peer run exceeded its CPU cap (recorded as 'not reached')."""
+
+
+def scipy_run(case, method: str, rtol: float, cpu_cap: float = float("inf")):
+    """Integrate ``case`` with ``solve_ivp``; returns (R (3,3), ω (3,), number of RHS evaluations).
+
+    Raises :class:`PeerTimeout` once the run has used more than ``cpu_cap`` seconds of CPU (checked every
+    1000 right-hand-side evaluations), so that a hopeless setting (RK45 or LSODA over 10^4 periods) cannot
+    stall the benchmark.
+    """
+    import time
+
     I = case.moments
+    start = time.process_time()
+    calls = [0]
     inv = np.where(I > 0, 1.0 / np.where(I > 0, I, 1.0), 0.0)
     mgc = case.mass * G * case.com
 
     def rhs(t, y):
+        calls[0] += 1
+        if calls[0] % 1000 == 0 and time.process_time() - start > cpu_cap:
+            raise PeerTimeout(f"{method} rtol {rtol} over {cpu_cap} s")
         x, yq, z, w = y[0], y[1], y[2], y[3]
         o0, o1, o2 = y[4], y[5], y[6]
         l0, l1, l2 = I[0] * o0, I[1] * o1, I[2] * o2
