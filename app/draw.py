@@ -32,6 +32,7 @@ __all__ = [
     "Cone",
     "Caption",
     "faint_sphere",
+    "InertiaEllipsoid",
     "top_mesh",
     "cylinder_mesh",
 ]
@@ -464,3 +465,34 @@ def faint_sphere(server: viser.ViserServer, name: str, radius: float, *, opacity
         thickness_units="screen",
     )
     return handle
+
+
+class InertiaEllipsoid:
+    """The inertia ellipsoid ``xᵀ I x = const`` of a body: semi-axes along the principal axes, in
+    proportion ``1/√I_i`` (long where the moment is small), drawn translucent from one unit sphere
+    scaled in place.
+
+    A zero moment (a rod) would make one semi-axis infinite: it is capped at ``cap`` times the
+    shortest, so the drawing stays finite and still shows the direction.
+    """
+
+    def __init__(self, server: viser.ViserServer, name: str, *, colour: tuple[int, int, int] = (255, 200, 60),
+                 opacity: float = 0.25, cap: float = 4.0) -> None:
+        self.cap = float(cap)
+        self.handle = server.scene.add_icosphere(name, radius=1.0, color=colour, subdivisions=4, opacity=opacity,
+                                                 cast_shadow=False, receive_shadow=False)
+
+    def semi_axes(self, moments: ArrayLike, largest: float) -> NDArray[np.float64]:
+        """Semi-axes (m), shape (3,), for principal ``moments`` (kg m²), the longest equal to ``largest``."""
+        m = np.asarray(moments, dtype=float)
+        if not np.any(m > 0):
+            return np.full(3, float(largest))
+        inv = np.where(m > 0, 1.0 / np.sqrt(np.where(m > 0, m, 1.0)), np.inf)
+        inv = np.minimum(inv, self.cap * float(np.min(inv)))
+        return float(largest) * inv / float(np.max(inv))
+
+    def set(self, moments: ArrayLike, axes: ArrayLike, largest: float, centre: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Moments (3,), principal axes as columns (3, 3) (right-handed), longest semi-axis (m), centre (3,)."""
+        self.handle.scale = tuple(float(s) for s in self.semi_axes(moments, largest))
+        self.handle.wxyz = wxyz(np.asarray(axes, dtype=float))
+        self.handle.position = np.asarray(centre, dtype=float)
