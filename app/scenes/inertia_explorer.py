@@ -64,17 +64,6 @@ def _point_set(masses: np.ndarray, pos: np.ndarray, length: float) -> tuple[trim
     return trimesh.util.concatenate(parts), props
 
 
-def inertia_ellipsoid_axes(moments: np.ndarray, largest: float) -> np.ndarray:
-    """Semi-axes of the inertia ellipsoid ``xᵀ I x = const``, proportional to ``1/√I_i``, scaled so the
-    largest is ``largest`` (m); a zero moment (rod) is capped at :data:`ELLIPSOID_CAP` × the smallest."""
-    m = np.asarray(moments, dtype=float)
-    positive = m[m > 0]
-    inv = np.where(m > 0, 1.0 / np.sqrt(np.where(m > 0, m, 1.0)), np.inf)
-    smallest = float(np.min(inv))
-    inv = np.minimum(inv, ELLIPSOID_CAP * smallest) if positive.size else np.ones(3)
-    return largest * inv / float(np.max(inv))
-
-
 def tensor_markdown(tensor: np.ndarray, title: str) -> str:
     # Round-off-sized entries (1e-21 next to 1e-2) print as 0 so the structure reads at a glance.
     shown = np.where(np.abs(tensor) < 1e-12 * max(float(np.abs(tensor).max()), 1e-300), 0.0, tensor)
@@ -106,8 +95,7 @@ class InertiaExplorer(Scene):
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.85)
         self.frame = draw.PrincipalFrame(server, root + "/principal", length=0.7)
         self.axis_labels = [server.scene.add_label(f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
-        self.ellipsoid = server.scene.add_icosphere(root + "/ellipsoid", radius=1.0, color=(255, 200, 60),
-                                                    subdivisions=4, opacity=0.25, cast_shadow=False)
+        self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=(20, 20, 20))
         self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)
         self.lever = server.scene.add_line_segments(root + "/lever", points=np.zeros((1, 2, 3), dtype=np.float32),
@@ -186,10 +174,7 @@ class InertiaExplorer(Scene):
         self.frame.set_pose(axes, self.centre)
         for i, lab in enumerate(self.axis_labels):
             lab.position = self.centre + 0.75 * axes[:, i]
-        semi = inertia_ellipsoid_axes(moments, 0.55 * DISPLAY_SIZE)
-        self.ellipsoid.scale = tuple(float(s) for s in semi)
-        self.ellipsoid.wxyz = draw.wxyz(axes)
-        self.ellipsoid.position = self.centre
+        self.ellipsoid.set(moments, axes, 0.55 * DISPLAY_SIZE, self.centre)
         p_draw = self.centre + scale * pivot_offset
         self.pivot_marker.position = p_draw
         self.pivot_frame.set_pose(pivot_axes, p_draw)
