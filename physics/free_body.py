@@ -72,6 +72,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import elliprf, elliprj, ellipkm1
 
 from physics.inertia import validate_moments
+from physics.validation import finite_array
 from physics.rotations import expm_so3
 
 __all__ = ["FreeBody", "Stability", "PrecessionRates", "jacobi_sn_cn_dn"]
@@ -259,13 +260,6 @@ class PrecessionRates:
 _SWAP = np.array([[0.0, 0.0, -1.0], [0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]])  # proper: exchanges 1st and 3rd
 
 
-def _finite(value: ArrayLike, name: str) -> NDArray[np.float64]:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite numbers, got {arr.tolist()}")
-    return arr
-
-
 class FreeBody:
     """A rigid body without torque, solved exactly (see the module docstring for the method).
 
@@ -309,7 +303,7 @@ class FreeBody:
 
     # --- invariants --------------------------------------------------------------------------------
     def _omega0(self, omega0: ArrayLike) -> NDArray[np.float64]:
-        w = _finite(omega0, "the initial angular velocity omega0")
+        w = finite_array(omega0, "the initial angular velocity omega0")
         if w.shape != (3,):
             raise ValueError(f"omega0 must have shape (3,) (rad/s in body axes), got shape {w.shape}")
         return w
@@ -345,7 +339,7 @@ class FreeBody:
     def _attitude0(self, attitude0: ArrayLike | None) -> NDArray[np.float64]:
         if attitude0 is None:
             return np.eye(3)
-        r = _finite(attitude0, "attitude0")
+        r = finite_array(attitude0, "attitude0")
         if r.shape != (3, 3):
             raise ValueError(f"attitude0 must be a 3x3 rotation matrix, got shape {r.shape}")
         err = np.max(np.abs(r.T @ r - np.eye(3)))
@@ -357,7 +351,7 @@ class FreeBody:
         return r
 
     def _times(self, t: ArrayLike) -> NDArray[np.float64]:
-        tt = _finite(t, "the times t")
+        tt = finite_array(t, "the times t")
         if tt.ndim > 1:
             raise ValueError(f"t must be a scalar or a 1-D array of times in seconds, got shape {tt.shape}")
         return np.atleast_1d(tt)
@@ -707,7 +701,7 @@ class FreeBody:
         """
         if isinstance(axis_index, bool) or not isinstance(axis_index, (int, np.integer)) or not 0 <= axis_index <= 2:
             raise ValueError(f"axis_index must be 0, 1 or 2 (a principal axis), got {axis_index!r}")
-        omega = float(_finite(spin_rate, "spin_rate"))
+        omega = float(finite_array(spin_rate, "spin_rate"))
         i = self.moments[axis_index]
         ij, ik = self.moments[(axis_index + 1) % 3], self.moments[(axis_index + 2) % 3]
         numerator = (i - ij) * (i - ik)

@@ -50,6 +50,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipj, ellipkm1, elliprf, elliprj
 
 from physics import G
+from physics.validation import finite_scalar
 
 __all__ = [
     "HeavyTop",
@@ -340,15 +341,6 @@ class _Motion:
 # --------------------------------------------------------------------------------------------------
 
 
-def _finite(x: float, name: str) -> float:
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {x!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {v}")
-    return v
-
 
 def _times(t: ArrayLike) -> NDArray[np.float64]:
     tt = np.atleast_1d(np.asarray(t, dtype=float))
@@ -379,9 +371,9 @@ class HeavyTop:
     """
 
     def __init__(self, I1: float, I3: float, mgl: float) -> None:
-        self.I1 = _finite(I1, "I1")
-        self.I3 = _finite(I3, "I3")
-        self.mgl = _finite(mgl, "mgl")
+        self.I1 = finite_scalar(I1, "I1")
+        self.I3 = finite_scalar(I3, "I3")
+        self.mgl = finite_scalar(mgl, "mgl")
         for name, v in (("I1", self.I1), ("I3", self.I3), ("mgl", self.mgl)):
             if v <= 0.0:
                 raise ValueError(f"{name} must be positive, got {v}")
@@ -435,14 +427,14 @@ class HeavyTop:
                 or np.max(np.abs(P @ tensor @ P - I1 * P)) > rtol * scale):
             raise ValueError("the body is not symmetric about the line from the tip to its centre of mass "
                              f"(tensor about the tip: {tensor.tolist()})")
-        return cls(I1, I3, _finite(body.mass, "mass") * _finite(g, "g") * ell)
+        return cls(I1, I3, finite_scalar(body.mass, "mass") * finite_scalar(g, "g") * ell)
 
     def threshold_crossing_time(self, L3: float, spin_friction: float) -> float:
         """When spin friction ``−c ω3`` (see :meth:`simulate`) takes ``L3`` down to :meth:`sleeping_threshold`,
         s: ``L3(t) = L3 exp(−c t / I3)`` gives ``t* = (I3 / c) ln(L3 / L3_threshold)``
         (0 if already below, inf without friction)."""
-        L3 = abs(_finite(L3, "L3"))
-        c = _finite(spin_friction, "spin_friction")
+        L3 = abs(finite_scalar(L3, "L3"))
+        c = finite_scalar(spin_friction, "spin_friction")
         if c < 0.0:
             raise ValueError(f"spin_friction must be >= 0 (it removes energy), got {c}")
         thr = self.sleeping_threshold()
@@ -539,8 +531,8 @@ class HeavyTop:
         ValueError
             If the spin is too slow: ``L3² < 4 I1 M g ℓ cos θ`` (no steady precession at that θ).
         """
-        theta = _finite(theta, "theta")
-        L3 = _finite(L3, "L3")
+        theta = finite_scalar(theta, "theta")
+        L3 = finite_scalar(L3, "L3")
         if not 0.0 < theta < math.pi:
             raise ValueError(f"steady precession needs 0 < theta < pi, got theta = {theta}")
         ct = math.cos(theta)
@@ -557,12 +549,12 @@ class HeavyTop:
 
     # ------------------------------------------------------------------ the exact motion
     def _motion(self, theta0, thetadot0, phidot0, psidot0, phi0=0.0, psi0=0.0) -> _Motion:
-        th0 = _finite(theta0, "theta0")
-        thd0 = _finite(thetadot0, "thetadot0")
-        phd0 = _finite(phidot0, "phidot0")
-        psd0 = _finite(psidot0, "psidot0")
-        phi0 = _finite(phi0, "phi0")
-        psi0 = _finite(psi0, "psi0")
+        th0 = finite_scalar(theta0, "theta0")
+        thd0 = finite_scalar(thetadot0, "thetadot0")
+        phd0 = finite_scalar(phidot0, "phidot0")
+        psd0 = finite_scalar(psidot0, "psidot0")
+        phi0 = finite_scalar(phi0, "phi0")
+        psi0 = finite_scalar(psi0, "psi0")
         if not 0.0 <= th0 <= math.pi:
             raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {th0}")
         # Squares of these would underflow: to every digit the cubic can see they are 0 (a pole, no rate).
@@ -972,7 +964,7 @@ class TransverseAirDrag:
     conservative = False
 
     def __init__(self, coefficient: float, moments: ArrayLike) -> None:
-        self.coefficient = _finite(coefficient, "air_drag")
+        self.coefficient = finite_scalar(coefficient, "air_drag")
         if self.coefficient < 0.0:
             raise ValueError(f"air_drag must be >= 0 (it removes energy), got {self.coefficient}")
         self.moments = np.asarray(moments, dtype=float).reshape(3)
@@ -1088,7 +1080,7 @@ def simulate_heavy_body(
     from physics.inertia import validate_moments
 
     I = validate_moments(moments)
-    mass = _finite(mass, "mass")
+    mass = finite_scalar(mass, "mass")
     if mass <= 0.0:
         raise ValueError(f"mass must be positive, got {mass}")
     com = np.asarray(center_of_mass_body, dtype=float).reshape(3)
@@ -1100,12 +1092,12 @@ def simulate_heavy_body(
     w0 = np.asarray(omega_body0, dtype=float).reshape(3)
     if not np.all(np.isfinite(w0)):
         raise ValueError("omega_body0 must be finite")
-    t_final, dt = _finite(t_final, "t_final"), _finite(dt, "dt")
+    t_final, dt = finite_scalar(t_final, "t_final"), finite_scalar(dt, "dt")
     if t_final <= 0.0 or dt <= 0.0:
         raise ValueError(f"t_final and dt must be positive, got t_final = {t_final}, dt = {dt}")
     n_steps = max(1, int(math.ceil(t_final / dt - 1e-9)))
     h = t_final / n_steps
-    g = _finite(g, "g")
+    g = finite_scalar(g, "g")
     all_torques = [integrators.GravityTorque(mass, com, g=g), *torques]
     stepper = _method_class(method)(I, all_torques)
     traj = integrators.integrate(stepper, R0, I * w0, h, n_steps, save_every=save_every)
@@ -1126,11 +1118,11 @@ def _simulate_symmetric(top: "HeavyTop", theta0, thetadot0, phidot0, psidot0, t_
                         air_drag, method, save_every, phi0, psi0) -> FrictionRun:
     from physics import integrators
 
-    vals = [_finite(v, n) for v, n in ((theta0, "theta0"), (thetadot0, "thetadot0"), (phidot0, "phidot0"),
+    vals = [finite_scalar(v, n) for v, n in ((theta0, "theta0"), (thetadot0, "thetadot0"), (phidot0, "phidot0"),
                                        (psidot0, "psidot0"), (phi0, "phi0"), (psi0, "psi0"))]
     if not 0.0 <= vals[0] <= math.pi:
         raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {vals[0]}")
-    c = _finite(spin_friction, "spin_friction")
+    c = finite_scalar(spin_friction, "spin_friction")
     if c < 0.0:
         raise ValueError(f"spin_friction must be >= 0 (it removes energy), got {c}")
     moments = np.array([top.I1, top.I1, top.I3])

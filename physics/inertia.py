@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from physics.validation import finite_array
+
 __all__ = [
     "MassProperties",
     "validate_moments",
@@ -43,27 +45,15 @@ DEGENERACY_RTOL = 1e-10
 """Moments closer than this (relative to the largest) are treated as equal by :meth:`principal`."""
 
 
-def _finite_array(value: ArrayLike, name: str, shape: tuple[int, ...] | None = None) -> NDArray[np.float64]:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numeric, got {value!r}") from exc
-    if shape is not None and arr.shape != shape:
-        raise ValueError(f"{name} must have shape {shape}, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite, got {arr.tolist()}")
-    return arr
-
-
 def _positive(value: float, name: str) -> float:
-    v = float(_finite_array(value, name, ()))
+    v = float(finite_array(value, name, ()))
     if v <= 0.0:
         raise ValueError(f"{name} must be positive, got {v}")
     return v
 
 
 def _nonnegative(value: float, name: str) -> float:
-    v = float(_finite_array(value, name, ()))
+    v = float(finite_array(value, name, ()))
     if v < 0.0:
         raise ValueError(f"{name} must not be negative, got {v}")
     return v
@@ -96,7 +86,7 @@ def validate_moments(moments: ArrayLike, *, allow_zero: bool = False) -> NDArray
         If a moment is not finite or negative, all are zero, or the triangle inequality fails:
         "no rigid body has these moments: ...".
     """
-    m = _finite_array(moments, "moments of inertia", (3,))
+    m = finite_array(moments, "moments of inertia", (3,))
     if np.any(m < 0.0):
         raise ValueError(f"moments of inertia must not be negative, got {m.tolist()}")
     scale = float(np.max(m))
@@ -135,7 +125,7 @@ def parallel_axis(mass: float, offset: ArrayLike) -> NDArray[np.float64]:
 
 
 def _unit(vector: ArrayLike, name: str) -> NDArray[np.float64]:
-    v = _finite_array(vector, name, (3,))
+    v = finite_array(vector, name, (3,))
     n = np.linalg.norm(v)
     if n == 0.0:
         raise ValueError(f"{name} must be a non-zero vector")
@@ -191,8 +181,8 @@ class MassProperties:
 
     def __post_init__(self) -> None:
         mass = _positive(self.mass, "mass")
-        com = _finite_array(self.center_of_mass, "center_of_mass", (3,)).copy()
-        tensor = _finite_array(self.tensor, "inertia tensor", (3, 3)).copy()
+        com = finite_array(self.center_of_mass, "center_of_mass", (3,)).copy()
+        tensor = finite_array(self.tensor, "inertia tensor", (3, 3)).copy()
         scale = max(float(np.max(np.abs(tensor))), np.finfo(float).tiny)
         if np.max(np.abs(tensor - tensor.T)) > 1e-12 * scale:
             raise ValueError(f"an inertia tensor is symmetric; got {tensor.tolist()}")
@@ -249,7 +239,7 @@ class MassProperties:
         ndarray, shape (3, 3)
             kg m².
         """
-        p = _finite_array(point, "point", (3,))
+        p = finite_array(point, "point", (3,))
         return self.tensor + parallel_axis(self.mass, p - self.center_of_mass)
 
     def moment_about(self, axis: ArrayLike, point: ArrayLike | None = None) -> float:
@@ -281,10 +271,10 @@ class MassProperties:
         translation : array_like, shape (3,)
             m.
         """
-        r = _finite_array(rotation, "rotation", (3, 3))
+        r = finite_array(rotation, "rotation", (3, 3))
         if np.max(np.abs(r.T @ r - np.eye(3))) > 1e-9 or np.linalg.det(r) < 0:
             raise ValueError("rotation must be a proper rotation matrix (orthonormal, det +1)")
-        t = _finite_array(translation, "translation", (3,))
+        t = finite_array(translation, "translation", (3,))
         return MassProperties(self.mass, r @ self.center_of_mass + t, r @ self.tensor @ r.T)
 
     def __add__(self, other: "MassProperties") -> "MassProperties":
@@ -395,7 +385,7 @@ def box(mass: float, extents: ArrayLike) -> MassProperties:
         Edge lengths, m (one may be 0: a plate).
     """
     m = _positive(mass, "mass")
-    e = _finite_array(extents, "extents", (3,))
+    e = finite_array(extents, "extents", (3,))
     if np.any(e < 0) or np.count_nonzero(e) < 2:
         raise ValueError(f"a box needs non-negative extents, at most one of them zero; got {e.tolist()}")
     sq = e**2
@@ -412,12 +402,12 @@ def point_masses(masses: ArrayLike, positions: ArrayLike) -> MassProperties:
     positions : array_like, shape (n, 3)
         m.
     """
-    m = _finite_array(masses, "masses")
+    m = finite_array(masses, "masses")
     if m.ndim != 1 or m.size == 0:
         raise ValueError(f"masses must be a non-empty 1-D array, got shape {m.shape}")
     if np.any(m <= 0):
         raise ValueError(f"every point mass must be positive, got {m.tolist()}")
-    r = _finite_array(positions, "positions", (m.size, 3))
+    r = finite_array(positions, "positions", (m.size, 3))
     total = float(m.sum())
     com = (m @ r) / total
     d = r - com

@@ -53,6 +53,7 @@ from scipy.special import ellipkm1, elliprf
 
 from physics import G
 from physics.inertia import MassProperties
+from physics.validation import finite_array
 from physics.rotations import frame_from_axis, rotation_about
 
 __all__ = ["PhysicalPendulum", "Swing", "Strike", "LIBRATION", "ROTATION", "SEPARATRIX", "UNIFORM"]
@@ -103,18 +104,6 @@ class Strike:
     delta_velocity_cm: NDArray[np.float64]
     reaction_impulse: NDArray[np.float64]
     reaction_angular_impulse: NDArray[np.float64]
-
-
-def _finite(value: ArrayLike, name: str, shape: tuple[int, ...] | None = None) -> NDArray[np.float64]:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numeric, got {value!r}") from exc
-    if shape is not None and arr.shape != shape:
-        raise ValueError(f"{name} must have shape {shape}, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite (no NaN or inf), got {arr.tolist()}")
-    return arr
 
 
 def _amplitude(u: NDArray[np.float64], m: NDArray[np.float64], m1: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -190,13 +179,13 @@ class PhysicalPendulum:
                 f"mass_properties must be a physics.inertia.MassProperties, got {type(mass_properties).__name__}"
             )
         self.mass_properties = mass_properties
-        self.pivot = _finite(pivot, "pivot", (3,)).copy()
-        axis_arr = _finite(axis, "axis", (3,))
+        self.pivot = finite_array(pivot, "pivot", (3,)).copy()
+        axis_arr = finite_array(axis, "axis", (3,))
         norm = float(np.linalg.norm(axis_arr))
         if norm == 0.0:
             raise ValueError("axis must be a non-zero vector: it is the direction of the fixed rotation axis")
         self.axis = axis_arr / norm
-        self.g = float(_finite(g, "g", ()))
+        self.g = float(finite_array(g, "g", ()))
         if self.g < 0.0:
             raise ValueError(f"g must not be negative (gravity is -g z), got {self.g}")
         for arr in (self.pivot, self.axis):
@@ -273,8 +262,8 @@ class PhysicalPendulum:
         theta, theta_dot : array_like, broadcastable
             rad, rad/s.
         """
-        th = _finite(theta, "theta")
-        thd = _finite(theta_dot, "theta_dot")
+        th = finite_array(theta, "theta")
+        thd = finite_array(theta_dot, "theta_dot")
         return 0.5 * self.moment_of_inertia * thd**2 - self.mass * self.gravity_in_plane * self.a_perp * np.cos(th)
 
     # -- exact swing ----------------------------------------------------------------------------
@@ -305,7 +294,7 @@ class PhysicalPendulum:
         -------
         ndarray of str, the broadcast shape
         """
-        th0, thd0 = np.broadcast_arrays(_finite(theta0, "theta0"), _finite(thetadot0, "thetadot0"))
+        th0, thd0 = np.broadcast_arrays(finite_array(theta0, "theta0"), finite_array(thetadot0, "thetadot0"))
         if self.omega0 == 0.0:
             return np.full(th0.shape, UNIFORM)
         excess = self._energy_parameter(th0, thd0)[-1]
@@ -335,7 +324,7 @@ class PhysicalPendulum:
             ``theta`` (rad) and ``theta_dot`` (rad/s), each the broadcast shape (e.g. (n,)).
         """
         th0, thd0, tt = np.broadcast_arrays(
-            _finite(theta0, "theta0"), _finite(thetadot0, "thetadot0"), _finite(t, "t")
+            finite_array(theta0, "theta0"), finite_array(thetadot0, "thetadot0"), finite_array(t, "t")
         )
         w = self.omega0
         if w == 0.0:
@@ -408,7 +397,7 @@ class PhysicalPendulum:
         -------
         ndarray, the shape of ``amplitude``
         """
-        amp = _finite(amplitude, "amplitude")
+        amp = finite_array(amplitude, "amplitude")
         if np.any((amp < 0.0) | (amp > np.pi)):
             raise ValueError(
                 f"a libration amplitude lies in [0, pi] rad, got {amp.tolist()}; larger energies go over the top"
@@ -428,7 +417,7 @@ class PhysicalPendulum:
         theta0, thetadot0 : array_like, broadcastable
             rad, rad/s.
         """
-        th0, thd0 = np.broadcast_arrays(_finite(theta0, "theta0"), _finite(thetadot0, "thetadot0"))
+        th0, thd0 = np.broadcast_arrays(finite_array(theta0, "theta0"), finite_array(thetadot0, "thetadot0"))
         w = self.omega0
         if w == 0.0:
             return np.full(th0.shape, np.inf)
@@ -454,7 +443,7 @@ class PhysicalPendulum:
         -------
         ndarray, shape (3, 3) or (n, 3, 3)
         """
-        th = _finite(theta, "theta")
+        th = finite_array(theta, "theta")
         return rotation_about(self.axis, th - self.model_angle)
 
     def center_of_mass_at(self, theta: ArrayLike) -> NDArray[np.float64]:
@@ -467,7 +456,7 @@ class PhysicalPendulum:
         """Rotation from the modelling pose to angle ``theta`` (identity for ``None``), shape (3, 3)."""
         if theta is None:
             return np.eye(3)
-        return self.attitude(_finite(theta, "theta", ()))
+        return self.attitude(finite_array(theta, "theta", ()))
 
     def strike(self, impulse: ArrayLike, point: ArrayLike, theta: float | None = None) -> Strike:
         """A sharp blow: impulse ``J`` at ``point``, and the pivot's reaction (lecture, centre of percussion).
@@ -491,8 +480,8 @@ class PhysicalPendulum:
         -------
         Strike
         """
-        j = _finite(impulse, "impulse", (3,))
-        r = _finite(point, "point", (3,)) - self.pivot
+        j = finite_array(impulse, "impulse", (3,))
+        r = finite_array(point, "point", (3,)) - self.pivot
         rot = self._pose(theta)
         n = self.axis
         delta_omega = float(n @ np.cross(r, j)) / self.moment_of_inertia
