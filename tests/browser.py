@@ -9,6 +9,8 @@
 * :func:`wait_for` — poll a condition with a timeout (no fixed sleeps in tests).
 * :func:`slider_by_label` / :func:`nudge_slider` — drive a viser slider in the page with the keyboard.
 * :func:`image_stats` — is a render blank; how much two renders differ.
+* :func:`open_scene` / :func:`matrix` — headless: switch to a scene and play one frame; a handle's
+  attitude as a rotation matrix.
 
 Fixtures built on them live in ``tests/conftest.py`` (``browser``) — module-scoped so one Chromium
 serves a whole test module.
@@ -141,3 +143,24 @@ def image_stats(image: np.ndarray) -> float:
 def image_difference(a: np.ndarray, b: np.ndarray) -> float:
     """Mean absolute difference of two renders (0-255 scale)."""
     return float(np.abs(np.asarray(a, dtype=float)[..., :3] - np.asarray(b, dtype=float)[..., :3]).mean())
+
+
+FRAME = 1.0 / 60.0
+"""One frame of the real-time loop at 60 frames per second, s."""
+
+
+def open_scene(app: Any, name: str) -> Any:
+    """Switch a headless app to ``name``, play at 1x and advance one frame; returns the scene."""
+    app.switch_scene(name)
+    app.set_speed(1.0)
+    app.set_playing(True)
+    app.frame(FRAME)
+    return app.scene
+
+
+def matrix(handle: Any) -> np.ndarray:
+    """The rotation matrix (3, 3) of a viser handle's ``wxyz`` quaternion."""
+    from scipy.spatial.transform import Rotation
+
+    w, x, y, z = handle.wxyz
+    return Rotation.from_quat([x, y, z, w]).as_matrix()

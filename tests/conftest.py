@@ -52,3 +52,12 @@ def live_app():
 
     with running_app("heavy_top") as app:
         yield app
+
+
+@pytest.fixture(scope="module")
+def app():
+    """The app on a free port without its loop thread: tests drive frames with ``App.frame(dt)``."""
+    from browser import running_app
+
+    with running_app(start_loop=False) as a:
+        yield a

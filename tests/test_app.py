@@ -16,34 +16,16 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from app import draw
-from app.scenes import REGISTRY, Scene, scene_names
+from app.scenes import REGISTRY, scene_names
 from app.server import App, NumericalFailure, check_finite
-from browser import free_port, running_app
+from browser import FRAME, free_port, matrix, open_scene, running_app
 from physics import G
 from physics.free_body import FreeBody
 from physics.heavy_top import HeavyTop
 
-FRAME = 1.0 / 60.0
 SCENES = ["heavy_top", "wobble", "free_fall"]
 
 
-@pytest.fixture(scope="module")
-def app():
-    with running_app(start_loop=False) as a:
-        yield a
-
-
-def open_scene(app: App, name: str) -> Scene:
-    app.switch_scene(name)
-    app.set_speed(1.0)
-    app.set_playing(True)
-    app.frame(FRAME)
-    return app.scene
-
-
-def matrix(handle) -> np.ndarray:
-    w, x, y, z = handle.wxyz
-    return Rotation.from_quat([x, y, z, w]).as_matrix()
 
 
 # --------------------------------------------------------------------------------------------------

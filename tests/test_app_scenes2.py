@@ -13,36 +13,17 @@ import math
 import numpy as np
 import pytest
 import trimesh
-from scipy.spatial.transform import Rotation
 
 from app.scenes import REGISTRY, load_all
 from app.scenes.tennis_racket import AXES, SLIDERS, box_for_moments, separatrix_circles
 from app.upload import MAX_BYTES
 from assets import mass_properties
-from browser import running_app
+from browser import FRAME, matrix, open_scene
 from physics.inertia import box, parallel_axis
 from physics.pendulum import PhysicalPendulum
 
-FRAME = 1.0 / 60.0
 
 
-@pytest.fixture(scope="module")
-def app():
-    with running_app(start_loop=False) as a:
-        yield a
-
-
-def open_scene(app, name):
-    app.switch_scene(name)
-    app.set_speed(1.0)
-    app.set_playing(True)
-    app.frame(FRAME)
-    return app.scene
-
-
-def matrix(handle) -> np.ndarray:
-    w, x, y, z = handle.wxyz
-    return Rotation.from_quat([x, y, z, w]).as_matrix()
 
 
 def test_scenes_are_registered_with_legends():

@@ -28,7 +28,7 @@ def reference_motion(moments, omega0, times, attitude0=None):
         mid = order[1]
         a = order[0] if l2 > two_e * moments[mid] else order[2]
         # Canonical cyclic frame starting at a (a, a+1, a+2); the middle axis may be a+1 or a+2.
-        ia = moments[a]
+        moments[a]
         b, c = (a + 1) % 3, (a + 2) % 3
         # If the middle axis is c, reverse orientation: use axes (a, c, b) with ω_b -> -ω_b... instead
         # pick the proper frame (a, mid, other) with a sign flip on a.
@@ -39,7 +39,7 @@ def reference_motion(moments, omega0, times, attitude0=None):
         i_a, i_b, i_c = (moments[k] for k in axes)
         wa, wb, wc = (s * w[k] for s, k in zip(signs, axes))
         ga = abs(two_e * i_a - l2)
-        gb = abs(l2 - two_e * i_b)
+        abs(l2 - two_e * i_b)
         gc = abs(l2 - two_e * i_c)
         m = (i_b - i_c) * (two_e * i_a - l2) / ((i_a - i_b) * (l2 - two_e * i_c))
         if abs(1 - m) < mp.mpf(10) ** (5 - DPS):
