@@ -9,14 +9,20 @@ calling ``App.frame(dt)`` directly.
 from __future__ import annotations
 
 import math
+import threading
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial.transform import Rotation
 
+from viser import UploadedFile
+
+import app.scenes.inertia_explorer as explorer_module
 from app.scenes import REGISTRY, load_all
-from app.scenes.tennis_racket import AXES, SLIDERS, box_for_moments, separatrix_circles
-from app.upload import MAX_BYTES
+from app.scenes.tennis_racket import AXES, SLIDERS, box_for_moments, separatrix_circles, snap_symmetric
+from app.upload import MAX_BYTES, body_from_upload
 from assets import mass_properties
 from browser import FRAME, matrix, open_scene
 from physics.inertia import box, parallel_axis
@@ -141,14 +147,124 @@ def test_explorer_good_upload_then_spin_it_hands_the_body_over(app):
     app.frame(FRAME)
 
 
-def test_explorer_spin_it_refuses_a_symmetric_body(app):
+@pytest.mark.parametrize("choice", ["Solid cylinder", "Point masses: square (4 × 0.25 kg)", "Rod"])
+def test_explorer_spin_it_takes_a_symmetric_body_which_precesses(app, choice):
+    sc = open_scene(app, "inertia_explorer")
+    sc.choice.value = choice
+    sc._spin_it(None)
+    tr = app.scene
+    assert tr.name == "tennis_racket" and tr.description == f"{choice} (from the explorer)"
+    m, spin, eps = tr.moments, tr.params.values["spin"], tr.eps
+    s = tr.precession.symmetry_axis  # the axis whose moment differs from the two equal ones
+    i_perp, i_s = m[(s + 1) % 3], m[s]
+    assert m[(s + 1) % 3] == m[(s + 2) % 3]
+    # Spun about one of the equal axes: neutral; ω turns about the symmetry axis at the lecture's
+    # Ω = ω_s (I⊥ − I_s)/I⊥, here with ω_s = ε Ω_spin (round-off only: 1e-12).
+    assert tr.axis_index != s and tr.stability.kind == "neutral"
+    omega_body = eps * spin * (i_perp - i_s) / i_perp
+    assert tr.precession.body == pytest.approx(omega_body, rel=1e-12)
+    assert float(tr.rate_readout.text) == pytest.approx(omega_body, rel=1e-3)  # shown to 4 digits
+    assert "precesses" in tr.stability_readout.text and "precession" in tr.period_readout.handle.label
+    # Measured from sign changes of the exact ω(t) on a 4,000-point grid: 1e-5.
+    assert tr.flip_period == pytest.approx(2 * math.pi / abs(omega_body), rel=1e-5)
+    # Exactly a precession: ω_s and |ω⊥| constant (closed form: round-off only).
+    w = tr.model.omega(tr.omega0, np.linspace(0.0, 3.0 * tr.flip_period, 50))
+    np.testing.assert_allclose(w[:, s], tr.omega0[s], rtol=1e-12)
+    np.testing.assert_allclose(np.hypot(w[:, (s + 1) % 3], w[:, (s + 2) % 3]), spin * math.hypot(1.0, eps), rtol=1e-12)
+    assert app.frame(FRAME)
+    L0 = np.array(tr.L_arrow.handle.points)
+    for _ in range(5):
+        assert app.frame(FRAME)
+    np.testing.assert_allclose(tr.L_arrow.handle.points, L0, atol=1e-6)  # L fixed in space (float32 handle)
+    # About the symmetry axis itself (not a rod's own axis, which carries no L): stable, and the
+    # lecture's wobble frequency is the precession rate Ω = Ω_spin (I⊥ − I_s)/I⊥.
+    if i_s > 0.0:
+        tr.axis.value = next(label for label, i in AXES.items() if i == s)
+        assert tr.stability.kind == "stable"
+        assert tr.stability.rate == pytest.approx(abs(spin * (i_perp - i_s) / i_perp), rel=1e-12)
+        assert tr.precession.body == pytest.approx(spin * (i_perp - i_s) / i_perp, rel=1e-12)
+
+
+def test_explorer_spin_it_takes_a_sphere_which_turns_uniformly(app):
     sc = open_scene(app, "inertia_explorer")
     sc.choice.value = "Solid sphere"
-    with pytest.raises(ValueError, match="two equal moments"):
-        sc._spin_it(None)
-    assert app.scene is sc
+    sc._spin_it(None)
+    tr = app.scene
+    assert tr.name == "tennis_racket" and tr.stability.kind == "neutral" and tr.precession.body == 0.0
+    assert tr.flip_period == math.inf and not tr.separatrix.visible
+    # ω stays what it was (every axis is principal): exact.
+    np.testing.assert_array_equal(tr.model.omega(tr.omega0, [0.0, 7.3])[1], tr.omega0)
+    assert app.frame(FRAME)
 
 
+def test_uploaded_float32_cylinder_is_taken_as_symmetric(app):
+    sc = open_scene(app, "inertia_explorer")
+    can = trimesh.creation.cylinder(radius=0.1, height=0.3, sections=64)
+    can.vertices = can.vertices @ Rotation.from_rotvec([0.3, 0.5, 0.7]).as_matrix().T  # tilted: a full tensor
+    assert sc.load_upload("can.stl", can.export(file_type="stl"))
+    assert sc.moments[0] != sc.moments[1]  # float32 vertices: equal only to about 1e-7
+    np.testing.assert_allclose(sc.moments[0], sc.moments[1], rtol=1e-6)
+    sc._spin_it(None)
+    tr = app.scene
+    assert tr.moments[0] == tr.moments[1] and tr.precession is not None and tr.stability.kind == "neutral"
+    assert snap_symmetric(np.array([3.0, 2.0, 1.0])).tolist() == [3.0, 2.0, 1.0]  # distinct moments untouched
+
+
+def test_separatrix_of_a_symmetric_body_is_the_circle_of_steady_rotations():
+    # I2 = I3: the circle l1 = 0; rod (I1 = I2, I3 = 0): the circle l3 = 0 (exact up to cos(π/2) ~ 6e-17).
+    np.testing.assert_allclose(separatrix_circles(np.array([2.0, 1.0, 1.0]))[..., 0], 0.0, atol=1e-15)
+    np.testing.assert_allclose(separatrix_circles(np.array([1.0, 1.0, 0.0]))[..., 2], 0.0, atol=1e-15)
+
+
+def test_upload_is_parsed_outside_the_lock_and_swapped_in_under_it(app, monkeypatch):
+    sc = open_scene(app, "inertia_explorer")
+    free = {}
+
+    def lock_is_free() -> bool:
+        # Asked from another thread (this one could re-enter its own RLock): could a frame run now?
+        out = []
+
+        def probe() -> None:
+            out.append(app.lock.acquire(blocking=False))
+            if out[0]:
+                app.lock.release()
+
+        thread = threading.Thread(target=probe)
+        thread.start()
+        thread.join()
+        return out[0]
+
+    def parse(filename, content, **kw):
+        free["parse"] = lock_is_free()
+        return body_from_upload(filename, content, **kw)
+
+    adopt = sc._adopt
+
+    def swap(body, client):
+        free["swap"] = lock_is_free()
+        return adopt(body, client)
+
+    monkeypatch.setattr(explorer_module, "body_from_upload", parse)
+    monkeypatch.setattr(sc, "_adopt", swap)
+    sc.upload._impl.value = UploadedFile("brick.stl", _box_stl())  # what viser stores when a file arrives
+    for callback in sc.upload._impl.update_cb:  # the callback viser runs for the real upload button
+        callback(SimpleNamespace(client=None, target=sc.upload))
+    assert free == {"parse": True, "swap": False}
+    assert sc.label == "brick.stl" and app.messages[-1][0] == "Mesh loaded"
+
+
+def test_upload_parsed_after_the_user_left_the_scene_is_dropped(app, monkeypatch):
+    sc = open_scene(app, "inertia_explorer")
+    n_messages = len(app.messages)
+
+    def parse_while_someone_switches(filename, content, **kw):
+        app.switch_scene("pendulum")  # possible now: the parse no longer holds the lock
+        return body_from_upload(filename, content, **kw)
+
+    monkeypatch.setattr(explorer_module, "body_from_upload", parse_while_someone_switches)
+    assert not sc.load_upload("brick.stl", _box_stl())
+    assert app.scene.name == "pendulum" and len(app.messages) == n_messages  # nothing adopted, nothing said
+    assert app.frame(FRAME)
 # --------------------------------------------------------------------------------------------------
 # Tennis racket
 # --------------------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@ torque-free tennis-racket scene.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -91,6 +92,7 @@ class InertiaExplorer(Scene):
         self.uploaded: UploadedBody | None = None
         self.pending_hull: tuple[str, trimesh.Trimesh] | None = None
         self.upload_refusals = 0
+        self.closed = False  # set by teardown: an upload parsed after a scene switch is dropped
         self.last_upload_message = ""
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.85)
         self.frame = draw.PrincipalFrame(server, root + "/principal", length=0.7)
@@ -117,7 +119,8 @@ class InertiaExplorer(Scene):
         self.upload = gui.add_upload_button("Upload a mesh (STL, OBJ, PLY, GLB)", icon=None,
                                             hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)",
                                             mime_type=".stl,.obj,.ply,.glb")
-        self.upload.on_upload(self.ctx.guarded(self._on_upload))
+        # Not guarded: the file is parsed outside the simulation lock (load_upload takes it to swap the body in).
+        self.upload.on_upload(self._on_upload)
         self.hull_button = gui.add_button("Use its convex hull instead", visible=False)
         self.hull_button.on_click(self.ctx.guarded(self._use_hull))
         self.spin_button = gui.add_button("Spin it (torque-free)")
@@ -200,17 +203,30 @@ class InertiaExplorer(Scene):
         self.load_upload(file.name, file.content, client=client)
 
     def load_upload(self, filename: str, content: bytes, client: Any = None) -> bool:
-        """Check an uploaded file; on success show it, on refusal keep the previous body and say why."""
+        """Check an uploaded file; on success show it, on refusal keep the previous body and say why.
+
+        Parsing and checking (up to ~1 s for a large file) run outside the simulation lock, so the other
+        browsers keep moving; the lock is taken only to swap the new body in (or to refuse it).
+        """
         try:
-            body = body_from_upload(filename, content)
-        except NotWatertightError as exc:
-            self.pending_hull = (filename, exc.hull) if exc.hull is not None else None
+            result: UploadedBody | Exception = body_from_upload(filename, content)
+        except Exception as exc:  # noqa: BLE001 - shown to the user by the guarded swap below
+            result = exc
+        # Guarded: under the lock, any surprise shown to the user who uploaded, then a redraw.
+        swap = self.ctx.guarded(lambda _event: self._swap_in(filename, result, client))
+        return bool(swap(SimpleNamespace(client=client)))
+
+    def _swap_in(self, filename: str, result: UploadedBody | Exception, client: Any) -> bool:
+        if self.closed:  # the user left the scene while the file was being parsed
+            return False
+        if isinstance(result, NotWatertightError):
+            self.pending_hull = (filename, result.hull) if result.hull is not None else None
             self.hull_button.visible = self.pending_hull is not None
-            return self._refuse(str(exc), client)
-        except ValueError as exc:
-            return self._refuse(str(exc), client)
-        self._adopt(body, client)
-        return True
+        if isinstance(result, ValueError):
+            return self._refuse(str(result), client)
+        if isinstance(result, Exception):
+            raise result
+        return self._adopt(result, client)
 
     def _refuse(self, message: str, client: Any) -> bool:
         self.upload_refusals += 1
@@ -225,7 +241,7 @@ class InertiaExplorer(Scene):
         body = body_from_mesh(hull, f"{filename} (convex hull)")
         self._adopt(body, getattr(event, "client", None))
 
-    def _adopt(self, body: UploadedBody, client: Any) -> None:
+    def _adopt(self, body: UploadedBody, client: Any) -> bool:
         previous = (self.uploaded, self.choice.options, self.choice.value)
         self.uploaded = body
         self.pending_hull = None
@@ -236,21 +252,20 @@ class InertiaExplorer(Scene):
             self.apply(self.params.values)
         except ValueError as exc:
             self.uploaded, self.choice.options, self.choice.value = previous
-            self._refuse(str(exc), client)
-            return
+            return self._refuse(str(exc), client)
         self.last_upload_message = body.note
         self.ctx.notify("Mesh loaded", body.note, client=client)
+        return True
 
     # -- hand over ---------------------------------------------------------------------------------
     def _spin_it(self, event: Any) -> None:
-        m = self.moments
-        if np.isclose(m[0], m[1], rtol=1e-6) or np.isclose(m[1], m[2], rtol=1e-6):
-            raise ValueError(
-                f"{self.label} has two equal moments ({', '.join(f'{v:.4g}' for v in m)} kg m²): it is symmetric, "
-                "so it wobbles steadily and cannot show the flip; the torque-free wobble scene shows that case"
-            )
+        # Any body: the torque-free scene also spins symmetric ones (they precess instead of flipping).
         self.ctx.switch_to("tennis_racket", payload={"label": self.label, "mesh": self.mesh,
                                                      "mass_properties": self.props})
+
+    def teardown(self) -> None:
+        with self.ctx.lock:
+            self.closed = True
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         return {"t": t}

@@ -6,7 +6,9 @@ of the free-body section: linearising about spin Ω on axis i gives
 ``η̈ = −[Ω² (I_i − I_j)(I_i − I_k) / (I_j I_k)] η`` — an oscillation about the largest and the
 smallest axis, exponential growth (the flip) about the intermediate one.
 
-This is also the general torque-free scene: the inertia explorer's "Spin it" hands its body here.
+This is also the general torque-free scene: the inertia explorer's "Spin it" hands its body here,
+symmetric ones too (a cylinder, a sphere): with two equal moments there is no intermediate axis, so the
+body precesses steadily (lecture, "the symmetric body": ``Ω = ω_s (I⊥ − I_s)/I⊥``) and never flips.
 """
 
 from __future__ import annotations
@@ -35,6 +37,22 @@ BODIES = {
 AXES = {"1 — largest moment": 0, "2 — intermediate (flips)": 1, "3 — smallest moment": 2}
 HISTORY = 600  # samples of ω kept for the plot
 PLOT_EVERY = 3  # frames between plot updates (each update sends the whole history)
+SYMMETRY_RTOL = 1e-6  # moments closer than this (relative) are equal: a float32 mesh (STL) resolves no more
+
+
+def snap_symmetric(moments: np.ndarray) -> np.ndarray:
+    """Moments ``I1 >= I2 >= I3`` (kg m²) with neighbours equal to :data:`SYMMETRY_RTOL` made exactly equal
+    (their mean: the sum, hence the triangle inequality, is kept), so that a cylinder or sphere mesh is
+    the symmetric body it stands for and :class:`FreeBody` uses the symmetric solution."""
+    m = np.array(moments, dtype=float)
+    tol = SYMMETRY_RTOL * m[0]
+    if m[0] - m[2] <= tol:
+        m[:] = m.mean()
+    elif m[0] - m[1] <= tol:
+        m[:2] = m[:2].mean()
+    elif m[1] - m[2] <= tol:
+        m[1:] = m[1:].mean()
+    return m
 
 
 def principal_body(mesh: trimesh.Trimesh, props: MassProperties) -> tuple[np.ndarray, trimesh.Trimesh]:
@@ -60,15 +78,17 @@ def separatrix_circles(moments: np.ndarray, n: int = 181) -> np.ndarray:
     """The separatrix on the unit L-sphere seen in the body: ``L² = 2 E I2`` on ``|L| = 1``.
 
     ``Σ l_i² (1/I_i − 1/I2) = 0`` is the pair of planes ``l3 = ± s l1`` with
-    ``s = sqrt((1/I2 − 1/I1) / (1/I3 − 1/I2))``, through the intermediate axis. Returns the two great
-    circles as line segments, shape (2 (n − 1), 2, 3).
+    ``s = tan θ = sqrt((1/I2 − 1/I1) / (1/I3 − 1/I2))``, through the intermediate axis. Returns the two
+    great circles as line segments, shape (2 (n − 1), 2, 3). With two equal moments (a rod: ``I3 = 0``)
+    the pair merges into the one circle of steady rotations about the equal axes (θ written without
+    dividing, so it stays defined).
     """
     i1, i2, i3 = moments
-    s = math.sqrt((1 / i2 - 1 / i1) / (1 / i3 - 1 / i2))
+    theta = math.atan2(math.sqrt(max((i1 - i2) * i3, 0.0)), math.sqrt(max((i2 - i3) * i1, 0.0)))
     ang = np.linspace(0, 2 * np.pi, n)
     segs = []
     for sign in (1.0, -1.0):
-        u = np.array([1.0, 0.0, sign * s]) / math.hypot(1.0, s)
+        u = np.array([math.cos(theta), 0.0, sign * math.sin(theta)])
         pts = np.outer(np.cos(ang), u) + np.outer(np.sin(ang), [0.0, 1.0, 0.0])
         segs.append(np.stack([pts[:-1], pts[1:]], axis=1))
     return np.concatenate(segs)
@@ -84,7 +104,9 @@ class TennisRacket(Scene):
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
         "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like e^{λt}, "
         "λ = Ω √((I₁ − I₂)(I₂ − I₃)/(I₁ I₃)), and the body flips over and back, again and again. L stays fixed. "
-        "Left: L seen from the body, on the L-sphere: the polhode (blue) and the separatrix (grey)."
+        "Left: L seen from the body, on the L-sphere: the polhode (blue) and the separatrix (grey). "
+        "A body with two equal moments (a cylinder from the explorer) has no intermediate axis: it precesses "
+        "steadily at Ω = ω_s (I⊥ − I_s)/I⊥ and never flips."
     )
     camera = ((2.4, -2.6, 1.9), (-0.5, 0.0, 1.0))
     centre = np.array([0.0, 0.0, 1.0])
@@ -186,9 +208,8 @@ class TennisRacket(Scene):
 
     def apply(self, values: dict[str, float]) -> None:
         moments, mesh, label = self._body(values)
-        if np.any(np.diff(moments) == 0.0) or moments[2] <= 0.0:
-            raise ValueError(f"the three moments must differ for the tennis-racket effect, got {moments.tolist()}")
-        model = FreeBody(moments)
+        moments = snap_symmetric(moments)
+        model = FreeBody(moments)  # symmetric bodies (and a rod, I3 = 0) are solved exactly too
         axis = AXES[self.axis.value]
         spin, eps = values["spin"], 10.0 ** values["log_eps"]
         omega0 = np.full(3, eps * spin)
@@ -208,10 +229,20 @@ class TennisRacket(Scene):
         # Readouts: lecture's linear stability, and the flip period measured from the exact ω(t).
         stab = model.stability(axis, spin)
         self.stability = stab
+        symmetric = bool(moments[0] == moments[1] or moments[1] == moments[2])
+        self.precession = model.precession_rates(omega0) if symmetric else None
         self.moments_readout.set(", ".join(f"{m:.4g}" for m in moments))
-        self.stability_readout.set(f"{stab.kind} ({'flips' if stab.kind == 'unstable' else 'wobbles'})")
-        self.rate_readout.handle.label = "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
-        self.rate_readout.set(stab.rate)
+        if self.precession is not None:
+            # No intermediate axis: ω turns steadily about the symmetry axis (lecture's Ω), no flip.
+            self.stability_readout.set(f"{stab.kind} (two equal moments: it precesses, never flips)")
+            self.rate_readout.handle.label = "body precession Ω = ω_s (I⊥ − I_s)/I⊥ (rad/s)"
+            self.rate_readout.set(self.precession.body)
+            self.period_readout.handle.label = "measured precession period (s)"
+        else:
+            self.stability_readout.set(f"{stab.kind} ({'flips' if stab.kind == 'unstable' else 'wobbles'})")
+            self.rate_readout.handle.label = "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
+            self.rate_readout.set(stab.rate)
+            self.period_readout.handle.label = "measured flip period (s)"
         self.first_flip_readout.set(math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else float("nan"))
         self.flip_period = self.measured_flip_period()
         self.period_readout.set(self.flip_period)
@@ -225,19 +256,24 @@ class TennisRacket(Scene):
         self.polhode.points = np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
         sep = self.sphere_centre + 1.005 * self.sphere_radius * separatrix_circles(moments)
         self.separatrix.points = sep.astype(np.float32)
+        self.separatrix.visible = bool(moments[0] != moments[2])  # a sphere: every axis is steady, no separatrix
         self.description = label
         self._last_source = self.source.value
         self.ctx.restart()
 
     def measured_flip_period(self) -> float:
         """Period of ω, measured from the exact ω(t) (time between every other sign change of ω along
-        the axis it flips about; for a stable axis, of the largest off-axis component). inf if none."""
+        the axis it flips about; for a stable axis, of an off-axis component; for a symmetric body, of a
+        component across the symmetry axis). inf if none."""
         period = self.model.period(self.omega0)
         if not math.isfinite(period):
             return float("inf")
         t = np.linspace(0.0, 2.2 * period, 4001)
         w = self.model.omega(self.omega0, t)
-        k = self.axis_index if self.stability.kind == "unstable" else (self.axis_index + 1) % 3
+        if self.precession is not None:
+            k = (self.precession.symmetry_axis + 1) % 3
+        else:
+            k = self.axis_index if self.stability.kind == "unstable" else (self.axis_index + 1) % 3
         s = w[:, k]
         idx = np.nonzero(np.signbit(s[:-1]) != np.signbit(s[1:]))[0]
         if len(idx) < 3:
