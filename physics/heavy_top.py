@@ -50,7 +50,13 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipj, ellipkm1, elliprf, elliprj
 
 from physics import G
-from physics.validation import finite_scalar
+from physics.validation import finite_array, finite_scalar
+
+MAX_RATE = 1e100
+"""Largest angular rate accepted, rad/s: far beyond any body, well inside the float range of its square."""
+
+MAX_STEPS = 100_000_000
+"""Most steps :meth:`HeavyTop.simulate` / :func:`simulate_heavy_body` will take (t_final / dt)."""
 
 __all__ = [
     "HeavyTop",
@@ -374,6 +380,11 @@ class HeavyTop:
         self.I1 = finite_scalar(I1, "I1")
         self.I3 = finite_scalar(I3, "I3")
         self.mgl = finite_scalar(mgl, "mgl")
+        if self.I3 == 0.0:
+            raise ValueError(
+                "I3 = 0 is a thin rod on a pivot (a spherical pendulum), not a top: its spin carries no "
+                "angular momentum, so the Lagrange top's solution does not apply; use simulate_heavy_body"
+            )
         for name, v in (("I1", self.I1), ("I3", self.I3), ("mgl", self.mgl)):
             if v <= 0.0:
                 raise ValueError(f"{name} must be positive, got {v}")
@@ -467,6 +478,13 @@ class HeavyTop:
         return (0.5 * self.I1 * (td**2 + np.sin(theta) ** 2 * phidot**2) + 0.5 * self.I3 * w3**2
                 + self.mgl * np.cos(theta))
 
+    @staticmethod
+    def _potential_arguments(theta: ArrayLike, Lz: float, L3: float) -> tuple[NDArray[np.float64], float, float]:
+        theta = finite_array(theta, "theta")
+        if np.any((theta < 0.0) | (theta > math.pi)):
+            raise ValueError("theta is the angle of the axis from +z and must lie in [0, pi]")
+        return theta, finite_scalar(Lz, "Lz"), finite_scalar(L3, "L3")
+
     def effective_potential(self, theta: ArrayLike, Lz: float, L3: float) -> NDArray[np.float64]:
         """The lecture's effective potential per I1,
         ``U(θ) = (Lz − L3 cos θ)² / (2 I1² sin²θ) + (M g ℓ / I1) cos θ``, 1/s² (θ̈ = −dU/dθ).
@@ -479,7 +497,7 @@ class HeavyTop:
         Lz, L3 : float
             Conserved angular momenta, kg m²/s.
         """
-        theta = np.asarray(theta, dtype=float)
+        theta, Lz, L3 = self._potential_arguments(theta, Lz, L3)
         i1 = self.I1
         half_lo = np.sin(0.5 * theta) ** 2  # (1 − cos θ)/2 without cancellation
         half_hi = np.cos(0.5 * theta) ** 2
@@ -497,7 +515,7 @@ class HeavyTop:
 
         ``dU/dθ = (Lz − L3 cos θ)(L3 sin²θ − cos θ (Lz − L3 cos θ)) / (I1² sin³θ) − (Mgℓ/I1) sin θ``.
         """
-        theta = np.asarray(theta, dtype=float)
+        theta, Lz, L3 = self._potential_arguments(theta, Lz, L3)
         i1 = self.I1
         s2, c2 = np.sin(0.5 * theta) ** 2, np.cos(0.5 * theta) ** 2
         dm, dp = Lz - L3, Lz + L3
@@ -557,6 +575,11 @@ class HeavyTop:
         psi0 = finite_scalar(psi0, "psi0")
         if not 0.0 <= th0 <= math.pi:
             raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {th0}")
+        if max(abs(thd0), abs(phd0), abs(psd0)) > MAX_RATE:
+            raise ValueError(
+                f"angular rates must be at most {MAX_RATE:g} rad/s (their squares would overflow); got "
+                f"thetadot0 = {thd0:g}, phidot0 = {phd0:g}, psidot0 = {psd0:g}"
+            )
         # Squares of these would underflow: to every digit the cubic can see they are 0 (a pole, no rate).
         th0 = 0.0 if th0 < 1e-150 else th0
         thd0, phd0, psd0 = (0.0 if abs(x) < 1e-150 else x for x in (thd0, phd0, psd0))
@@ -1095,6 +1118,12 @@ def simulate_heavy_body(
     t_final, dt = finite_scalar(t_final, "t_final"), finite_scalar(dt, "dt")
     if t_final <= 0.0 or dt <= 0.0:
         raise ValueError(f"t_final and dt must be positive, got t_final = {t_final}, dt = {dt}")
+    if t_final / dt > MAX_STEPS:
+        raise ValueError(
+            f"t_final / dt = {t_final / dt:.3g} steps is more than {MAX_STEPS:,}: take a larger dt or a shorter run"
+        )
+    if np.max(np.abs(w0)) > MAX_RATE:
+        raise ValueError(f"omega_body0 must be at most {MAX_RATE:g} rad/s in each component, got {w0.tolist()}")
     n_steps = max(1, int(math.ceil(t_final / dt - 1e-9)))
     h = t_final / n_steps
     g = finite_scalar(g, "g")

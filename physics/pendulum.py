@@ -69,6 +69,9 @@ UNIFORM = "uniform"
 
 _EPS = np.finfo(float).eps
 
+MAX_RATE = 1e100
+"""Largest angular rate accepted, rad/s: far beyond any body, well inside the float range of its square."""
+
 
 class Swing(NamedTuple):
     """The angle and the angular rate along a swing (unpacks as ``theta, theta_dot``)."""
@@ -326,6 +329,8 @@ class PhysicalPendulum:
         th0, thd0, tt = np.broadcast_arrays(
             finite_array(theta0, "theta0"), finite_array(thetadot0, "thetadot0"), finite_array(t, "t")
         )
+        if np.any(np.abs(thd0) > MAX_RATE):
+            raise ValueError(f"thetadot0 must be at most {MAX_RATE:g} rad/s (its square would overflow)")
         w = self.omega0
         if w == 0.0:
             return Swing(th0 + thd0 * tt, thd0.astype(float, copy=True))

@@ -27,11 +27,9 @@ def reference_motion(moments, omega0, times, attitude0=None):
         order = sorted(range(3), key=lambda k: -moments[k])
         mid = order[1]
         a = order[0] if l2 > two_e * moments[mid] else order[2]
-        # Canonical cyclic frame starting at a (a, a+1, a+2); the middle axis may be a+1 or a+2.
-        moments[a]
+        # A right-handed frame (a, mid, other): cyclic (a, a+1, a+2) when the middle axis is a+1,
+        # otherwise (−e_a, e_c, e_b), which is right-handed too.
         b, c = (a + 1) % 3, (a + 2) % 3
-        # If the middle axis is c, reverse orientation: use axes (a, c, b) with ω_b -> -ω_b... instead
-        # pick the proper frame (a, mid, other) with a sign flip on a.
         if mid == b:
             axes, signs = (a, b, c), (1, 1, 1)
         else:

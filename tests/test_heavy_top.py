@@ -499,7 +499,9 @@ def test_bad_input_raises():
         TOP.solve(0.5, 0.0, 0.0, 1.0, [0.0, np.nan])
     with pytest.raises(ValueError, match="psidot0 must be finite"):
         TOP.solve(0.5, 0.0, 0.0, np.inf, [0.0])
-    HeavyTop(1.0, 2.0, 1.0)  # a flat disc about its centre is legitimate (I3 = 2 I1)
+    # The triangle inequality's edge I3 = 2 I1 (a flat disc) is accepted as the limit; a real heavy top
+    # has l > 0, so I1 = I1_cm + M l² > I3 / 2 strictly.
+    HeavyTop(1.0, 2.0, 1.0)
 
 
 def accuracy_table() -> str:
@@ -540,3 +542,19 @@ def accuracy_table() -> str:
 
 if __name__ == "__main__":
     print(accuracy_table())
+
+
+def test_absurd_inputs_are_refused_with_a_reason():
+    # Rates whose squares overflow, NaN in the potential, a rod as a top, and a run of too many steps.
+    with pytest.raises(ValueError, match="at most 1e\\+100 rad/s"):
+        TOP.solve(0.5, 0.0, 0.0, 1e160, [0.0, 1.0])
+    with pytest.raises(ValueError, match="theta must be finite"):
+        TOP.effective_potential([0.3, np.nan], 1.0, 1.0)
+    with pytest.raises(ValueError, match=r"must lie in \[0, pi\]"):
+        TOP.effective_potential_derivative([7.0], 1.0, 1.0)
+    with pytest.raises(ValueError, match="Lz must be finite"):
+        TOP.effective_potential([0.3], np.inf, 1.0)
+    with pytest.raises(ValueError, match="spherical pendulum"):
+        HeavyTop(1.0, 0.0, 1.0)
+    with pytest.raises(ValueError, match="more than 100,000,000"):
+        TOP.simulate(0.5, 0.0, 0.0, 10.0, 1e9, 1e-9)

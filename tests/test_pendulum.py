@@ -478,7 +478,9 @@ def test_strike_conserves_momentum_and_angular_momentum_balance(masses, seed, im
     j, r = np.array(impulse), rng.normal(size=3)
     res = pend.strike(j, r)
     n = pend.axis
-    np.testing.assert_allclose(pend.mass * res.delta_velocity_cm, j + res.reaction_impulse, atol=1e-12)
+    # Rigid rotation about the fixed axis: Δv_cm = Δω n̂ × (r_cm − pivot), computed here, not by the code.
+    dv = res.delta_omega * np.cross(n, pend.mass_properties.center_of_mass - pend.pivot)
+    np.testing.assert_allclose(res.delta_velocity_cm, dv, atol=1e-12)
     angular = pend.mass_properties.tensor_about(pend.pivot) @ (res.delta_omega * n)
     np.testing.assert_allclose(angular, np.cross(r - pend.pivot, j) + res.reaction_angular_impulse, atol=1e-12)
     assert abs(res.reaction_angular_impulse @ n) < 1e-12
@@ -507,3 +509,9 @@ def test_strike_while_swung_equals_striking_the_rotated_body():
         ehat = np.cross(pend.axis, posed.a_perp_vector / posed.a_perp)
         at_cp = pend.strike(ehat, pend.center_of_percussion(theta), theta=theta)
         np.testing.assert_allclose(at_cp.reaction_impulse, 0.0, atol=1e-15)
+
+
+def test_a_rate_whose_square_overflows_is_refused():
+    pend = PhysicalPendulum(rod(1.0, 1.0), [0.0, 0.0, 0.5], [1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="at most 1e\\+100 rad/s"):
+        pend.solve(0.0, 1e160, [0.0, 1.0])
