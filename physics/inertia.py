@@ -209,7 +209,10 @@ class MassProperties:
             Columns are the unit principal axes ``1̂, 2̂, 3̂`` in the modelling frame, right-handed
             (``det = +1``), so ``tensor == axes @ diag(moments) @ axes.T``. Where moments repeat
             (within :data:`DEGENERACY_RTOL`), the axes of the degenerate space are the
-            coordinate axes projected into it, so a sphere gets the identity.
+            coordinate axes projected into it, so a sphere gets the identity. Such moments are
+            reported as their mean, exactly equal, so a symmetric body is recognised as one; pass the
+            raw moments to :class:`physics.free_body.FreeBody` to study a body that is near-symmetric
+            by less than that.
         """
         return principal_frame(self.tensor)
 
