@@ -105,7 +105,9 @@ def test_convex_hull_offer_and_spin_it_from_the_page(explorer_app, page_and_clie
     wait_for(lambda: scene.label == "open.stl (convex hull)", what="the hull to become the body")
     page.get_by_role("button", name="Spin it (torque-free)").click()
     wait_for(lambda: getattr(explorer_app.scene, "name", None) == "tennis_racket", what="the hand-over to the tennis racket")
-    assert explorer_app.scene.description == "open.stl (convex hull) (from the explorer)"
+    # The new scene is current before accept() hands it the body: wait for the hand-over to land.
+    wait_for(lambda: getattr(explorer_app.scene, "description", None) == "open.stl (convex hull) (from the explorer)",
+             what="the handed-over body in the tennis racket")
     explorer_app.set_playing(True)
     first = client.get_render(*RENDER, timeout=30)
     t = explorer_app.time
