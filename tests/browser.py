@@ -7,7 +7,8 @@
 * :func:`open_page` — load the app in a page and wait until the server sees the client and the
   3D canvas exists.
 * :func:`wait_for` — poll a condition with a timeout (no fixed sleeps in tests).
-* :func:`slider_by_label` / :func:`nudge_slider` — drive a viser slider in the page with the keyboard.
+* :func:`slider_by_label` / :func:`nudge_slider` — drive a viser slider in the page with the keyboard;
+  :func:`pick_scene` — choose a scene in the page's dropdown.
 * :func:`image_stats` — is a render blank; how much two renders differ.
 * :func:`open_scene` / :func:`matrix` — headless: switch to a scene and play one frame; a handle's
   attitude as a rotation matrix.
@@ -119,6 +120,12 @@ def control_id(page: Any, label: str) -> str:
     if not found:
         raise AssertionError(f"no control labelled {label!r} in the page")
     return found
+
+
+def pick_scene(page: Any, title: str) -> None:
+    """Choose a scene in the page's Scene dropdown, as a user does."""
+    page.locator(f"[id='{control_id(page, 'Scene')}']").click()
+    page.get_by_role("option", name=title, exact=True).click()
 
 
 def slider_by_label(page: Any, label: str) -> Any:

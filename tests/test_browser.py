@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from app.scenes import REGISTRY
-from browser import image_difference, image_stats, nudge_slider, open_page, slider_by_label, wait_for
+from browser import image_difference, image_stats, nudge_slider, open_page, pick_scene, slider_by_label, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -22,15 +22,6 @@ def page_and_client(live_app, chromium):
     page, client = open_page(chromium, live_app)
     yield page, client
     page.close()
-
-
-def pick_scene(page, title: str) -> None:
-    """Choose a scene in the page's Scene dropdown, as a user does."""
-    current = page.locator("[id='{}']".format(page.evaluate(
-        """() => { for (const el of document.querySelectorAll('label[for]')) {
-               if (el.textContent.trim() === 'Scene') return el.getAttribute('for'); } return null; }""")))
-    current.click()
-    page.get_by_role("option", name=title, exact=True).click()
 
 
 def test_page_loads_with_the_picker_and_the_clock(live_app, page_and_client):

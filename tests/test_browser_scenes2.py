@@ -13,7 +13,7 @@ import trimesh
 
 from app.scenes import REGISTRY
 import app.upload as app_upload
-from browser import image_difference, image_stats, nudge_slider, open_page, running_app, wait_for
+from browser import image_difference, image_stats, nudge_slider, open_page, pick_scene, running_app, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -31,15 +31,6 @@ def page_and_client(explorer_app, chromium):
     page, client = open_page(chromium, explorer_app)
     yield page, client
     page.close()
-
-
-def pick_scene(page, title: str) -> None:
-    """Choose a scene in the page's Scene dropdown, as a user does."""
-    control = page.evaluate(
-        """() => { for (const el of document.querySelectorAll('label[for]')) {
-               if (el.textContent.trim() === 'Scene') return el.getAttribute('for'); } return null; }""")
-    page.locator(f"[id='{control}']").click()
-    page.get_by_role("option", name=title, exact=True).click()
 
 
 def upload(page, name: str, content: bytes) -> None:
