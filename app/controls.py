@@ -12,8 +12,9 @@ model and the picture stay as they were.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 __all__ = ["SliderSpec", "ParameterPanel", "Readout", "Presets", "Gauge"]
 

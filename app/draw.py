@@ -119,7 +119,7 @@ def _wxyz_of_matrix(r: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _rgb_hex(rgb: tuple[int, int, int]) -> str:
-    return "#%02x%02x%02x" % rgb
+    return "#{:02x}{:02x}{:02x}".format(*rgb)
 
 
 def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
@@ -145,11 +145,13 @@ def _rotation_z_to(direction: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.diag([1.0, -1.0, -1.0])
     k = 1.0 / (1.0 + z)
     # v = (-y, x, 0)
-    return np.array([
-        [1.0 - x * x * k, -x * y * k, x],
-        [-x * y * k, 1.0 - y * y * k, y],
-        [-x, -y, z],
-    ])
+    return np.array(
+        [
+            [1.0 - x * x * k, -x * y * k, x],
+            [-x * y * k, 1.0 - y * y * k, y],
+            [-x, -y, z],
+        ]
+    )
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -291,7 +293,10 @@ class PrincipalFrame:
         ends = np.diag([0.8 * length, 0.8 * length, length])
         points = np.stack([-ends, ends], axis=1)  # each axis through the origin, both ways
         self.handle = server.scene.add_line_segments(
-            name, points=points.astype(np.float32), colors=COLOURS["axes"], thickness=thickness,
+            name,
+            points=points.astype(np.float32),
+            colors=COLOURS["axes"],
+            thickness=thickness,
             thickness_units="screen",
         )
 
@@ -388,7 +393,9 @@ class Cone:
     0 or non-finite) is hidden.
     """
 
-    def __init__(self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.25, sections: int = 64):
+    def __init__(
+        self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.25, sections: int = 64
+    ):
         ang = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
         # Unit cone: apex at the origin, base circle of radius 1 at z = 1 (open: no base disc).
         vertices = np.vstack([[0.0, 0.0, 0.0], np.column_stack([np.cos(ang), np.sin(ang), np.ones_like(ang)])])
@@ -444,7 +451,7 @@ class Caption:
     handle: viser.GuiMarkdownHandle
 
     @classmethod
-    def add(cls, server: viser.ViserServer, text: str) -> "Caption":
+    def add(cls, server: viser.ViserServer, text: str) -> Caption:
         return cls(server.gui.add_markdown(text))
 
     def set(self, text: str) -> None:
@@ -455,13 +462,21 @@ class Caption:
 def faint_sphere(server: viser.ViserServer, name: str, radius: float, *, opacity: float = 0.08) -> viser.MeshHandle:
     """A faint reference sphere (the axis tip of a top moves on it), with a thin equator."""
     handle = server.scene.add_icosphere(
-        name, radius=radius, color=(150, 170, 200), subdivisions=4, opacity=opacity, cast_shadow=False,
+        name,
+        radius=radius,
+        color=(150, 170, 200),
+        subdivisions=4,
+        opacity=opacity,
+        cast_shadow=False,
         receive_shadow=False,
     )
     ang = np.linspace(0, 2 * np.pi, 97)
     ring = radius * np.column_stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)])
     server.scene.add_line_segments(
-        name + "_equator", points=np.stack([ring[:-1], ring[1:]], axis=1), colors=(150, 170, 200), thickness=1.0,
+        name + "_equator",
+        points=np.stack([ring[:-1], ring[1:]], axis=1),
+        colors=(150, 170, 200),
+        thickness=1.0,
         thickness_units="screen",
     )
     return handle
@@ -476,11 +491,19 @@ class InertiaEllipsoid:
     shortest, so the drawing stays finite and still shows the direction.
     """
 
-    def __init__(self, server: viser.ViserServer, name: str, *, colour: tuple[int, int, int] = (255, 200, 60),
-                 opacity: float = 0.25, cap: float = 4.0) -> None:
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        *,
+        colour: tuple[int, int, int] = (255, 200, 60),
+        opacity: float = 0.25,
+        cap: float = 4.0,
+    ) -> None:
         self.cap = float(cap)
-        self.handle = server.scene.add_icosphere(name, radius=1.0, color=colour, subdivisions=4, opacity=opacity,
-                                                 cast_shadow=False, receive_shadow=False)
+        self.handle = server.scene.add_icosphere(
+            name, radius=1.0, color=colour, subdivisions=4, opacity=opacity, cast_shadow=False, receive_shadow=False
+        )
 
     def semi_axes(self, moments: ArrayLike, largest: float) -> NDArray[np.float64]:
         """Semi-axes (m), shape (3,), for principal ``moments`` (kg m²), the longest equal to ``largest``."""

@@ -18,7 +18,8 @@ import math
 import threading
 import time
 import traceback
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import viser
@@ -191,7 +192,9 @@ class App:
         clients = [client] if client is not None else list(self.server.get_clients().values())
         for c in clients:
             try:
-                c.add_notification(title, body, color="red" if error else "blue", auto_close_seconds=None if error else 6.0)
+                c.add_notification(
+                    title, body, color="red" if error else "blue", auto_close_seconds=None if error else 6.0
+                )
             except Exception:  # noqa: BLE001 - a client that just left must not break the caller
                 pass
         if error:
@@ -257,8 +260,9 @@ class App:
             except Exception as exc:
                 traceback.print_exc()
                 self._teardown()
-                self.notify(f"Could not open {REGISTRY[name].title}", f"{type(exc).__name__}: {exc}", client=client,
-                            error=True)
+                self.notify(
+                    f"Could not open {REGISTRY[name].title}", f"{type(exc).__name__}: {exc}", client=client, error=True
+                )
                 if previous is None or previous is REGISTRY[name]:
                     raise
                 self._build(previous)
@@ -345,9 +349,15 @@ class App:
     def _failed(self, exc: Exception) -> None:
         traceback.print_exc()
         self._dirty = False
-        what = "a numerical failure" if isinstance(exc, (NumericalFailure, FloatingPointError, ArithmeticError)) else "an error"
-        self.pause(f"{what} at t = {self._t:.3f} s — {type(exc).__name__}: {exc}. The last valid state is shown; "
-                   "change a parameter or press Reset.")
+        what = (
+            "a numerical failure"
+            if isinstance(exc, (NumericalFailure, FloatingPointError, ArithmeticError))
+            else "an error"
+        )
+        self.pause(
+            f"{what} at t = {self._t:.3f} s — {type(exc).__name__}: {exc}. The last valid state is shown; "
+            "change a parameter or press Reset."
+        )
 
     def start(self) -> None:
         """Start the real-time loop thread (daemon)."""

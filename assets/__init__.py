@@ -14,7 +14,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import trimesh
@@ -58,7 +58,7 @@ def asset_path(name: str) -> Path:
     return ASSET_DIR / f"{name}.ply"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _load(name: str) -> trimesh.Trimesh:
     mesh = trimesh.load_mesh(asset_path(name), process=True)
     mesh.merge_vertices()
@@ -70,7 +70,7 @@ def load_mesh(name: str) -> trimesh.Trimesh:
     return _load(name).copy()
 
 
-@lru_cache(maxsize=None)
+@cache
 def mass_properties(name: str) -> MassProperties:
     """Mass, centre of mass and inertia tensor of an asset at its catalogue mass (uniform density)."""
     return from_mesh(_load(name), mass=ASSETS[name].mass)

@@ -94,9 +94,7 @@ def tennis_racket() -> trimesh.Trimesh:
     a_out, b_out, rim = 0.135, 0.165, 0.012
     # Throat + handle: a convex hexagon whose top edge lies inside the head oval, so the union with
     # the oval is star-shaped about the head centre and each ray has one outer radius.
-    handle = np.array(
-        [[0.016, 0.0], [0.016, 0.27], [0.075, 0.40], [-0.075, 0.40], [-0.016, 0.27], [-0.016, 0.0]]
-    )
+    handle = np.array([[0.016, 0.0], [0.016, 0.27], [0.075, 0.40], [-0.075, 0.40], [-0.016, 0.27], [-0.016, 0.0]])
     uniform = np.linspace(-np.pi / 2, 3 * np.pi / 2, 192, endpoint=False)
     corners = np.arctan2(handle[:, 1] - head_centre[1], handle[:, 0] - head_centre[0])
     near_handle = -np.pi / 2 + np.linspace(-0.25, 0.25, 61)

@@ -7,8 +7,8 @@ the closed forms (:class:`physics.free_body.FreeBody`, :class:`physics.heavy_top
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -90,8 +90,18 @@ def _top(name, description, theta0, thetadot0, phidot0, psidot0, t_end, I1=1.0, 
 
     w = sol0.omega_body[0]
     scale = 2 * np.pi / max(np.linalg.norm(w), np.sqrt(mass * G * ell / I1))
-    return Case(name, description, moments, sol0.attitude[0], moments * w, float(t_end), exact,
-                mass=mass, com=np.array([0.0, 0.0, ell]), time_scale=scale)
+    return Case(
+        name,
+        description,
+        moments,
+        sol0.attitude[0],
+        moments * w,
+        float(t_end),
+        exact,
+        mass=mass,
+        com=np.array([0.0, 0.0, ell]),
+        time_scale=scale,
+    )
 
 
 def all_cases(quick: bool = False) -> list[Case]:
@@ -106,29 +116,94 @@ def all_cases(quick: bool = False) -> list[Case]:
     th0, w3 = 0.3, 10.0
     phidot_pole = I3 * w3 * (1.0 - np.cos(th0)) * (1.0 - 1e-6) / (I1 * np.sin(th0) ** 2)
     cases = [
-        _free("free_generic", "free body, I = (2, 1.5, 1), ω0 = (1, 0.3, 2), 10 periods",
-              [2.0, 1.5, 1.0], generic_w, 10 * gen_period),
-        _free("free_separatrix", "free body, spin 2 rad/s about the intermediate axis perturbed by 1e-6, t = 40 s",
-              [2.0, 1.5, 1.0], [1e-6, 2.0, 1e-6], 40.0),
-        _free("free_near_symmetric", "free body, I = (1, 1 − 1e-9, 0.5), ω0 = (1, 0.5, 3), t = 20 s",
-              [1.0, 1.0 - 1e-9, 0.5], [1.0, 0.5, 3.0], 20.0),
-        _free("free_flat_lamina", "flat lamina I = (3, 2, 1) (I1 = I2 + I3), ω0 = (0.5, 1, 1.5), t = 20 s",
-              [3.0, 2.0, 1.0], [0.5, 1.0, 1.5], 20.0),
-        _free("free_fast_spin", "fast spin ω0 = (0.5, 0.3, 100) rad/s, I = (2, 1.5, 1), t = 2 s",
-              [2.0, 1.5, 1.0], [0.5, 0.3, 100.0], 2.0),
-        _free("free_long_run", f"free generic body over {long_periods} periods ({long_periods * gen_period:.0f} s)",
-              [2.0, 1.5, 1.0], generic_w, long_periods * gen_period),
-        _top("top_big_nutation", "heavy top I1 = 1, I3 = 0.5, Mgl = 2.94 J; θ0 = 0.8, φ̇0 = −2 (loops), ψ̇0 = 15, t = 10 s",
-             0.8, 0.0, -2.0, 15.0, 10.0),
-        _top("top_cusps", "heavy top released from rest in θ, φ (cusps): θ0 = 0.8, ψ̇0 = 15, t = 10 s",
-             0.8, 0.0, 0.0, 15.0, 10.0),
+        _free(
+            "free_generic",
+            "free body, I = (2, 1.5, 1), ω0 = (1, 0.3, 2), 10 periods",
+            [2.0, 1.5, 1.0],
+            generic_w,
+            10 * gen_period,
+        ),
+        _free(
+            "free_separatrix",
+            "free body, spin 2 rad/s about the intermediate axis perturbed by 1e-6, t = 40 s",
+            [2.0, 1.5, 1.0],
+            [1e-6, 2.0, 1e-6],
+            40.0,
+        ),
+        _free(
+            "free_near_symmetric",
+            "free body, I = (1, 1 − 1e-9, 0.5), ω0 = (1, 0.5, 3), t = 20 s",
+            [1.0, 1.0 - 1e-9, 0.5],
+            [1.0, 0.5, 3.0],
+            20.0,
+        ),
+        _free(
+            "free_flat_lamina",
+            "flat lamina I = (3, 2, 1) (I1 = I2 + I3), ω0 = (0.5, 1, 1.5), t = 20 s",
+            [3.0, 2.0, 1.0],
+            [0.5, 1.0, 1.5],
+            20.0,
+        ),
+        _free(
+            "free_fast_spin",
+            "fast spin ω0 = (0.5, 0.3, 100) rad/s, I = (2, 1.5, 1), t = 2 s",
+            [2.0, 1.5, 1.0],
+            [0.5, 0.3, 100.0],
+            2.0,
+        ),
+        _free(
+            "free_long_run",
+            f"free generic body over {long_periods} periods ({long_periods * gen_period:.0f} s)",
+            [2.0, 1.5, 1.0],
+            generic_w,
+            long_periods * gen_period,
+        ),
+        _top(
+            "top_big_nutation",
+            "heavy top I1 = 1, I3 = 0.5, Mgl = 2.94 J; θ0 = 0.8, φ̇0 = −2 (loops), ψ̇0 = 15, t = 10 s",
+            0.8,
+            0.0,
+            -2.0,
+            15.0,
+            10.0,
+        ),
+        _top(
+            "top_cusps",
+            "heavy top released from rest in θ, φ (cusps): θ0 = 0.8, ψ̇0 = 15, t = 10 s",
+            0.8,
+            0.0,
+            0.0,
+            15.0,
+            10.0,
+        ),
         _top("top_fast", "fast top ω3 = 500 rad/s, θ0 = 0.5, t = 2 s", 0.5, 0.0, 0.0, 500.0, 2.0),
-        _top("top_sleeping_above", "sleeping top, ω3 = 1.05 × threshold, θ0 = 1e-3, t = 10 s",
-             1e-3, 0.0, 0.0, 1.05 * w_crit, 10.0),
-        _top("top_sleeping_below", "sleeping top, ω3 = 0.95 × threshold, θ0 = 1e-3 (falls), t = 10 s",
-             1e-3, 0.0, 0.0, 0.95 * w_crit, 10.0),
-        _top("top_near_vertical", "axis passing 1e-6 (in Lz/L3) from the vertical: θ0 = 0.3, ω3 = 10, t = 10 s",
-             th0, 0.0, phidot_pole, w3 - phidot_pole * np.cos(th0), 10.0),
+        _top(
+            "top_sleeping_above",
+            "sleeping top, ω3 = 1.05 × threshold, θ0 = 1e-3, t = 10 s",
+            1e-3,
+            0.0,
+            0.0,
+            1.05 * w_crit,
+            10.0,
+        ),
+        _top(
+            "top_sleeping_below",
+            "sleeping top, ω3 = 0.95 × threshold, θ0 = 1e-3 (falls), t = 10 s",
+            1e-3,
+            0.0,
+            0.0,
+            0.95 * w_crit,
+            10.0,
+        ),
+        _top(
+            "top_near_vertical",
+            "axis passing 1e-6 (in Lz/L3) from the vertical: θ0 = 0.3, ω3 = 10, t = 10 s",
+            th0,
+            0.0,
+            phidot_pole,
+            w3 - phidot_pole * np.cos(th0),
+            10.0,
+        ),
     ]
     cases[5].budget_scale = 8.0  # 10^4 periods: a run that reaches 1e-4 needs ~10^6 steps
     return cases

@@ -58,8 +58,16 @@ def main(argv: list[str] | None = None) -> str:
     try:
         for scene, preset, label in CASES:
             ms, cpu = measure(app, scene, preset, args.frames)
-            rows.append((label, float(np.median(ms)), float(np.percentile(ms, 99)), float(ms.max()),
-                         float(np.median(cpu)), float(np.percentile(cpu, 99))))
+            rows.append(
+                (
+                    label,
+                    float(np.median(ms)),
+                    float(np.percentile(ms, 99)),
+                    float(ms.max()),
+                    float(np.median(cpu)),
+                    float(np.percentile(cpu, 99)),
+                )
+            )
     finally:
         app.stop()
     lines = [
@@ -73,8 +81,10 @@ def main(argv: list[str] | None = None) -> str:
         "| scene | median (ms) | p99 (ms) | max (ms) | CPU median (ms) | CPU p99 (ms) |",
         "| --- | ---: | ---: | ---: | ---: | ---: |",
     ]
-    lines += [f"| {label} | {med:.2f} | {p99:.2f} | {mx:.2f} | {cm:.2f} | {c99:.2f} |"
-              for label, med, p99, mx, cm, c99 in rows]
+    lines += [
+        f"| {label} | {med:.2f} | {p99:.2f} | {mx:.2f} | {cm:.2f} | {c99:.2f} |"
+        for label, med, p99, mx, cm, c99 in rows
+    ]
     table = "\n".join(lines) + "\n"
     print(table)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -56,11 +56,15 @@ def scipy_run(case, method: str, rtol: float, cpu_cap: float = float("inf")):
             t1 -= mgc[2] * u0 - mgc[0] * u2
             t2 -= mgc[0] * u1 - mgc[1] * u0
         # q ⊗ (ω, 0), scalar last
-        return [0.5 * (w * o0 + yq * o2 - z * o1),
-                0.5 * (w * o1 + z * o0 - x * o2),
-                0.5 * (w * o2 + x * o1 - yq * o0),
-                0.5 * (-x * o0 - yq * o1 - z * o2),
-                t0 * inv[0], t1 * inv[1], t2 * inv[2]]
+        return [
+            0.5 * (w * o0 + yq * o2 - z * o1),
+            0.5 * (w * o1 + z * o0 - x * o2),
+            0.5 * (w * o2 + x * o1 - yq * o0),
+            0.5 * (-x * o0 - yq * o1 - z * o2),
+            t0 * inv[0],
+            t1 * inv[1],
+            t2 * inv[2],
+        ]
 
     q0 = Rotation.from_matrix(case.R0).as_quat()
     y0 = np.concatenate([q0, case.L0 * inv])
@@ -82,9 +86,15 @@ def scipy_energy_series(case, method: str, rtol: float, t_eval):
         q = y[:4]
         x, yq, z, s = q
         o0, o1, o2 = w
-        return np.array([0.5 * (s * o0 + yq * o2 - z * o1), 0.5 * (s * o1 + z * o0 - x * o2),
-                         0.5 * (s * o2 + x * o1 - yq * o0), 0.5 * (-x * o0 - yq * o1 - z * o2),
-                         *(np.cross(l, w) / I)])
+        return np.array(
+            [
+                0.5 * (s * o0 + yq * o2 - z * o1),
+                0.5 * (s * o1 + z * o0 - x * o2),
+                0.5 * (s * o2 + x * o1 - yq * o0),
+                0.5 * (-x * o0 - yq * o1 - z * o2),
+                *(np.cross(l, w) / I),
+            ]
+        )
 
     y0 = np.concatenate([Rotation.from_matrix(case.R0).as_quat(), case.L0 / I])
     sol = solve_ivp(rhs, (0.0, t_eval[-1]), y0, method=method, rtol=rtol, atol=rtol, t_eval=t_eval)
@@ -121,17 +131,23 @@ def mujoco_model(case, integrator: str, dt: float):
         d2 = ell @ ell
         icm = [float(v) for v in np.asarray(I) - m * (d2 - ell * ell)]
         ell = [float(v) for v in ell]
-        body = (f'<body name="b" pos="0 0 0"><joint type="ball" damping="0" armature="0"/>'
-                f'<inertial pos="{ell[0]!r} {ell[1]!r} {ell[2]!r}" mass="{m!r}" '
-                f'diaginertia="{icm[0]!r} {icm[1]!r} {icm[2]!r}"/></body>')
+        body = (
+            f'<body name="b" pos="0 0 0"><joint type="ball" damping="0" armature="0"/>'
+            f'<inertial pos="{ell[0]!r} {ell[1]!r} {ell[2]!r}" mass="{m!r}" '
+            f'diaginertia="{icm[0]!r} {icm[1]!r} {icm[2]!r}"/></body>'
+        )
         gravity = f"0 0 {-G!r}"
     else:
-        body = (f'<body name="b" pos="0 0 0"><freejoint/>'
-                f'<inertial pos="0 0 0" mass="1" diaginertia="{I[0]!r} {I[1]!r} {I[2]!r}"/></body>')
+        body = (
+            f'<body name="b" pos="0 0 0"><freejoint/>'
+            f'<inertial pos="0 0 0" mass="1" diaginertia="{I[0]!r} {I[1]!r} {I[2]!r}"/></body>'
+        )
         gravity = "0 0 0"
-    xml = (f'<mujoco><option timestep="{dt!r}" integrator="{_INTEGRATORS[integrator]}" gravity="{gravity}">'
-           f'<flag contact="disable" constraint="disable" energy="enable"/></option>'
-           f'<worldbody>{body}</worldbody></mujoco>')
+    xml = (
+        f'<mujoco><option timestep="{dt!r}" integrator="{_INTEGRATORS[integrator]}" gravity="{gravity}">'
+        f'<flag contact="disable" constraint="disable" energy="enable"/></option>'
+        f"<worldbody>{body}</worldbody></mujoco>"
+    )
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
     q = Rotation.from_matrix(case.R0).as_quat()  # x y z w

@@ -90,11 +90,19 @@ def _measure(case: Case, family, method, setting, fn) -> Run:
 def our_methods(case: Case, quick: bool = False):
     torque = GravityTorque(case.mass, case.com) if case.mass else None
     # Highest order first: the domination rule below then cuts the low orders' sweeps short.
-    methods = [Yoshida8(case.moments, torque), Yoshida6(case.moments, torque), Suzuki4(case.moments, torque),
-               Yoshida4(case.moments, torque), LiePoissonStrang(case.moments, torque), LieRK4(case.moments, torque)]
+    methods = [
+        Yoshida8(case.moments, torque),
+        Yoshida6(case.moments, torque),
+        Suzuki4(case.moments, torque),
+        Yoshida4(case.moments, torque),
+        LiePoissonStrang(case.moments, torque),
+        LieRK4(case.moments, torque),
+    ]
     if case.mass:  # with a torque the exact free flow is a real integrator (inline closed form: symmetric top)
-        methods = [ExactFreeSplitting(case.moments, torque, composition=c)
-                   for c in ("yoshida8", "yoshida6", "yoshida4", "strang")] + methods
+        methods = [
+            ExactFreeSplitting(case.moments, torque, composition=c)
+            for c in ("yoshida8", "yoshida6", "yoshida4", "strang")
+        ] + methods
     if quick:  # Suzuki 4 is never the fastest here; Lie RK4 stays as the baseline
         methods = [m for m in methods if not isinstance(m, Suzuki4)]
     return methods
@@ -136,7 +144,7 @@ def sweep_case(case: Case, budget: float, log, factor: int = 2, rtols=range(3, 1
     # Radau (implicit, finite-difference Jacobian) is never competitive on these non-stiff problems: full run only.
     for meth in ("DOP853", "RK45", "LSODA") if quick else ("DOP853", "RK45", "Radau", "LSODA"):
         for k in rtols:
-            rtol = 10.0 ** -k
+            rtol = 10.0**-k
 
             def fn(meth=meth, rtol=rtol):
                 R, w, _ = scipy_run(case, meth, rtol, cpu_cap=5.0 * budget)
@@ -170,8 +178,11 @@ def sweep_case(case: Case, budget: float, log, factor: int = 2, rtols=range(3, 1
 
 
 def _best(runs, level, family=None, method=None):
-    ok = [r for r in runs if r.error <= level and (family is None or r.family == family)
-          and (method is None or r.method == method)]
+    ok = [
+        r
+        for r in runs
+        if r.error <= level and (family is None or r.family == family) and (method is None or r.method == method)
+    ]
     return min(ok, key=lambda r: r.cpu) if ok else None
 
 
@@ -190,16 +201,23 @@ def _ratio(a, b):
 
 
 def case_table(case: Case, runs: list[Run]) -> list[str]:
-    lines = [f"### {case.name}", "", case.description, "",
-             "| error ≤ | ours (integrator) | ours (closed form) | best scipy | best MuJoCo | scipy / ours | MuJoCo / ours |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+    lines = [
+        f"### {case.name}",
+        "",
+        case.description,
+        "",
+        "| error ≤ | ours (integrator) | ours (closed form) | best scipy | best MuJoCo | scipy / ours | MuJoCo / ours |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
     for lev in LEVELS:
         ours = _best(runs, lev, "ours")
         exact = _best(runs, lev, "exact")
         sp = _best(runs, lev, "scipy")
         mj = _best(runs, lev, "mujoco")
-        lines.append(f"| {lev:.0e} | {_cell(ours)} | {_cell(exact)} | {_cell(sp)} | {_cell(mj)} | "
-                     f"{_ratio(sp, ours)} | {_ratio(mj, ours)} |")
+        lines.append(
+            f"| {lev:.0e} | {_cell(ours)} | {_cell(exact)} | {_cell(sp)} | {_cell(mj)} | "
+            f"{_ratio(sp, ours)} | {_ratio(mj, ours)} |"
+        )
     lines += ["", "Fastest setting of each method reaching the level (CPU ms; — = not reached within the budget):", ""]
     methods = []
     for r in runs:
@@ -236,8 +254,14 @@ def plot_case(case: Case, runs: list[Run], path: str) -> None:
         rs = [r for r in runs if r.method == m]
         err = np.maximum([r.error for r in rs], 1e-16)
         cpu = np.maximum([r.cpu for r in rs], 1e-6)
-        ax.loglog(cpu, err, linestyle=styles[fam] or "none", marker=markers[fam],
-                  markersize=10 if fam == "exact" else 4, label=("exact: " if fam == "exact" else "") + m)
+        ax.loglog(
+            cpu,
+            err,
+            linestyle=styles[fam] or "none",
+            marker=markers[fam],
+            markersize=10 if fam == "exact" else 4,
+            label=("exact: " if fam == "exact" else "") + m,
+        )
     for lev in (1e-4, 1e-10):
         ax.axhline(lev, color="grey", lw=0.5)
     ax.set_xlabel("CPU time, s (best of 3)")
@@ -278,8 +302,10 @@ def long_run_energy(out_dir: str, n_steps: int, log) -> list[str]:
         cpu = time.process_time() - t0
         err = np.abs(e / e0 - 1.0)
         ax.loglog(t_eval[1:], np.maximum(err[1:], 1e-17), "--", label=f"scipy DOP853 rtol {rtol:.0e} (adaptive)")
-        lines.append(f"- scipy DOP853 rtol {rtol:.0e} (its own adaptive steps, {nfev} RHS evaluations): "
-                     f"max |ΔE/E| = {err.max():.2e}, final {err[-1]:.2e}, CPU {cpu:.1f} s")
+        lines.append(
+            f"- scipy DOP853 rtol {rtol:.0e} (its own adaptive steps, {nfev} RHS evaluations): "
+            f"max |ΔE/E| = {err.max():.2e}, final {err[-1]:.2e}, CPU {cpu:.1f} s"
+        )
         log(lines[-1])
     ax.set_xlabel("t, s")
     ax.set_ylabel("|E(t)/E(0) − 1|")
@@ -313,25 +339,38 @@ def main(argv=None) -> int:
     log = (lambda s: None) if args.smoke else (lambda s: print(s, flush=True))
     t_start = time.perf_counter()
     mode = "--smoke" if args.smoke else ("--quick" if args.quick else "full")
-    md = ["# Work-precision benchmark", "",
-          f"Generated by `python -m benchmarks.work_precision{'' if mode == 'full' else ' ' + mode}` "
-          f"(per-run budget {budget} s). Error = max(attitude angle (rad), relative ω error) at the final time against "
-          "the closed forms (physics.free_body, physics.heavy_top). CPU = `time.process_time`, best of 3 for runs "
-          "under 0.05 s, on this machine (2 cores shared with other work: timings are noisy to ±30 %).", "",
-          "Families: ours (integrators, Python scalar code, one body), ours (closed form), scipy `solve_ivp` "
-          "(DOP853, RK45, Radau, LSODA; quaternion + Euler's equations), MuJoCo 4.0 (Euler, implicitfast, RK4 "
-          "through `mujoco.rollout`). Ratios > 1: we are faster.", "",
-          "The closed form is the reference, so its error here is 0 by construction (plotted at 1e-16); its own "
-          "accuracy (about 1e-12 relative, from 30-digit mpmath) is established in tests/test_free_body.py and "
-          "tests/test_heavy_top.py. Its CPU time is real.", ""]
-    summary = ["## Summary: ratio of the best peer's CPU time to our best integrator's", "",
-               "| case | " + " | ".join(f"{lev:.0e}" for lev in LEVELS) + " |",
-               "| --- " * (len(LEVELS) + 1) + "|"]
+    md = [
+        "# Work-precision benchmark",
+        "",
+        f"Generated by `python -m benchmarks.work_precision{'' if mode == 'full' else ' ' + mode}` "
+        f"(per-run budget {budget} s). Error = max(attitude angle (rad), relative ω error) at the final time against "
+        "the closed forms (physics.free_body, physics.heavy_top). CPU = `time.process_time`, best of 3 for runs "
+        "under 0.05 s, on this machine (2 cores shared with other work: timings are noisy to ±30 %).",
+        "",
+        "Families: ours (integrators, Python scalar code, one body), ours (closed form), scipy `solve_ivp` "
+        "(DOP853, RK45, Radau, LSODA; quaternion + Euler's equations), MuJoCo 4.0 (Euler, implicitfast, RK4 "
+        "through `mujoco.rollout`). Ratios > 1: we are faster.",
+        "",
+        "The closed form is the reference, so its error here is 0 by construction (plotted at 1e-16); its own "
+        "accuracy (about 1e-12 relative, from 30-digit mpmath) is established in tests/physics/test_free_body.py and "
+        "tests/physics/test_heavy_top.py. Its CPU time is real.",
+        "",
+    ]
+    summary = [
+        "## Summary: ratio of the best peer's CPU time to our best integrator's",
+        "",
+        "| case | " + " | ".join(f"{lev:.0e}" for lev in LEVELS) + " |",
+        "| --- " * (len(LEVELS) + 1) + "|",
+    ]
     body = []
-    exact_rows = ["## Our closed forms against the best peer", "",
-                  "CPU of the closed-form final state (ms) and the best peer's CPU divided by it:", "",
-                  "| case | closed form, ms | scipy at 1e-4 | scipy at 1e-10 | MuJoCo at 1e-4 | MuJoCo at 1e-10 |",
-                  "| --- | --- | --- | --- | --- | --- |"]
+    exact_rows = [
+        "## Our closed forms against the best peer",
+        "",
+        "CPU of the closed-form final state (ms) and the best peer's CPU divided by it:",
+        "",
+        "| case | closed form, ms | scipy at 1e-4 | scipy at 1e-10 | MuJoCo at 1e-4 | MuJoCo at 1e-10 |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
     for case in cases:
         log(f"case {case.name}")
         runs = sweep_case(case, budget, log, factor, rtols, quick)
@@ -346,13 +385,22 @@ def main(argv=None) -> int:
             cells.append(f"scipy {_ratio(sp, ours)}, MuJoCo {_ratio(mj, ours)}")
         summary.append(f"| {case.name} | " + " | ".join(cells) + " |")
         ex = _best(runs, 1e-10, "exact")
-        peer = [_best(runs, lev, "scipy") for lev in (1e-4, 1e-10)] + [_best(runs, lev, "mujoco") for lev in (1e-4, 1e-10)]
-        exact_rows.append(f"| {case.name} | {ex.cpu * 1e3:.3g} | " + " | ".join(
-            "not reached" if p_ is None else f"{p_.cpu / ex.cpu:.3g}" for p_ in peer) + " |")
+        peer = [_best(runs, lev, "scipy") for lev in (1e-4, 1e-10)] + [
+            _best(runs, lev, "mujoco") for lev in (1e-4, 1e-10)
+        ]
+        exact_rows.append(
+            f"| {case.name} | {ex.cpu * 1e3:.3g} | "
+            + " | ".join("not reached" if p_ is None else f"{p_.cpu / ex.cpu:.3g}" for p_ in peer)
+            + " |"
+        )
     long_lines = long_run_energy(args.out, 2000 if args.smoke else (20_000 if quick else 1_000_000), log)
     elapsed = time.perf_counter() - t_start
-    md += summary + ["", "'— (we did not reach it)': our integrators did not reach the level within the budget; "
-                     "'∞': the peer did not; 'neither': nobody did.", ""]
+    md += summary + [
+        "",
+        "'— (we did not reach it)': our integrators did not reach the level within the budget; "
+        "'∞': the peer did not; 'neither': nobody did.",
+        "",
+    ]
     md += exact_rows + [""]
     md += ["## Long run", ""] + long_lines + ["## Cases", ""] + body
     md += [f"Total wall time of this run: {elapsed:.0f} s.", ""]

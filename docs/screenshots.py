@@ -1,7 +1,7 @@
 """Take a screenshot of every scene in headless Chromium: ``python docs/screenshots.py [--out DIR]``.
 
 Starts the app on a free port, opens it in Debian's Chromium (the browser tests' helpers in
-``tests/browser.py``), lets each scene run a few seconds at its defaults and saves ``<scene>.png``.
+``tests/harness.py``), lets each scene run a few seconds at its defaults and saves ``<scene>.png``.
 The curated screenshots in ``docs/`` (presets, body view, refused upload) were taken the same way.
 """
 
@@ -13,15 +13,12 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-
-from browser import launch_chromium, open_page, running_app  # noqa: E402
+sys.path.insert(0, str(ROOT))
 
 from app.scenes import scene_names  # noqa: E402
+from tests.harness import launch_chromium, open_page, running_app  # noqa: E402
 
-_CLOSE_NOTIFICATIONS = (
-    "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach(b => b.click())"
-)
+_CLOSE_NOTIFICATIONS = "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach(b => b.click())"
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -6,4 +6,4 @@ Modules (one topic each): :mod:`physics.inertia`, :mod:`physics.rotations`,
 """
 
 G = 9.81
-"""Standard gravitational acceleration used by default, m/s² (DESIGN.md)."""
+"""Standard gravitational acceleration used by default, m/s² (docs/conventions.md)."""

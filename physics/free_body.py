@@ -40,8 +40,8 @@ reducing ``u`` modulo the period ``4K`` and, above ``K/2``, shifting by the quar
 ``ellipj`` takes only ``m`` and is wrong near ``m = 1`` for large arguments (scipy issue 8480). The
 separatrix itself (``m = 1``) uses ``tanh``/``sech`` and the elementary ``Π(n; ·|1)``.
 
-Measured against 30-digit mpmath (``python tests/test_free_body_reference.py`` prints the table;
-tests/test_free_body.py asserts the bounds), over ±1,000 rotation periods ``2π/|ω0|``: the relative
+Measured against 30-digit mpmath (``python -m tests.physics.test_free_body_reference`` prints the table;
+tests/physics/test_free_body.py asserts the bounds), over ±1,000 rotation periods ``2π/|ω0|``: the relative
 error of ω is at most 3e-13 and the attitude error at most 3e-12 rad in every regime, including
 ``1 − m`` = 2e-6, 1e-10, 2e-14 and exactly 0, near-symmetric (``ΔI/I = 1e-12``), lamina, rod, sphere;
 ``|L_space|`` and ``E`` are constant to 2e-15 relative and ``R`` is orthonormal to 2e-15. The error
@@ -69,11 +69,11 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import elliprf, elliprj, ellipkm1
+from scipy.special import ellipkm1, elliprf, elliprj
 
 from physics.inertia import validate_moments
-from physics.validation import finite_array
 from physics.rotations import expm_so3
+from physics.validation import finite_array
 
 __all__ = ["FreeBody", "Stability", "PrecessionRates", "jacobi_sn_cn_dn"]
 
@@ -474,10 +474,32 @@ class FreeBody:
         coef = np.where(pole_c, ga * dac_f / (ia * ia * gc), dac_f * n_a / (ia * ic)) * ang / lam
         jc = np.where(mc > 0.0, elliprj(0.0, np.where(mc > 0.0, mc, 1.0), 1.0, 1.0 - n), 0.0)
         p.update(
-            ell=ell, q_can=q_can, ia=ia, ib=ib, ic=ic, m=m, mc=mc, K=kk, lam=lam * sc, u0=u0, n=n, Jc=jc,
-            amp=sc[:, None] * np.stack([pa * np.sqrt(np.abs(gc / (ia * dac_f))), np.sqrt(np.abs(ga / (ib * dab_f))),
-                          pc * np.sqrt(np.abs(ga / (ic * dac_f)))], axis=1),
-            L=ang * sc, E2=energy2 * sc * sc, pole_c=pole_c, rate0=rate0, coef=coef,
+            ell=ell,
+            q_can=q_can,
+            ia=ia,
+            ib=ib,
+            ic=ic,
+            m=m,
+            mc=mc,
+            K=kk,
+            lam=lam * sc,
+            u0=u0,
+            n=n,
+            Jc=jc,
+            amp=sc[:, None]
+            * np.stack(
+                [
+                    pa * np.sqrt(np.abs(gc / (ia * dac_f))),
+                    np.sqrt(np.abs(ga / (ib * dab_f))),
+                    pc * np.sqrt(np.abs(ga / (ic * dac_f))),
+                ],
+                axis=1,
+            ),
+            L=ang * sc,
+            E2=energy2 * sc * sc,
+            pole_c=pole_c,
+            rate0=rate0,
+            coef=coef,
         )
         sep = mc == 0.0
         p["ladder"] = _landen_ladder(np.where(sep, 0.0, m), np.where(sep, 1.0, mc))
@@ -754,7 +776,7 @@ def _third_kind_excess(p, e, u, reduced=None):
         roots, scale = p["ladder"]
         reduced = _reduced_jacobi(u, m, mc, kk, ([q[e] for q in roots], scale[e]))
     j, v, s, c, d = reduced
-    out = (2.0 * j * jc + s ** 3 * elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
+    out = (2.0 * j * jc + s**3 * elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
     sep = mc == 0.0
     if np.any(sep):
         rn = np.sqrt(-n)

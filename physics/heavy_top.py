@@ -1,7 +1,7 @@
 """The heavy symmetric (Lagrange) top: exact motion, rates, sleeping threshold, friction.
 
 A body symmetric about its axis 3 spins with its tip fixed at the origin; gravity ``-g ẑ`` acts at the
-centre of mass a distance ``ℓ`` up the axis. Conventions (DESIGN.md, with ERRATA 3-5 applied):
+centre of mass a distance ``ℓ`` up the axis. Conventions (docs/conventions.md, with errata 3-5 applied):
 
 * Euler angles z-x-z: attitude ``R = Rz(φ) Rx(θ) Rz(ψ)``; θ is the angle of the symmetry axis from +z,
   φ the precession (azimuth), ψ the spin. The symmetry axis in space is
@@ -42,8 +42,8 @@ body, e.g. an asymmetric top) integrate (R, L_body) with :mod:`physics.integrato
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -186,8 +186,11 @@ class _Root:
 
 def _diff(hi: _Root, lo: _Root) -> float:
     """``u_hi − u_lo`` from whichever representation has the smallest operands."""
-    cands = [(max(abs(hi.v), abs(lo.v)), hi.v - lo.v), (max(abs(hi.p), abs(lo.p)), lo.p - hi.p),
-             (max(abs(hi.q), abs(lo.q)), hi.q - lo.q)]
+    cands = [
+        (max(abs(hi.v), abs(lo.v)), hi.v - lo.v),
+        (max(abs(hi.p), abs(lo.p)), lo.p - hi.p),
+        (max(abs(hi.q), abs(lo.q)), hi.q - lo.q),
+    ]
     return min(cands)[1]
 
 
@@ -273,11 +276,11 @@ class HeavyTopSolution:
     theta_min: float
     theta_max: float
 
-    def energy_along(self, top: "HeavyTop") -> NDArray[np.float64]:
+    def energy_along(self, top: HeavyTop) -> NDArray[np.float64]:
         """Total energy evaluated from the sampled state (a check of the solution), J, shape (n,)."""
         return top.energy_of(self.theta, self.thetadot, self.phidot, self.psidot)
 
-    def angular_momenta_along(self, top: "HeavyTop") -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def angular_momenta_along(self, top: HeavyTop) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``(L3, Lz)`` evaluated from the sampled state, kg m²/s, each shape (n,)."""
         return top.angular_momenta(self.theta, self.phidot, self.psidot)
 
@@ -314,7 +317,9 @@ class _PoleTerm:
             cn2, dn2 = cn * cn, dn * dn
         else:
             k, r, sn, cn2, dn2 = jac
-        return self.a0 * x + self.a1 * (2.0 * k * self.pic + _incomplete_third_kind(r, sn, cn2, dn2, self.n, self.one_n))
+        return self.a0 * x + self.a1 * (
+            2.0 * k * self.pic + _incomplete_third_kind(r, sn, cn2, dn2, self.n, self.one_n)
+        )
 
 
 @dataclass
@@ -345,7 +350,6 @@ class _Motion:
 # --------------------------------------------------------------------------------------------------
 # The top
 # --------------------------------------------------------------------------------------------------
-
 
 
 def _times(t: ArrayLike) -> NDArray[np.float64]:
@@ -398,7 +402,7 @@ class HeavyTop:
         return f"HeavyTop(I1={self.I1!r}, I3={self.I3!r}, mgl={self.mgl!r})"
 
     @classmethod
-    def from_mass_properties(cls, body, tip: ArrayLike, *, g: float = G, rtol: float = 1e-9) -> "HeavyTop":
+    def from_mass_properties(cls, body, tip: ArrayLike, *, g: float = G, rtol: float = 1e-9) -> HeavyTop:
         """The top made of ``body`` (a :class:`physics.inertia.MassProperties`) spinning on ``tip``.
 
         The symmetry axis is the line from the tip to the centre of mass; the inertia tensor about the tip
@@ -434,10 +438,14 @@ class HeavyTop:
         P = np.eye(3) - np.outer(e3, e3)
         I1 = float(np.trace(P @ tensor @ P)) / 2.0
         scale = float(np.max(np.abs(tensor)))
-        if (np.max(np.abs(tensor @ e3 - I3 * e3)) > rtol * scale
-                or np.max(np.abs(P @ tensor @ P - I1 * P)) > rtol * scale):
-            raise ValueError("the body is not symmetric about the line from the tip to its centre of mass "
-                             f"(tensor about the tip: {tensor.tolist()})")
+        if (
+            np.max(np.abs(tensor @ e3 - I3 * e3)) > rtol * scale
+            or np.max(np.abs(P @ tensor @ P - I1 * P)) > rtol * scale
+        ):
+            raise ValueError(
+                "the body is not symmetric about the line from the tip to its centre of mass "
+                f"(tensor about the tip: {tensor.tolist()})"
+            )
         return cls(I1, I3, finite_scalar(body.mass, "mass") * finite_scalar(g, "g") * ell)
 
     def threshold_crossing_time(self, L3: float, spin_friction: float) -> float:
@@ -457,7 +465,7 @@ class HeavyTop:
     def angular_momenta(
         self, theta: ArrayLike, phidot: ArrayLike, psidot: ArrayLike
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``L3 = I3 (ψ̇ + φ̇ cos θ)`` and ``Lz = I1 sin²θ φ̇ + L3 cos θ`` (ERRATA 3), kg m²/s.
+        """``L3 = I3 (ψ̇ + φ̇ cos θ)`` and ``Lz = I1 sin²θ φ̇ + L3 cos θ`` (docs/conventions.md, erratum 3), kg m²/s.
 
         Parameters
         ----------
@@ -469,14 +477,17 @@ class HeavyTop:
         L3 = self.I3 * (np.asarray(psidot, dtype=float) + phidot * np.cos(theta))
         return L3, self.I1 * np.sin(theta) ** 2 * phidot + L3 * np.cos(theta)
 
-    def energy_of(self, theta: ArrayLike, thetadot: ArrayLike, phidot: ArrayLike, psidot: ArrayLike) -> NDArray[np.float64]:
+    def energy_of(
+        self, theta: ArrayLike, thetadot: ArrayLike, phidot: ArrayLike, psidot: ArrayLike
+    ) -> NDArray[np.float64]:
         """Total energy ``½ I1 (θ̇² + sin²θ φ̇²) + ½ I3 ω3² + M g ℓ cos θ``, J (shapes broadcast)."""
         theta = np.asarray(theta, dtype=float)
         phidot = np.asarray(phidot, dtype=float)
         w3 = np.asarray(psidot, dtype=float) + phidot * np.cos(theta)
         td = np.asarray(thetadot, dtype=float)
-        return (0.5 * self.I1 * (td**2 + np.sin(theta) ** 2 * phidot**2) + 0.5 * self.I3 * w3**2
-                + self.mgl * np.cos(theta))
+        return (
+            0.5 * self.I1 * (td**2 + np.sin(theta) ** 2 * phidot**2) + 0.5 * self.I3 * w3**2 + self.mgl * np.cos(theta)
+        )
 
     @staticmethod
     def _potential_arguments(theta: ArrayLike, Lz: float, L3: float) -> tuple[NDArray[np.float64], float, float]:
@@ -523,7 +534,7 @@ class HeavyTop:
         # d(s2)/dθ = sin θ / 2, d(c2)/dθ = −sin θ / 2.
         st = np.sin(theta)
         with np.errstate(divide="ignore", invalid="ignore"):
-            d1 = np.where(dm == 0.0, 0.0, -dm**2 * st / (16.0 * i1**2 * s2**2))
+            d1 = np.where(dm == 0.0, 0.0, -(dm**2) * st / (16.0 * i1**2 * s2**2))
             d2 = np.where(dp == 0.0, 0.0, dp**2 * st / (16.0 * i1**2 * c2**2))
         return d1 + d2 - (self.mgl / i1) * st
 
@@ -611,8 +622,12 @@ class HeavyTop:
         dm = (I1 * s0 * s0 * phd0 - L3 * w0) / I1  # α − β = (Lz − L3)/I1 without cancellation
         dp = (I1 * s0 * s0 * phd0 + L3 * z0) / I1  # α + β
         c3 = 2.0 * a
-        loc0 = [s0 * s0 * thd0 * thd0, -4.0 * u0 * K0 - 2.0 * a * s0 * s0 + 2.0 * beta * s0 * s0 * phd0,
-                -2.0 * K0 + 4.0 * a * u0 - beta * beta, c3]
+        loc0 = [
+            s0 * s0 * thd0 * thd0,
+            -4.0 * u0 * K0 - 2.0 * a * s0 * s0 + 2.0 * beta * s0 * s0 * phd0,
+            -2.0 * K0 + 4.0 * a * u0 - beta * beta,
+            c3,
+        ]
         k1 = K0 - a * w0  # ℰ − a
         loc_p = [-dm * dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + 4.0 * a - beta * beta, c3]
         k2 = K0 + a * z0  # ℰ + a
@@ -626,8 +641,11 @@ class HeavyTop:
         vs = sorted(vs)
         # Snap exactly known roots, polish the others in the expansion about the nearest anchor.
         roots = []
-        near = {"1": int(np.argmin([abs(v - w0) for v in vs])), "-1": int(np.argmin([abs(v + z0) for v in vs])),
-                "0": int(np.argmin([abs(v) for v in vs]))}
+        near = {
+            "1": int(np.argmin([abs(v - w0) for v in vs])),
+            "-1": int(np.argmin([abs(v + z0) for v in vs])),
+            "0": int(np.argmin([abs(v) for v in vs])),
+        }
         for i, v in enumerate(vs):
             if loc0[0] == 0.0 and i == near["0"]:
                 roots.append(_Root(0.0, w0, z0))
@@ -669,9 +687,21 @@ class HeavyTop:
             r1 = _Root(-z0, 2.0, 0.0)
         u21, u31, u32 = _diff(r2, r1), _diff(r3, r1), _diff(r3, r2)
         r0 = _Root(0.0, w0, z0)
-        cubic = NutationCubic(u0=u0, u1=r1.u, u2=r2.u, u3=r3.u, one_minus_u1=r1.p, one_minus_u2=r2.p,
-                              one_plus_u1=r1.q, one_plus_u2=r2.q, u2_minus_u1=u21, u3_minus_u1=u31,
-                              u3_minus_u2=u32, u0_minus_u1=_diff(r0, r1), u2_minus_u0=_diff(r2, r0))
+        cubic = NutationCubic(
+            u0=u0,
+            u1=r1.u,
+            u2=r2.u,
+            u3=r3.u,
+            one_minus_u1=r1.p,
+            one_minus_u2=r2.p,
+            one_plus_u1=r1.q,
+            one_plus_u2=r2.q,
+            u2_minus_u1=u21,
+            u3_minus_u1=u31,
+            u3_minus_u2=u32,
+            u0_minus_u1=_diff(r0, r1),
+            u2_minus_u0=_diff(r2, r0),
+        )
         if u21 <= 0.0:
             mo = _Motion(kind="steady", cubic=cubic, **base)
             mo.precession_rate = phd0
@@ -784,8 +814,17 @@ class HeavyTop:
         For a fast top it tends to the pseudo-regular ``M g ℓ / (I3 ω3)``."""
         return self._motion(theta0, thetadot0, phidot0, psidot0).precession_rate
 
-    def solve(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float, t: ArrayLike,
-              *, phi0: float = 0.0, psi0: float = 0.0) -> HeavyTopSolution:
+    def solve(
+        self,
+        theta0: float,
+        thetadot0: float,
+        phidot0: float,
+        psidot0: float,
+        t: ArrayLike,
+        *,
+        phi0: float = 0.0,
+        psi0: float = 0.0,
+    ) -> HeavyTopSolution:
         """Exact motion of the top from the given initial Euler angles and rates.
 
         ``u = cos θ = u1 + (u2 − u1) sn²(λ t + c | m)``; φ(t), ψ(t) in closed form through the incomplete
@@ -832,14 +871,42 @@ class HeavyTop:
         attitude = _attitude_from_trig(cf, sf, ct, st, cp, sp)
         axis = attitude[:, :, 2].copy()
         omega = np.stack([fd * st * sp + thd * cp, fd * st * cp - thd * sp, np.full(n, mo.L3 / self.I3)], axis=-1)
-        return HeavyTopSolution(t=tt, theta=th, phi=phi, psi=psi, thetadot=thd, phidot=fd, psidot=pd, axis=axis,
-                                attitude=attitude, omega_body=omega, L3=mo.L3, Lz=mo.Lz, energy=mo.energy,
-                                nutation_period=mo.period, precession_rate=mo.precession_rate,
-                                theta_min=tmin, theta_max=tmax)
+        return HeavyTopSolution(
+            t=tt,
+            theta=th,
+            phi=phi,
+            psi=psi,
+            thetadot=thd,
+            phidot=fd,
+            psidot=pd,
+            axis=axis,
+            attitude=attitude,
+            omega_body=omega,
+            L3=mo.L3,
+            Lz=mo.Lz,
+            energy=mo.energy,
+            nutation_period=mo.period,
+            precession_rate=mo.precession_rate,
+            theta_min=tmin,
+            theta_max=tmax,
+        )
 
-    def simulate(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float, t_final: float,
-                         dt: float, *, spin_friction: float = 0.0, air_drag: float = 0.0, method: str | type = "LieRK4",
-                         save_every: int = 1, phi0: float = 0.0, psi0: float = 0.0) -> FrictionRun:
+    def simulate(
+        self,
+        theta0: float,
+        thetadot0: float,
+        phidot0: float,
+        psidot0: float,
+        t_final: float,
+        dt: float,
+        *,
+        spin_friction: float = 0.0,
+        air_drag: float = 0.0,
+        method: str | type = "LieRK4",
+        save_every: int = 1,
+        phi0: float = 0.0,
+        psi0: float = 0.0,
+    ) -> FrictionRun:
         """The top with friction, integrated step by step on (R, L_body) by :mod:`physics.integrators`.
 
         Friction model (both at the tip, both only remove energy):
@@ -875,8 +942,21 @@ class HeavyTop:
         -------
         FrictionRun
         """
-        return _simulate_symmetric(self, theta0, thetadot0, phidot0, psidot0, t_final, dt, spin_friction, air_drag,
-                                   method, save_every, phi0, psi0)
+        return _simulate_symmetric(
+            self,
+            theta0,
+            thetadot0,
+            phidot0,
+            psidot0,
+            t_final,
+            dt,
+            spin_friction,
+            air_drag,
+            method,
+            save_every,
+            phi0,
+            psi0,
+        )
 
     def _evaluate(self, mo: _Motion, t: NDArray[np.float64]):
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
@@ -1138,17 +1218,48 @@ def simulate_heavy_body(
     energy = 0.5 * np.sum(L * w, axis=1) + mass * g * height
     Lz = np.einsum("kij,kj->ki", R, L)[:, 2]
     theta = np.arctan2(np.hypot(axis[:, 0], axis[:, 1]), axis[:, 2])
-    return FrictionRun(t=np.asarray(traj.t, dtype=float), attitude=R, L_body=L, omega_body=w, axis=axis,
-                       theta=theta, energy=energy, L3=L[:, 2].copy(), Lz=Lz,
-                       method=getattr(stepper, "name", type(stepper).__name__))
+    return FrictionRun(
+        t=np.asarray(traj.t, dtype=float),
+        attitude=R,
+        L_body=L,
+        omega_body=w,
+        axis=axis,
+        theta=theta,
+        energy=energy,
+        L3=L[:, 2].copy(),
+        Lz=Lz,
+        method=getattr(stepper, "name", type(stepper).__name__),
+    )
 
 
-def _simulate_symmetric(top: "HeavyTop", theta0, thetadot0, phidot0, psidot0, t_final, dt, spin_friction,
-                        air_drag, method, save_every, phi0, psi0) -> FrictionRun:
+def _simulate_symmetric(
+    top: HeavyTop,
+    theta0,
+    thetadot0,
+    phidot0,
+    psidot0,
+    t_final,
+    dt,
+    spin_friction,
+    air_drag,
+    method,
+    save_every,
+    phi0,
+    psi0,
+) -> FrictionRun:
     from physics import integrators
 
-    vals = [finite_scalar(v, n) for v, n in ((theta0, "theta0"), (thetadot0, "thetadot0"), (phidot0, "phidot0"),
-                                       (psidot0, "psidot0"), (phi0, "phi0"), (psi0, "psi0"))]
+    vals = [
+        finite_scalar(v, n)
+        for v, n in (
+            (theta0, "theta0"),
+            (thetadot0, "thetadot0"),
+            (phidot0, "phidot0"),
+            (psidot0, "psidot0"),
+            (phi0, "phi0"),
+            (psi0, "psi0"),
+        )
+    ]
     if not 0.0 <= vals[0] <= math.pi:
         raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {vals[0]}")
     c = finite_scalar(spin_friction, "spin_friction")
@@ -1163,5 +1274,16 @@ def _simulate_symmetric(top: "HeavyTop", theta0, thetadot0, phidot0, psidot0, t_
     if air_drag:
         torques.append(TransverseAirDrag(air_drag, moments))
     # M g ℓ = mgl with a unit lever: the torque (and the energy) only depend on the product.
-    return simulate_heavy_body(moments, top.mgl / G, (0.0, 0.0, 1.0), R0, w0, t_final, dt, torques=torques,
-                               method=method, g=G, save_every=save_every)
+    return simulate_heavy_body(
+        moments,
+        top.mgl / G,
+        (0.0, 0.0, 1.0),
+        R0,
+        w0,
+        t_final,
+        dt,
+        torques=torques,
+        method=method,
+        g=G,
+        save_every=save_every,
+    )

@@ -264,7 +264,7 @@ class MassProperties:
         return float(np.sqrt(self.moment_about(axis, point) / self.mass))
 
     # -- composition ---------------------------------------------------------------------------
-    def transformed(self, rotation: ArrayLike, translation: ArrayLike = (0.0, 0.0, 0.0)) -> "MassProperties":
+    def transformed(self, rotation: ArrayLike, translation: ArrayLike = (0.0, 0.0, 0.0)) -> MassProperties:
         """The same body moved rigidly: ``x -> rotation @ x + translation``.
 
         Parameters
@@ -280,7 +280,7 @@ class MassProperties:
         t = finite_array(translation, "translation", (3,))
         return MassProperties(self.mass, r @ self.center_of_mass + t, r @ self.tensor @ r.T)
 
-    def __add__(self, other: "MassProperties") -> "MassProperties":
+    def __add__(self, other: MassProperties) -> MassProperties:
         """Two bodies rigidly joined: masses add, tensors add about the common centre of mass."""
         if not isinstance(other, MassProperties):
             return NotImplemented
@@ -321,6 +321,7 @@ def principal_frame(tensor: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.
 
 # -- constructors (lecture examples and more) -----------------------------------------------------
 
+
 def rod(mass: float, length: float) -> MassProperties:
     """A thin uniform rod (the lecture's wire) along z, centred at the origin.
 
@@ -357,7 +358,7 @@ def solid_sphere(mass: float, radius: float) -> MassProperties:
 def solid_cylinder(mass: float, radius: float, length: float) -> MassProperties:
     """A uniform solid cylinder with axis z, centred at the origin.
 
-    ``I_xx = I_yy = M (a²/4 + ℓ²/12)``, ``I_zz = M a²/2`` (lecture, with DESIGN.md erratum 1).
+    ``I_xx = I_yy = M (a²/4 + ℓ²/12)``, ``I_zz = M a²/2`` (lecture, with docs/conventions.md erratum 1).
 
     Parameters
     ----------
@@ -419,7 +420,7 @@ def point_masses(masses: ArrayLike, positions: ArrayLike) -> MassProperties:
     return MassProperties(total, com, tensor)
 
 
-def from_mesh(mesh: "trimesh.Trimesh", *, mass: float | None = None, density: float | None = None) -> MassProperties:  # noqa: F821
+def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: float | None = None) -> MassProperties:  # noqa: F821
     """Mass properties of a closed triangle mesh of uniform density.
 
     Parameters

@@ -47,7 +47,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -127,10 +126,20 @@ class GravityTorque:
     def _kick(self, s: _State, h: float, xp) -> _State:
         r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
         w0, w1, w2 = self._w
-        return (r00, r01, r02, r10, r11, r12, r20, r21, r22,
-                l0 - h * (w1 * r22 - w2 * r21),
-                l1 - h * (w2 * r20 - w0 * r22),
-                l2 - h * (w0 * r21 - w1 * r20))
+        return (
+            r00,
+            r01,
+            r02,
+            r10,
+            r11,
+            r12,
+            r20,
+            r21,
+            r22,
+            l0 - h * (w1 * r22 - w2 * r21),
+            l1 - h * (w2 * r20 - w0 * r22),
+            l2 - h * (w0 * r21 - w1 * r20),
+        )
 
 
 class SpinFriction:
@@ -240,28 +249,58 @@ def _rot_x(s: _State, th, xp) -> _State:
     """R ← R exp(θ ê_x), L ← exp(−θ ê_x) L (the exact flow of L_x²/(2 I_x) for θ = h L_x / I_x)."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
     c, sn = xp.cos(th), xp.sin(th)
-    return (r00, c * r01 + sn * r02, c * r02 - sn * r01,
-            r10, c * r11 + sn * r12, c * r12 - sn * r11,
-            r20, c * r21 + sn * r22, c * r22 - sn * r21,
-            l0, c * l1 + sn * l2, c * l2 - sn * l1)
+    return (
+        r00,
+        c * r01 + sn * r02,
+        c * r02 - sn * r01,
+        r10,
+        c * r11 + sn * r12,
+        c * r12 - sn * r11,
+        r20,
+        c * r21 + sn * r22,
+        c * r22 - sn * r21,
+        l0,
+        c * l1 + sn * l2,
+        c * l2 - sn * l1,
+    )
 
 
 def _rot_y(s: _State, th, xp) -> _State:
     r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
     c, sn = xp.cos(th), xp.sin(th)
-    return (c * r00 - sn * r02, r01, c * r02 + sn * r00,
-            c * r10 - sn * r12, r11, c * r12 + sn * r10,
-            c * r20 - sn * r22, r21, c * r22 + sn * r20,
-            c * l0 - sn * l2, l1, c * l2 + sn * l0)
+    return (
+        c * r00 - sn * r02,
+        r01,
+        c * r02 + sn * r00,
+        c * r10 - sn * r12,
+        r11,
+        c * r12 + sn * r10,
+        c * r20 - sn * r22,
+        r21,
+        c * r22 + sn * r20,
+        c * l0 - sn * l2,
+        l1,
+        c * l2 + sn * l0,
+    )
 
 
 def _rot_z(s: _State, th, xp) -> _State:
     r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
     c, sn = xp.cos(th), xp.sin(th)
-    return (c * r00 + sn * r01, c * r01 - sn * r00, r02,
-            c * r10 + sn * r11, c * r11 - sn * r10, r12,
-            c * r20 + sn * r21, c * r21 - sn * r20, r22,
-            c * l0 + sn * l1, c * l1 - sn * l0, l2)
+    return (
+        c * r00 + sn * r01,
+        c * r01 - sn * r00,
+        r02,
+        c * r10 + sn * r11,
+        c * r11 - sn * r10,
+        r12,
+        c * r20 + sn * r21,
+        c * r21 - sn * r20,
+        r22,
+        c * l0 + sn * l1,
+        c * l1 - sn * l0,
+        l2,
+    )
 
 
 _ROT = (_rot_x, _rot_y, _rot_z)
@@ -296,9 +335,17 @@ def _right_exp(s: _State, u0, u1, u2, xp) -> tuple:
     e02, e20 = p02 + q1, p02 - q1
     e12, e21 = p12 - q0, p12 + q0
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = s[:9]
-    return (r00 * e00 + r01 * e10 + r02 * e20, r00 * e01 + r01 * e11 + r02 * e21, r00 * e02 + r01 * e12 + r02 * e22,
-            r10 * e00 + r11 * e10 + r12 * e20, r10 * e01 + r11 * e11 + r12 * e21, r10 * e02 + r11 * e12 + r12 * e22,
-            r20 * e00 + r21 * e10 + r22 * e20, r20 * e01 + r21 * e11 + r22 * e21, r20 * e02 + r21 * e12 + r22 * e22)
+    return (
+        r00 * e00 + r01 * e10 + r02 * e20,
+        r00 * e01 + r01 * e11 + r02 * e21,
+        r00 * e02 + r01 * e12 + r02 * e22,
+        r10 * e00 + r11 * e10 + r12 * e20,
+        r10 * e01 + r11 * e11 + r12 * e21,
+        r10 * e02 + r11 * e12 + r12 * e22,
+        r20 * e00 + r21 * e10 + r22 * e20,
+        r20 * e01 + r21 * e11 + r22 * e21,
+        r20 * e02 + r21 * e12 + r22 * e22,
+    )
 
 
 # --------------------------------------------------------------------------------------------------
@@ -339,6 +386,7 @@ class _GenericTorque:
         if self.conservative:
             t0, t1, t2 = self._tau(s, xp)
             return s[:9] + (s[9] + h * t0, s[10] + h * t1, s[11] + h * t2)
+
         # One classical RK4 step in L with R frozen (order 4 sub-flow).
         def f(l):
             return self._tau(s[:9] + l, xp)
@@ -378,8 +426,15 @@ _W6 = (-1.17767998417887, 0.235573213359357, 0.784513610477560)
 _W6_0 = 1.0 - 2.0 * sum(_W6)
 _YOSHIDA6 = (_W6[2], _W6[1], _W6[0], _W6_0, _W6[0], _W6[1], _W6[2])
 # Yoshida (1990) eighth order, "solution D" (15 stages), w1..w7 and w0 = 1 − 2 Σ w.
-_W8 = (0.102799849391985, -1.96061023297549, 1.93813913762276, -0.158240635368243,
-       -1.44485223686048, 0.253693336566229, 0.914844246229740)
+_W8 = (
+    0.102799849391985,
+    -1.96061023297549,
+    1.93813913762276,
+    -0.158240635368243,
+    -1.44485223686048,
+    0.253693336566229,
+    0.914844246229740,
+)
 _YOSHIDA8 = tuple(reversed(_W8)) + (1.0 - 2.0 * sum(_W8),) + _W8
 
 
@@ -727,9 +782,13 @@ class LieRK4(_Method):
         for t in self.torques:
             if isinstance(t, GravityTorque):
                 w0, w1, w2 = t._w
-                self._fast.append(lambda s, xp, w0=w0, w1=w1, w2=w2: (-(w1 * s[8] - w2 * s[7]),
-                                                                      -(w2 * s[6] - w0 * s[8]),
-                                                                      -(w0 * s[7] - w1 * s[6])))
+                self._fast.append(
+                    lambda s, xp, w0=w0, w1=w1, w2=w2: (
+                        -(w1 * s[8] - w2 * s[7]),
+                        -(w2 * s[6] - w0 * s[8]),
+                        -(w0 * s[7] - w1 * s[6]),
+                    )
+                )
             elif isinstance(t, SpinFriction):
                 a0, a1, a2 = t.axis_body
                 i0, i1, i2 = t._inv
@@ -741,7 +800,7 @@ class LieRK4(_Method):
 
                 self._fast.append(fr)
             else:
-                self._fast.append(lambda s, xp, g=_GenericTorque(t, None): g._tau(s, xp))
+                self._fast.append(lambda s, xp, g=_GenericTorque(t, None): g._tau(s, xp))  # noqa: B008 - one per torque, bound at definition
         self._needs_attitude = any(not isinstance(t, SpinFriction) for t in self.torques)
 
     def _step(self, s, dt, xp):
@@ -803,8 +862,9 @@ class Trajectory:
     L_body: NDArray[np.float64]
 
 
-def integrate(method: _Method, R0: ArrayLike, L0_body: ArrayLike, dt: float, n_steps: int, *,
-              save_every: int = 1) -> Trajectory:
+def integrate(
+    method: _Method, R0: ArrayLike, L0_body: ArrayLike, dt: float, n_steps: int, *, save_every: int = 1
+) -> Trajectory:
     """Take ``n_steps`` steps of ``dt`` from ``(R0, L0_body)``, saving every ``save_every`` steps.
 
     Parameters
@@ -891,37 +951,45 @@ def _src_rotation(i: int, coef: str, ind: str) -> list[str]:
 
 def _src_gravity(name: str, ind: str) -> list[str]:
     # L += h τ with τ = −(M g c) × (third row of R); {name}0..2 = h M g c folded per op.
-    return [f"{ind}l0, l1, l2 = l0 - ({name}1 * r22 - {name}2 * r21), l1 - ({name}2 * r20 - {name}0 * r22), "
-            f"l2 - ({name}0 * r21 - {name}1 * r20)"]
+    return [
+        f"{ind}l0, l1, l2 = l0 - ({name}1 * r22 - {name}2 * r21), l1 - ({name}2 * r20 - {name}0 * r22), "
+        f"l2 - ({name}0 * r21 - {name}1 * r20)"
+    ]
 
 
 def _src_friction(name: str, ind: str) -> list[str]:
     # L += f a (a·ω): {name}b0..2 = a_i / I_i, {name}f0..2 = f a_i folded per op.
-    return [f"{ind}wa = {name}b0 * l0 + {name}b1 * l1 + {name}b2 * l2",
-            f"{ind}l0, l1, l2 = l0 + {name}f0 * wa, l1 + {name}f1 * wa, l2 + {name}f2 * wa"]
+    return [
+        f"{ind}wa = {name}b0 * l0 + {name}b1 * l1 + {name}b2 * l2",
+        f"{ind}l0, l1, l2 = l0 + {name}f0 * wa, l1 + {name}f1 * wa, l2 + {name}f2 * wa",
+    ]
 
 
 def _src_symmetric_free(coef: str, ax: int, coef_ax: str, ind: str) -> list[str]:
     # R ← R exp(h hat(L)/I⊥) (Rodrigues, Taylor below 1e-4 rad), then the e_s rotation by h L_s (1/I_s − 1/I⊥).
-    out = [f"{ind}u0 = {coef} * l0; u1 = {coef} * l1; u2 = {coef} * l2",
-           f"{ind}a2 = u0 * u0 + u1 * u1 + u2 * u2",
-           f"{ind}if a2 < 1e-8:",
-           f"{ind}    sa = 1.0 - a2 / 6.0 + a2 * a2 / 120.0; ca = 0.5 - a2 / 24.0 + a2 * a2 / 720.0",
-           f"{ind}else:",
-           f"{ind}    a = sqrt(a2); sa = sin(a) / a; ca = (1.0 - cos(a)) / a2",
-           f"{ind}e00 = 1.0 - ca * (u1 * u1 + u2 * u2); e11 = 1.0 - ca * (u0 * u0 + u2 * u2); "
-           f"e22 = 1.0 - ca * (u0 * u0 + u1 * u1)",
-           f"{ind}p01 = ca * u0 * u1; p02 = ca * u0 * u2; p12 = ca * u1 * u2",
-           f"{ind}e01 = p01 - sa * u2; e10 = p01 + sa * u2; e02 = p02 + sa * u1; e20 = p02 - sa * u1; "
-           f"e12 = p12 - sa * u0; e21 = p12 + sa * u0"]
+    out = [
+        f"{ind}u0 = {coef} * l0; u1 = {coef} * l1; u2 = {coef} * l2",
+        f"{ind}a2 = u0 * u0 + u1 * u1 + u2 * u2",
+        f"{ind}if a2 < 1e-8:",
+        f"{ind}    sa = 1.0 - a2 / 6.0 + a2 * a2 / 120.0; ca = 0.5 - a2 / 24.0 + a2 * a2 / 720.0",
+        f"{ind}else:",
+        f"{ind}    a = sqrt(a2); sa = sin(a) / a; ca = (1.0 - cos(a)) / a2",
+        f"{ind}e00 = 1.0 - ca * (u1 * u1 + u2 * u2); e11 = 1.0 - ca * (u0 * u0 + u2 * u2); "
+        f"e22 = 1.0 - ca * (u0 * u0 + u1 * u1)",
+        f"{ind}p01 = ca * u0 * u1; p02 = ca * u0 * u2; p12 = ca * u1 * u2",
+        f"{ind}e01 = p01 - sa * u2; e10 = p01 + sa * u2; e02 = p02 + sa * u1; e20 = p02 - sa * u1; "
+        f"e12 = p12 - sa * u0; e21 = p12 + sa * u0",
+    ]
     for row in range(3):
         a, b, c = f"r{row}0", f"r{row}1", f"r{row}2"
-        out.append(f"{ind}{a}, {b}, {c} = {a} * e00 + {b} * e10 + {c} * e20, {a} * e01 + {b} * e11 + {c} * e21, "
-                   f"{a} * e02 + {b} * e12 + {c} * e22")
+        out.append(
+            f"{ind}{a}, {b}, {c} = {a} * e00 + {b} * e10 + {c} * e20, {a} * e01 + {b} * e11 + {c} * e21, "
+            f"{a} * e02 + {b} * e12 + {c} * e22"
+        )
     return out + _src_rotation(ax, coef_ax, ind)
 
 
-def _compile_splitting(method: "_Splitting"):
+def _compile_splitting(method: _Splitting):
     """Python source and constants of ``run(state, dt, n)`` for one body, or None if not compilable."""
     for t in method.torques:
         if not isinstance(t, (GravityTorque, SpinFriction)):
@@ -963,7 +1031,6 @@ def _compile_splitting(method: "_Splitting"):
         return lines
 
     body: list[str] = []
-    n_ops = len(prog)
     if fusable:
         # first op alone once, then the middle ops and the fused (last + first) n − 1 times, then the rest
         head = op_source("h", prog[0][0], prog[0][1], "    ")
@@ -988,7 +1055,7 @@ def _compile_splitting(method: "_Splitting"):
         if sp[0] not in seen:
             seen.add(sp[0])
             specs.append(sp)
-    src = [f"def run(state, n):", f"    {_STATE} = state"] + body + [f"    return ({_STATE})"]
+    src = ["def run(state, n):", f"    {_STATE} = state"] + body + [f"    return ({_STATE})"]
     return "\n".join(src), specs
 
 

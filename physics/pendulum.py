@@ -8,7 +8,7 @@ pivot-to-centre-of-mass vector perpendicular to the axis ``n̂``:
   ``ℓ = k² / |a⊥|``, with ``ℓ > k > |a⊥|`` unless all the mass lies on one line parallel to the axis
   (a point mass, a rod along the axis direction: ``I_cm,nn = 0`` and ``ℓ = k = |a⊥|``);
 * a sharp blow at the centre of percussion, a distance ``ℓ`` from the axis, needs no impulse from the
-  pivot (DESIGN.md erratum 2: the transcription lost the "no").
+  pivot (docs/conventions.md erratum 2: the transcription lost the "no").
 
 Gravity is ``−g ẑ``. Only its component in the plane perpendicular to the axis swings the body:
 ``g⊥ = g |n̂ × ẑ|`` (``g⊥ = g`` for a horizontal axis). For a vertical axis (a door on its hinges)
@@ -53,8 +53,8 @@ from scipy.special import ellipkm1, elliprf
 
 from physics import G
 from physics.inertia import MassProperties
-from physics.validation import finite_array
 from physics.rotations import frame_from_axis, rotation_about
+from physics.validation import finite_array
 
 __all__ = ["PhysicalPendulum", "Swing", "Strike", "LIBRATION", "ROTATION", "SEPARATRIX", "UNIFORM"]
 
@@ -136,7 +136,9 @@ def _amplitude(u: NDArray[np.float64], m: NDArray[np.float64], m1: NDArray[np.fl
     return phi
 
 
-def _incomplete_f(sin_phi: NDArray[np.float64], cos_phi: NDArray[np.float64], m1: NDArray[np.float64]) -> NDArray[np.float64]:
+def _incomplete_f(
+    sin_phi: NDArray[np.float64], cos_phi: NDArray[np.float64], m1: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """``F(φ | m)`` for ``|φ| <= π/2`` as ``sin φ R_F(cos²φ, cos²φ + m1 sin²φ, 1)`` (Carlson)."""
     c2 = cos_phi * cos_phi
     return sin_phi * elliprf(c2, c2 + m1 * sin_phi * sin_phi, 1.0)
@@ -499,7 +501,7 @@ class PhysicalPendulum:
 
     def center_of_percussion(self, theta: float | None = None) -> NDArray[np.float64]:
         """The point ``pivot + ℓ a⊥/|a⊥|``, m, shape (3,): struck there perpendicular to the plane of
-        ``(n̂, a⊥)``, the body needs no impulse from the pivot (DESIGN.md erratum 2).
+        ``(n̂, a⊥)``, the body needs no impulse from the pivot (docs/conventions.md erratum 2).
 
         Any point on the line through it parallel to the axis does the same for the reaction
         *force*; a general body on a hinge may still need a reaction couple

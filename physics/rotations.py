@@ -1,6 +1,6 @@
 """Rotations: the hat map, the SO(3) exponential, and thin helpers over scipy.
 
-Conventions (DESIGN.md): an attitude ``R`` maps body to space, ``x_space = R @ x_body``,
+Conventions (docs/conventions.md): an attitude ``R`` maps body to space, ``x_space = R @ x_body``,
 and ``Ṙ = R hat(ω_body)``. Quaternions follow :class:`scipy.spatial.transform.Rotation`
 (``x, y, z, w``, scalar last).
 """

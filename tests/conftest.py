@@ -32,14 +32,14 @@ def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Co
 
 
 # --------------------------------------------------------------------------------------------------
-# App fixtures (issue 4; helpers in tests/browser.py). Module-scoped: one Chromium per test module.
+# App fixtures (issue 4; helpers in tests/harness.py). Module-scoped: one Chromium per test module.
 # --------------------------------------------------------------------------------------------------
 
 
 @pytest.fixture(scope="module")
 def chromium():
     """A headless Debian Chromium (Playwright sync API); skipped when missing unless RBL_REQUIRE_BROWSER=1."""
-    from browser import launch_chromium
+    from tests.harness import launch_chromium
 
     with launch_chromium() as browser:
         yield browser
@@ -48,7 +48,7 @@ def chromium():
 @pytest.fixture(scope="module")
 def live_app():
     """The app with its real-time loop on a free port (first scene: the heavy top)."""
-    from browser import running_app
+    from tests.harness import running_app
 
     with running_app("heavy_top") as app:
         yield app
@@ -57,7 +57,7 @@ def live_app():
 @pytest.fixture(scope="module")
 def app():
     """The app on a free port without its loop thread: tests drive frames with ``App.frame(dt)``."""
-    from browser import running_app
+    from tests.harness import running_app
 
     with running_app(start_loop=False) as a:
         yield a

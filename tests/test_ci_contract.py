@@ -21,7 +21,11 @@ def _run(tmp_path: Path, body: str, strict: bool) -> int:
         env["RBL_NO_SKIP"] = "1"
     result = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tmp_path)],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120,
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     return result.returncode
 

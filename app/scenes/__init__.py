@@ -68,7 +68,7 @@ Colours. Use the quantity keys of ``app.draw.COLOURS`` (L amber, ω red, τ viol
 cone green, space cone pink, principal axes black, ...) and list them in ``quantities`` for the legend;
 add a new key to COLOURS/LABELS rather than a one-off colour.
 
-Tests. ``tests/browser.py`` has ``running_app``, ``open_page``, ``nudge_slider``, ``wait_for``,
+Tests. ``tests/harness.py`` has ``running_app``, ``open_page``, ``nudge_slider``, ``wait_for``,
 ``image_stats``; ``tests/conftest.py`` has the module-scoped ``chromium`` and ``live_app`` fixtures.
 
 Callbacks. Sliders made with :mod:`app.controls` are already guarded. For any raw viser callback use
@@ -87,7 +87,8 @@ from __future__ import annotations
 import importlib
 import pkgutil
 import threading
-from typing import Any, Callable, ClassVar, Protocol
+from collections.abc import Callable
+from typing import Any, ClassVar, Protocol
 
 __all__ = ["Scene", "SceneContext", "register", "REGISTRY", "load_all", "scene_names"]
 
@@ -130,7 +131,10 @@ class Scene:
     order: ClassVar[int] = 100
     quantities: ClassVar[tuple[str, ...]] = ()
     caption: ClassVar[str] = ""
-    camera: ClassVar[tuple[tuple[float, float, float], tuple[float, float, float]]] = ((3.0, -3.0, 2.0), (0.0, 0.0, 0.5))
+    camera: ClassVar[tuple[tuple[float, float, float], tuple[float, float, float]]] = (
+        (3.0, -3.0, 2.0),
+        (0.0, 0.0, 0.5),
+    )
 
     def __init__(self, ctx: SceneContext) -> None:
         self.ctx = ctx

@@ -39,8 +39,11 @@ class FreeFall(Wobble):
         tau = np.linspace(0.0, self.flight_time, 80)
         path = START + VELOCITY * tau[:, None] - 0.5 * G * tau[:, None] ** 2 * np.array([0.0, 0.0, 1.0])
         self.ctx.server.scene.add_line_segments(
-            self.ctx.root + "/path", points=np.stack([path[:-1], path[1:]], axis=1), colors=draw.COLOURS["path"],
-            thickness=1.5, thickness_units="screen",
+            self.ctx.root + "/path",
+            points=np.stack([path[:-1], path[1:]], axis=1),
+            colors=draw.COLOURS["path"],
+            thickness=1.5,
+            thickness_units="screen",
         )
         super().build()
 

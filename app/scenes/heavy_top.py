@@ -91,8 +91,15 @@ class HeavyTopScene(Scene):
                 controls.SliderSpec("I1", "I₁ about the tip (kg m²)", 0.05, 1.0, 0.01, 0.4),
                 controls.SliderSpec("I3", "I₃ about the axis (kg m²)", 0.02, 1.0, 0.01, 0.2),
                 controls.SliderSpec("mgl", "M g ℓ (J)", 0.05, 3.0, 0.05, 1.0),
-                controls.SliderSpec("friction", "spin friction c (N m s)", 0.0, 0.05, 0.001, 0.0,
-                                    hint="torque −c ω₃ about the axis at the tip; 0 = exact solution"),
+                controls.SliderSpec(
+                    "friction",
+                    "spin friction c (N m s)",
+                    0.0,
+                    0.05,
+                    0.001,
+                    0.0,
+                    hint="torque −c ω₃ about the axis at the tip; 0 = exact solution",
+                ),
             ],
             apply=self.apply,
         )
@@ -105,10 +112,14 @@ class HeavyTopScene(Scene):
                 viser.uplot.Series(label="θ (°)"),
                 viser.uplot.Series(label="U(θ)", stroke="#1478ff", width=2),
                 viser.uplot.Series(label="energy ℰ", stroke="#888888", width=1, dash=[6, 4]),
-                viser.uplot.Series(label="now (θ, U)", stroke="#dc1e3c", width=0,
-                                   points={"show": True, "size": 10, "fill": "#dc1e3c"}),
+                viser.uplot.Series(
+                    label="now (θ, U)", stroke="#dc1e3c", width=0, points={"show": True, "size": 10, "fill": "#dc1e3c"}
+                ),
             ),
-            scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0))},
+            scales={
+                "x": viser.uplot.Scale(time=False, auto=True),
+                "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
+            },
             title="Effective potential U(θ) (1/s²)",
             aspect=1.6,
         )
@@ -162,8 +173,16 @@ class HeavyTopScene(Scene):
             return self.R, self.L_body
         n = max(1, math.ceil(dt / (1.0 / 240.0)))
         run = simulate_heavy_body(
-            moments, top.mgl / (G * ELL), [0.0, 0.0, ELL], self.R, self.L_body / moments, dt, dt / n,
-            torques=[SpinFriction(self.values["friction"], moments)], method="LieRK4", save_every=n,
+            moments,
+            top.mgl / (G * ELL),
+            [0.0, 0.0, ELL],
+            self.R,
+            self.L_body / moments,
+            dt,
+            dt / n,
+            torques=[SpinFriction(self.values["friction"], moments)],
+            method="LieRK4",
+            save_every=n,
         )
         return run.attitude[-1], run.L_body[-1]
 
@@ -201,8 +220,12 @@ class HeavyTopScene(Scene):
         Lz = float(state["L"][2])
         theta = state["theta"]
         threshold = top.sleeping_threshold()
-        self.gauge.set(abs(L3), threshold, f"L₃ = {L3:.3g} kg m²/s, threshold {threshold:.3g}: "
-                       + ("stable upright (sleeping)" if abs(L3) > threshold else "too slow to sleep"))
+        self.gauge.set(
+            abs(L3),
+            threshold,
+            f"L₃ = {L3:.3g} kg m²/s, threshold {threshold:.3g}: "
+            + ("stable upright (sleeping)" if abs(L3) > threshold else "too slow to sleep"),
+        )
         now = time.monotonic()
         friction = self.values["friction"] > 0.0
         if friction:
@@ -243,5 +266,7 @@ class HeavyTopScene(Scene):
         if y_range != self._y_range:
             # New options rebuild the chart in every browser: only when the range really changes.
             self._y_range = y_range
-            self.plot.scales = {"x": viser.uplot.Scale(time=False, auto=True),
-                                "y": viser.uplot.Scale(auto=False, range=y_range)}
+            self.plot.scales = {
+                "x": viser.uplot.Scale(time=False, auto=True),
+                "y": viser.uplot.Scale(auto=False, range=y_range),
+            }

@@ -21,15 +21,25 @@ from app.upload import NotWatertightError, UploadedBody, body_from_mesh, body_fr
 from assets import ASSETS, load_mesh, mass_properties
 from physics.inertia import MassProperties, box, point_masses, rod, solid_cylinder, solid_sphere
 
-PRIMITIVES = ("Rod", "Solid sphere", "Solid cylinder", "Box (L × 2a × a)", "Point masses (4, unequal)",
-              "Point masses: dumbbell (2 × 0.5 kg)", "Point masses: square (4 × 0.25 kg)")
+PRIMITIVES = (
+    "Rod",
+    "Solid sphere",
+    "Solid cylinder",
+    "Box (L × 2a × a)",
+    "Point masses (4, unequal)",
+    "Point masses: dumbbell (2 × 0.5 kg)",
+    "Point masses: square (4 × 0.25 kg)",
+)
 ASSET_CHOICES = {ASSETS[k].label: k for k in ASSETS}
 POINT_MASSES = np.array([1.0, 2.0, 1.0, 0.5])  # kg
 POINT_POSITIONS = np.array([[0.5, 0.0, 0.0], [-0.5, 0.2, 0.0], [0.0, -0.4, 0.3], [0.1, 0.3, -0.4]])  # × L
 POINT_SETS = {  # name prefix -> (masses kg, positions × L)
     "Point masses (4": (POINT_MASSES, POINT_POSITIONS),
     "Point masses: dumbbell": (np.array([1.0, 1.0]), np.array([[0.0, 0.0, 0.5], [0.0, 0.0, -0.5]])),
-    "Point masses: square": (np.ones(4), np.array([[0.5, 0.5, 0.0], [-0.5, 0.5, 0.0], [-0.5, -0.5, 0.0], [0.5, -0.5, 0.0]])),
+    "Point masses: square": (
+        np.ones(4),
+        np.array([[0.5, 0.5, 0.0], [-0.5, 0.5, 0.0], [-0.5, -0.5, 0.0], [0.5, -0.5, 0.0]]),
+    ),
 }
 DISPLAY_SIZE = 1.2  # m: the body is drawn scaled so its largest extent is this
 ELLIPSOID_CAP = 4.0  # a zero moment (rod) would give an infinite ellipsoid axis: cap at 4× the smallest
@@ -61,7 +71,9 @@ def _point_set(masses: np.ndarray, pos: np.ndarray, length: float) -> tuple[trim
         ball.apply_translation(p)
         parts.append(ball)
         if np.linalg.norm(p - props.center_of_mass) > 0:
-            parts.append(trimesh.creation.cylinder(radius=0.008 * length, segment=[props.center_of_mass, p], sections=8))
+            parts.append(
+                trimesh.creation.cylinder(radius=0.008 * length, segment=[props.center_of_mass, p], sections=8)
+            )
     return trimesh.util.concatenate(parts), props
 
 
@@ -100,8 +112,13 @@ class InertiaExplorer(Scene):
         self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=(20, 20, 20))
         self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)
-        self.lever = server.scene.add_line_segments(root + "/lever", points=np.zeros((1, 2, 3), dtype=np.float32),
-                                                    colors=(20, 20, 20), thickness=2.0, thickness_units="screen")
+        self.lever = server.scene.add_line_segments(
+            root + "/lever",
+            points=np.zeros((1, 2, 3), dtype=np.float32),
+            colors=(20, 20, 20),
+            thickness=2.0,
+            thickness_units="screen",
+        )
 
         self.choice = gui.add_dropdown("Body", options=(*PRIMITIVES, *ASSET_CHOICES), initial_value="Box (L × 2a × a)")
         self.choice.on_update(self.ctx.guarded(lambda e: self._choice_changed(getattr(e, "client", None))))
@@ -116,9 +133,12 @@ class InertiaExplorer(Scene):
             ],
             apply=self.apply,
         )
-        self.upload = gui.add_upload_button("Upload a mesh (STL, OBJ, PLY, GLB)", icon=None,
-                                            hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)",
-                                            mime_type=".stl,.obj,.ply,.glb")
+        self.upload = gui.add_upload_button(
+            "Upload a mesh (STL, OBJ, PLY, GLB)",
+            icon=None,
+            hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)",
+            mime_type=".stl,.obj,.ply,.glb",
+        )
         # Not guarded: the file is parsed outside the simulation lock (load_upload takes it to swap the body in).
         self.upload.on_upload(self._on_upload)
         self.hull_button = gui.add_button("Use its convex hull instead", visible=False)
@@ -188,11 +208,16 @@ class InertiaExplorer(Scene):
         self.display_scale = scale
         self.moments_readout.set(", ".join(f"{m:.4g}" for m in moments))
         self.pivot_readout.set(", ".join(f"{m:.4g}" for m in pivot_moments))
-        self.tensor_md.content = tensor_markdown(tensor_pivot, "Tensor about the pivot") + "\n\n" + tensor_markdown(
-            props.tensor, "Tensor about the centre of mass")
-        self.note.content = (f"**{label}**, {props.mass:g} kg; drawn at {scale:.3g}× its size. "
-                             f"Pivot {np.linalg.norm(pivot_offset):.3g} m from the CM: M a² = "
-                             f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m².")
+        self.tensor_md.content = (
+            tensor_markdown(tensor_pivot, "Tensor about the pivot")
+            + "\n\n"
+            + tensor_markdown(props.tensor, "Tensor about the centre of mass")
+        )
+        self.note.content = (
+            f"**{label}**, {props.mass:g} kg; drawn at {scale:.3g}× its size. "
+            f"Pivot {np.linalg.norm(pivot_offset):.3g} m from the CM: M a² = "
+            f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m²."
+        )
         self._last_choice = self.choice.value
         self.ctx.request_redraw()
 
@@ -260,8 +285,9 @@ class InertiaExplorer(Scene):
     # -- hand over ---------------------------------------------------------------------------------
     def _spin_it(self, event: Any) -> None:
         # Any body: the torque-free scene also spins symmetric ones (they precess instead of flipping).
-        self.ctx.switch_to("tennis_racket", payload={"label": self.label, "mesh": self.mesh,
-                                                     "mass_properties": self.props})
+        self.ctx.switch_to(
+            "tennis_racket", payload={"label": self.label, "mesh": self.mesh, "mass_properties": self.props}
+        )
 
     def teardown(self) -> None:
         with self.ctx.lock:
@@ -273,5 +299,3 @@ class InertiaExplorer(Scene):
     def draw(self, state: dict[str, Any]) -> None:
         # A static scene: everything is placed when a parameter changes (apply).
         return None
-
-

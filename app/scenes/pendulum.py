@@ -4,7 +4,7 @@ Model: :class:`physics.pendulum.PhysicalPendulum` — exact swing at any amplitu
 functions), ``I = I_cm + M a⊥² = M k²``, effective length ``ℓ = k²/a⊥``; a blow ``J`` at a point
 changes the angular velocity by ``Δω`` and the pivot supplies the impulse ``M Δv_cm − J``, which
 vanishes when the blow lands at the centre of percussion ``ℓ`` below the pivot (lecture, the
-baseball story; DESIGN.md erratum 2: *no* impulse from the pivot is needed there).
+baseball story; docs/conventions.md erratum 2: *no* impulse from the pivot is needed there).
 """
 
 from __future__ import annotations
@@ -63,8 +63,13 @@ class Pendulum(Scene):
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.6)  # markers show through
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=(30, 30, 30))
-        self.axle = server.scene.add_line_segments(root + "/axle", points=np.zeros((1, 2, 3), dtype=np.float32),
-                                                   colors=(30, 30, 30), thickness=4.0, thickness_units="screen")
+        self.axle = server.scene.add_line_segments(
+            root + "/axle",
+            points=np.zeros((1, 2, 3), dtype=np.float32),
+            colors=(30, 30, 30),
+            thickness=4.0,
+            thickness_units="screen",
+        )
         self.cm_marker = server.scene.add_icosphere(root + "/cm", radius=0.045, color=draw.COLOURS["path"])
         self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
         self.cop_label = server.scene.add_label(root + "/cop_label", "centre of percussion")
@@ -90,8 +95,13 @@ class Pendulum(Scene):
         self.strike_button = gui.add_button("Strike!")
         self.strike_button.on_click(self.ctx.guarded(lambda _: self.strike()))
         self.cop_button = gui.add_button("Move the strike point to the centre of percussion")
-        self.cop_button.on_click(self.ctx.guarded(lambda e: self.params.offer(
-            {"strike": round(self.model.effective_length, 3)}, client=getattr(e, "client", None))))
+        self.cop_button.on_click(
+            self.ctx.guarded(
+                lambda e: self.params.offer(
+                    {"strike": round(self.model.effective_length, 3)}, client=getattr(e, "client", None)
+                )
+            )
+        )
         self.k_readout = controls.Readout(self.ctx, "radius of gyration k about the pivot (m)")
         self.a_readout = controls.Readout(self.ctx, "a⊥: pivot to CM (m)")
         self.l_readout = controls.Readout(self.ctx, "effective length ℓ = k²/a⊥ (m)")

@@ -123,31 +123,61 @@ class TennisRacket(Scene):
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         # The L-sphere in body axes: faint sphere, body axes, separatrix, polhode, current L.
-        server.scene.add_frame(root + "/lsphere_axes", axes_length=1.25 * self.sphere_radius, axes_radius=0.006,
-                               origin_radius=0.0, position=self.sphere_centre)
-        self.sphere_sphere = server.scene.add_icosphere(root + "/lsphere_shell", radius=self.sphere_radius,
-                                                        color=(150, 170, 200), opacity=0.08,
-                                                        position=self.sphere_centre, cast_shadow=False)
+        server.scene.add_frame(
+            root + "/lsphere_axes",
+            axes_length=1.25 * self.sphere_radius,
+            axes_radius=0.006,
+            origin_radius=0.0,
+            position=self.sphere_centre,
+        )
+        self.sphere_sphere = server.scene.add_icosphere(
+            root + "/lsphere_shell",
+            radius=self.sphere_radius,
+            color=(150, 170, 200),
+            opacity=0.08,
+            position=self.sphere_centre,
+            cast_shadow=False,
+        )
         self.separatrix = server.scene.add_line_segments(
-            root + "/separatrix", points=np.zeros((2, 2, 3), dtype=np.float32), colors=(110, 110, 110), thickness=1.5,
-            thickness_units="screen")
+            root + "/separatrix",
+            points=np.zeros((2, 2, 3), dtype=np.float32),
+            colors=(110, 110, 110),
+            thickness=1.5,
+            thickness_units="screen",
+        )
         self.polhode = server.scene.add_line_segments(
-            root + "/polhode", points=np.zeros((2, 2, 3), dtype=np.float32), colors=draw.COLOURS["trace"],
-            thickness=3.0, thickness_units="screen")
+            root + "/polhode",
+            points=np.zeros((2, 2, 3), dtype=np.float32),
+            colors=draw.COLOURS["trace"],
+            thickness=3.0,
+            thickness_units="screen",
+        )
         self.L_dot = server.scene.add_icosphere(root + "/L_dot", radius=0.03, color=draw.COLOURS["L"])
-        server.scene.add_label(root + "/lsphere_label", "L seen from the body",
-                               position=self.sphere_centre + [0, 0, 1.3 * self.sphere_radius])
+        server.scene.add_label(
+            root + "/lsphere_label",
+            "L seen from the body",
+            position=self.sphere_centre + [0, 0, 1.3 * self.sphere_radius],
+        )
 
         self.source = gui.add_dropdown("Body", options=tuple(BODIES), initial_value="Tennis racket (mesh)")
         self.source.on_update(self.ctx.guarded(lambda e: self._source_changed(getattr(e, "client", None))))
-        self.axis = gui.add_dropdown("Spin about principal axis", options=tuple(AXES), initial_value="2 — intermediate (flips)")
+        self.axis = gui.add_dropdown(
+            "Spin about principal axis", options=tuple(AXES), initial_value="2 — intermediate (flips)"
+        )
         self.axis.on_update(self.ctx.guarded(lambda _: self.apply(self.params.values)))
         self.params = controls.ParameterPanel(
             self.ctx,
             [
                 controls.SliderSpec("spin", "spin Ω (rad/s)", 0.5, 20.0, 0.5, 6.0),
-                controls.SliderSpec("log_eps", "push off the axis, log₁₀ ε", -8.0, -0.5, 0.5, -3.0,
-                                    hint="ε = ratio of the off-axis ω to Ω at t = 0"),
+                controls.SliderSpec(
+                    "log_eps",
+                    "push off the axis, log₁₀ ε",
+                    -8.0,
+                    -0.5,
+                    0.5,
+                    -3.0,
+                    hint="ε = ratio of the off-axis ω to Ω at t = 0",
+                ),
                 controls.SliderSpec("I1", "I₁ (kg m², slider body)", 0.1, 5.0, 0.1, 3.0),
                 controls.SliderSpec("I2", "I₂ (kg m², slider body)", 0.1, 5.0, 0.1, 2.0),
                 controls.SliderSpec("I3", "I₃ (kg m², slider body)", 0.1, 5.0, 0.1, 1.0),
@@ -240,7 +270,9 @@ class TennisRacket(Scene):
             self.period_readout.handle.label = "measured precession period (s)"
         else:
             self.stability_readout.set(f"{stab.kind} ({'flips' if stab.kind == 'unstable' else 'wobbles'})")
-            self.rate_readout.handle.label = "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
+            self.rate_readout.handle.label = (
+                "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
+            )
             self.rate_readout.set(stab.rate)
             self.period_readout.handle.label = "measured flip period (s)"
         self.first_flip_readout.set(math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else float("nan"))

@@ -21,7 +21,7 @@ from physics.rotations import frame_from_axis
 def cylinder_for_ratio(ratio: float, size: float) -> tuple[float, float]:
     """Radius and length (m) of a solid cylinder with I3/I1 = ``ratio`` whose larger dimension is ``size``.
 
-    For a cylinder ``I1 = M (a²/4 + h²/12)`` and ``I3 = M a²/2`` (ERRATA 1), so ``h² = a² (6/ratio − 3)``:
+    For a cylinder ``I1 = M (a²/4 + h²/12)`` and ``I3 = M a²/2`` (docs/conventions.md erratum 1), so ``h² = a² (6/ratio − 3)``:
     ratio 2 is a flat disc (a lamina), ratio 1 has h = a√3, small ratios are long rods.
     """
     h_over_a = math.sqrt(max(6.0 / ratio - 3.0, 0.0))
@@ -62,16 +62,28 @@ class Wobble(Scene):
         self.params = controls.ParameterPanel(
             self.ctx,
             [
-                controls.SliderSpec("ratio", "I₃/I₁ (shape)", 0.1, 2.5, 0.05, 1.6,
-                                    hint="< 1 prolate (rod-like), > 1 oblate (disc); 2 is a flat disc, above is impossible"),
+                controls.SliderSpec(
+                    "ratio",
+                    "I₃/I₁ (shape)",
+                    0.1,
+                    2.5,
+                    0.05,
+                    1.6,
+                    hint="< 1 prolate (rod-like), > 1 oblate (disc); 2 is a flat disc, above is impossible",
+                ),
                 controls.SliderSpec("spin", "|ω| (rad/s)", 0.2, 10.0, 0.1, 3.0),
                 controls.SliderSpec("tilt", "angle of ω from the axis (°)", 0.0, 89.0, 1.0, 20.0),
             ],
             apply=self.apply,
         )
         self.presets = controls.Presets(
-            self.ctx, self.params,
-            {"disc (oblate)": {"ratio": 1.9}, "sphere-like (I₃ = I₁)": {"ratio": 1.0}, "rod-like (prolate)": {"ratio": 0.3}},
+            self.ctx,
+            self.params,
+            {
+                "disc (oblate)": {"ratio": 1.9},
+                "sphere-like (I₃ = I₁)": {"ratio": 1.0},
+                "rod-like (prolate)": {"ratio": 0.3},
+            },
         )
         self.body_view = self.ctx.server.gui.add_checkbox("Body view (ride with the body)", initial_value=False)
         self.body_view.on_update(self.ctx.guarded(lambda _: self.ctx.restart()))
@@ -110,7 +122,12 @@ class Wobble(Scene):
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         omega_b, R = self.model.motion(self.omega0, [t], self.attitude0)
-        return {"R": R[0], "omega_space": R[0] @ omega_b[0], "centre": np.asarray(self.centre_at(t), dtype=float), "t": t}
+        return {
+            "R": R[0],
+            "omega_space": R[0] @ omega_b[0],
+            "centre": np.asarray(self.centre_at(t), dtype=float),
+            "t": t,
+        }
 
     def draw(self, state: dict[str, Any]) -> None:
         R, w, c = state["R"], state["omega_space"], state["centre"]

@@ -89,12 +89,12 @@ def integrated_period(omega0: float, amplitude: float) -> float:
 
     turn.direction = 1.0  # θ̇ rising through 0: the body at −A
     t_half_guess = 10.0 * 2 * np.pi / omega0
-    sol = solve_ivp(rhs, (0.0, t_half_guess), [amplitude, 0.0], method="DOP853", rtol=1e-13, atol=1e-15,
-                    events=turn)
+    sol = solve_ivp(rhs, (0.0, t_half_guess), [amplitude, 0.0], method="DOP853", rtol=1e-13, atol=1e-15, events=turn)
     return 2.0 * float(sol.t_events[0][0])
 
 
 # -- lecture quantities ------------------------------------------------------------------------
+
 
 def test_rod_pivoted_at_its_end_matches_lecture(bat):
     # Exact: I = M L²/3, a⊥ = L/2, k = L/√3, ℓ = 2L/3; 1e-15 relative is a few ulps of round-off.
@@ -343,8 +343,15 @@ def test_exact_swing_matches_dop853(bat, theta0, rate):
     # Independent check of the physics: DOP853 at rtol 1e-13 over ~3 periods is good to ~1e-11 rad.
     w = bat.omega0
     t = np.linspace(0.0, 20.0, 50) / w
-    sol = solve_ivp(lambda _t, y: [y[1], -(w**2) * np.sin(y[0])], (0, t[-1]), [theta0, rate * w],
-                    method="DOP853", rtol=1e-13, atol=1e-14, t_eval=t)
+    sol = solve_ivp(
+        lambda _t, y: [y[1], -(w**2) * np.sin(y[0])],
+        (0, t[-1]),
+        [theta0, rate * w],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-14,
+        t_eval=t,
+    )
     theta, theta_dot = bat.solve(theta0, rate * w, t)
     np.testing.assert_allclose(theta, sol.y[0], rtol=0, atol=1e-10)
     np.testing.assert_allclose(theta_dot, sol.y[1], rtol=0, atol=1e-10 * w)
@@ -432,6 +439,7 @@ def test_configuration_follows_the_angle():
 
 
 # -- percussion -------------------------------------------------------------------------------
+
 
 def test_no_pivot_reaction_at_the_centre_of_percussion(bat):
     # Erratum 2: struck at ℓ = k²/a⊥ perpendicular to (axis, a⊥) the pivot gives nothing (round-off).

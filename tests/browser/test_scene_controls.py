@@ -11,9 +11,9 @@ from __future__ import annotations
 import pytest
 import trimesh
 
-from app.scenes import REGISTRY
 import app.upload as app_upload
-from browser import image_difference, image_stats, nudge_slider, open_page, pick_scene, running_app, wait_for
+from app.scenes import REGISTRY
+from tests.harness import image_difference, image_stats, nudge_slider, open_page, pick_scene, running_app, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -36,7 +36,8 @@ def page_and_client(explorer_app, chromium):
 def upload(page, name: str, content: bytes) -> None:
     """Send a file through the scene's upload button (its hidden <input type=file>)."""
     page.locator("input[type=file]").first.set_input_files(
-        {"name": name, "mimeType": "application/octet-stream", "buffer": content})
+        {"name": name, "mimeType": "application/octet-stream", "buffer": content}
+    )
 
 
 def box_stl(extents=(0.3, 0.2, 0.1)) -> bytes:
@@ -73,8 +74,9 @@ BAD = [
 
 
 @pytest.mark.parametrize(("name", "content", "reason"), BAD, ids=[b[0] for b in BAD])
-def test_bad_upload_through_the_page_is_refused_and_the_body_stays(explorer_app, page_and_client, name, content,
-                                                                   reason, monkeypatch):
+def test_bad_upload_through_the_page_is_refused_and_the_body_stays(
+    explorer_app, page_and_client, name, content, reason, monkeypatch
+):
     monkeypatch.setattr(app_upload, "MAX_BYTES", 2 * 1024 * 1024)
     page, _ = page_and_client
     scene = explorer_app.scene
@@ -95,10 +97,14 @@ def test_convex_hull_offer_and_spin_it_from_the_page(explorer_app, page_and_clie
     page.get_by_role("button", name="Use its convex hull instead").click()
     wait_for(lambda: scene.label == "open.stl (convex hull)", what="the hull to become the body")
     page.get_by_role("button", name="Spin it (torque-free)").click()
-    wait_for(lambda: getattr(explorer_app.scene, "name", None) == "tennis_racket", what="the hand-over to the tennis racket")
+    wait_for(
+        lambda: getattr(explorer_app.scene, "name", None) == "tennis_racket", what="the hand-over to the tennis racket"
+    )
     # The new scene is current before accept() hands it the body: wait for the hand-over to land.
-    wait_for(lambda: getattr(explorer_app.scene, "description", None) == "open.stl (convex hull) (from the explorer)",
-             what="the handed-over body in the tennis racket")
+    wait_for(
+        lambda: getattr(explorer_app.scene, "description", None) == "open.stl (convex hull) (from the explorer)",
+        what="the handed-over body in the tennis racket",
+    )
     explorer_app.set_playing(True)
     first = client.get_render(*RENDER, timeout=30)
     t = explorer_app.time

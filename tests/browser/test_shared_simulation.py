@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from app.scenes import REGISTRY
-from browser import image_difference, image_stats, nudge_slider, open_page, pick_scene, slider_by_label, wait_for
+from tests.harness import image_difference, image_stats, nudge_slider, open_page, pick_scene, slider_by_label, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -67,8 +67,10 @@ def test_a_second_browser_sees_the_same_simulation(live_app, chromium, page_and_
         nudge_slider(page, "spin ω₃ (rad/s)", "ArrowRight")
         wait_for(lambda: live_app.scene.params.values["spin"] != spin, what="the slider change")
         expected = f"{live_app.scene.params.values['spin']:g}"
-        wait_for(lambda: slider_by_label(other, "spin ω₃ (rad/s)").get_attribute("aria-valuenow") == expected,
-                 what="the other browser's slider to follow")
+        wait_for(
+            lambda: slider_by_label(other, "spin ω₃ (rad/s)").get_attribute("aria-valuenow") == expected,
+            what="the other browser's slider to follow",
+        )
     finally:
         other.close()
 
@@ -81,8 +83,10 @@ def test_an_impossible_body_from_the_page_is_refused(live_app, page_and_client):
     nudge_slider(page, "I₃ about the axis (kg m²)", "End")  # I3 = 1.0 > 2 I1 = 0.8
     page.get_by_text("no rigid body has these moments").first.wait_for(timeout=30_000)
     assert live_app.scene.top is top and live_app.scene.params.values["I3"] == I3
-    wait_for(lambda: slider_by_label(page, "I₃ about the axis (kg m²)").get_attribute("aria-valuenow") == f"{I3:g}",
-             what="the slider to snap back")
+    wait_for(
+        lambda: slider_by_label(page, "I₃ about the axis (kg m²)").get_attribute("aria-valuenow") == f"{I3:g}",
+        what="the slider to snap back",
+    )
     frames = live_app.frames
     wait_for(lambda: live_app.frames > frames + 5, what="the server to go on drawing")
 
@@ -91,6 +95,6 @@ def test_switching_scenes_in_the_page(live_app, page_and_client):
     page, client = page_and_client
     for name in ("wobble", "free_fall", "heavy_top"):
         pick_scene(page, REGISTRY[name].title)
-        wait_for(lambda: live_app.scene.name == name, what=f"the server to switch to {name}")
+        wait_for(lambda name=name: live_app.scene.name == name, what=f"the server to switch to {name}")
         page.get_by_text(REGISTRY[name].caption.split("**")[1]).first.wait_for(timeout=30_000)
         assert image_stats(client.get_render(*RENDER, timeout=30)) > 5.0

@@ -8,7 +8,8 @@ import trimesh
 
 import assets
 from assets import ASSETS, asset_path, load_mesh, mass_properties
-from assets.build import BUILDERS, main as build_main
+from assets.build import BUILDERS
+from assets.build import main as build_main
 from physics.inertia import box
 
 NAMES = sorted(ASSETS)

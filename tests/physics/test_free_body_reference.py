@@ -1,8 +1,8 @@
-"""30-digit mpmath reference for the torque-free body (helper of tests/test_free_body.py; no tests here).
+"""30-digit mpmath reference for the torque-free body (helper of tests/physics/test_free_body.py; no tests here).
 
 An independent evaluation of Landau's closed form in mpmath (its own Jacobi functions, K and Π), with
 the floating-point inputs taken as exact. It was itself checked against DOP853 integrations over short
-spans (tests/test_free_body.py::test_matches_high_precision_integration_short_span).
+spans (tests/physics/test_free_body.py::test_matches_high_precision_integration_short_span).
 """
 
 from __future__ import annotations
@@ -128,7 +128,7 @@ def _symmetric_reference(moments, omega0, times, attitude0):
 
 def accuracy_table() -> str:
     """Measured accuracy per regime over ±1,000 rotation periods (2π/|ω0|), 25 times against mpmath,
-    and invariants / orthonormality at 2,001 times; printed by ``python tests/test_free_body_reference.py``."""
+    and invariants / orthonormality at 2,001 times; printed by ``python -m tests.physics.test_free_body_reference``."""
     from physics.free_body import FreeBody
     from physics.rotations import expm_so3, orthonormality_error, rotation_angle
 
@@ -151,8 +151,10 @@ def accuracy_table() -> str:
         ("sphere", [1.0, 1.0, 1.0], [0.3, -1.0, 2.5]),
     ]
     r0 = expm_so3(np.array([0.3, -0.7, 0.5]))
-    lines = ["| regime | 1 - m | ω rel. err | R err (rad) | |L| rel. drift | E rel. drift | |RᵀR − I| |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+    lines = [
+        "| regime | 1 - m | ω rel. err | R err (rad) | |L| rel. drift | E rel. drift | |RᵀR − I| |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
     for name, moments, w0 in regimes:
         fb = FreeBody(moments)
         w0 = np.asarray(w0, float)

@@ -44,10 +44,17 @@ def _free_error(method, n, t_end=5.0):
 # Step counts chosen so that the error is well inside the asymptotic range and far above round-off
 # (the sixth-order method reaches ~1e-12 at n = 400, so it gets coarser steps; the eighth-order one
 # goes 7e-7, 3e-9, 1.3e-11 at n = 40, 80, 160, still a factor 100 above round-off).
-@pytest.mark.parametrize("cls, steps", [(LiePoissonStrang, (100, 200, 400)), (Yoshida4, (100, 200, 400)),
-                                        (Suzuki4, (50, 100, 200)), (Yoshida6, (40, 80, 160)),
-                                        (Yoshida8, (40, 80, 160)),
-                                        (LieRK4, (100, 200, 400))])
+@pytest.mark.parametrize(
+    "cls, steps",
+    [
+        (LiePoissonStrang, (100, 200, 400)),
+        (Yoshida4, (100, 200, 400)),
+        (Suzuki4, (50, 100, 200)),
+        (Yoshida6, (40, 80, 160)),
+        (Yoshida8, (40, 80, 160)),
+        (LieRK4, (100, 200, 400)),
+    ],
+)
 def test_convergence_order_free_body(cls, steps):
     method = cls(MOMENTS)
     errors = np.array([_free_error(method, n) for n in steps])
@@ -66,9 +73,17 @@ def _top_setup():
     return moments, torque, sol, t_end
 
 
-@pytest.mark.parametrize("cls, steps", [(LiePoissonStrang, (200, 400, 800)), (Yoshida4, (200, 400, 800)),
-                                        (Yoshida6, (100, 200, 400)), (Yoshida8, (100, 200, 400)), (LieRK4, (200, 400, 800)),
-                                        (ExactFreeSplitting, (200, 400, 800))])
+@pytest.mark.parametrize(
+    "cls, steps",
+    [
+        (LiePoissonStrang, (200, 400, 800)),
+        (Yoshida4, (200, 400, 800)),
+        (Yoshida6, (100, 200, 400)),
+        (Yoshida8, (100, 200, 400)),
+        (LieRK4, (200, 400, 800)),
+        (ExactFreeSplitting, (200, 400, 800)),
+    ],
+)
 def test_convergence_order_heavy_top(cls, steps):
     moments, torque, sol, t_end = _top_setup()
     method = cls(moments, torque)

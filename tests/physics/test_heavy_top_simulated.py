@@ -32,8 +32,11 @@ def _error_vs_exact(name: str, ic, t_final: float, n: int) -> float:
 
 
 @pytest.mark.parametrize("name", METHODS)
-@pytest.mark.parametrize("ic", [(0.6, 0.0, 0.0, 40.0), (0.0, 2.0, 0.0, 30.0), (1.2, 0.0, 0.0, 6.0)],
-                         ids=["cusps", "through θ = 0", "through θ = π/2"])
+@pytest.mark.parametrize(
+    "ic",
+    [(0.6, 0.0, 0.0, 40.0), (0.0, 2.0, 0.0, 30.0), (1.2, 0.0, 0.0, 6.0)],
+    ids=["cusps", "through θ = 0", "through θ = π/2"],
+)
 def test_without_friction_converges_to_the_exact_solution_at_the_method_s_order(name, ic):
     T = TOP.nutation_period(*ic)
     e1 = _error_vs_exact(name, ic, 2.0 * T, 80)
@@ -110,8 +113,9 @@ def _dop853_body(moments, mass, com, R0, w0, t, g=9.81):
         tau = np.cross(com, -mass * g * R[2, :])
         return np.concatenate([(R @ hat(w)).ravel(), np.cross(L, w) + tau])
 
-    sol = solve_ivp(rhs, (0, t[-1]), np.concatenate([np.ravel(R0), I * w0]), method="DOP853", rtol=1e-12,
-                    atol=1e-14, t_eval=t)
+    sol = solve_ivp(
+        rhs, (0, t[-1]), np.concatenate([np.ravel(R0), I * w0]), method="DOP853", rtol=1e-12, atol=1e-14, t_eval=t
+    )
     return sol.y[:9].T.reshape(-1, 3, 3), sol.y[9:].T
 
 
@@ -142,8 +146,16 @@ def test_symmetric_body_through_the_general_function_is_the_top():
     ic = (0.6, 0.0, 0.0, 40.0)
     run = TOP.simulate(*ic, 0.2, 1e-3)
     from physics.heavy_top import euler_attitude, omega_body_from_euler
-    gen = simulate_heavy_body((TOP.I1, TOP.I1, TOP.I3), TOP.mgl / 9.81 / 0.25, (0, 0, 0.25),
-                              euler_attitude(0, 0.6, 0), omega_body_from_euler(0.6, 0, 0, 0, 40.0), 0.2, 1e-3)
+
+    gen = simulate_heavy_body(
+        (TOP.I1, TOP.I1, TOP.I3),
+        TOP.mgl / 9.81 / 0.25,
+        (0, 0, 0.25),
+        euler_attitude(0, 0.6, 0),
+        omega_body_from_euler(0.6, 0, 0, 0, 40.0),
+        0.2,
+        1e-3,
+    )
     # Same M g ℓ, different split into M and ℓ: the same motion up to rounding.
     assert np.max(np.abs(run.attitude - gen.attitude)) < 1e-12
 
@@ -162,11 +174,14 @@ def test_air_drag_torque_and_bad_input():
         TOP.simulate(0.5, 0.0, 0.0, 30.0, 1.0, 0.0)
 
 
-if __name__ == "__main__":  # the order table of the closing note: python tests/test_heavy_top_friction.py
+if __name__ == "__main__":  # the order table of the closing note: python -m tests.physics.test_heavy_top_simulated
     print("| method | order | case | error (T/80) | error (T/160) | observed order |")
     print("| --- | --- | --- | --- | --- | --- |")
-    for ic, label in [((0.6, 0.0, 0.0, 40.0), "cusps"), ((0.0, 2.0, 0.0, 30.0), "through θ = 0"),
-                      ((1.2, 0.0, 0.0, 6.0), "through θ = π/2")]:
+    for ic, label in [
+        ((0.6, 0.0, 0.0, 40.0), "cusps"),
+        ((0.0, 2.0, 0.0, 30.0), "through θ = 0"),
+        ((1.2, 0.0, 0.0, 6.0), "through θ = π/2"),
+    ]:
         T = TOP.nutation_period(*ic)
         for name in METHODS:
             e1, e2 = (_error_vs_exact(name, ic, 2.0 * T, n) for n in (80, 160))

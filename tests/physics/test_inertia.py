@@ -28,6 +28,7 @@ EXACT = 1e-14
 
 # -- the lecture's three examples ---------------------------------------------------------------
 
+
 def test_wire_is_ml2_over_12_with_zero_axial_moment():
     body = rod(mass=3.0, length=2.0)
     np.testing.assert_allclose(body.tensor, np.diag([1.0, 1.0, 0.0]), rtol=0, atol=EXACT)
@@ -59,6 +60,7 @@ def test_box_closed_form():
 
 
 # -- parallel-axis theorem -----------------------------------------------------------------------
+
 
 def test_parallel_axis_rod_about_its_end_is_ml2_over_3():
     body = rod(mass=3.0, length=2.0)
@@ -97,6 +99,7 @@ def test_combining_two_spheres_matches_point_mass_limit():
 
 
 # -- trimesh primitives against closed forms ------------------------------------------------------
+
 
 def test_mesh_box_is_exact():
     # A box is exactly representable by triangles: the only error is round-off.
@@ -180,6 +183,7 @@ def test_principal_axes_of_a_symmetric_body_are_well_defined():
 
 
 # -- bad input -----------------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize(
     "call, message",

@@ -143,8 +143,9 @@ def dop853(top: HeavyTop, R0, L0, t, rtol=1e-13):
         w = R @ (inv * (R.T @ L))
         return np.concatenate([(hat(w) @ R).ravel(), -top.mgl * np.cross(R[:, 2], [0.0, 0.0, 1.0])])
 
-    sol = solve_ivp(rhs, (t[0], t[-1]), np.concatenate([np.ravel(R0), L0]), method="DOP853",
-                    rtol=rtol, atol=1e-15, t_eval=t)
+    sol = solve_ivp(
+        rhs, (t[0], t[-1]), np.concatenate([np.ravel(R0), L0]), method="DOP853", rtol=rtol, atol=1e-15, t_eval=t
+    )
     assert sol.success
     return sol.y[:9].T.reshape(-1, 3, 3)
 
@@ -215,8 +216,17 @@ def test_energy_and_momenta_of_the_solution_are_constant(name):
     assert np.all(s.theta >= s.theta_min - 1e-14) and np.all(s.theta <= s.theta_max + 1e-14)
 
 
-@pytest.mark.parametrize("name", ["gentle nutation", "loops", "through the pole", "through the pole from θ0 = 0",
-                                  "near the pole (θ0 = 1e-4)", "through the bottom pole"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "gentle nutation",
+        "loops",
+        "through the pole",
+        "through the pole from θ0 = 0",
+        "near the pole (θ0 = 1e-4)",
+        "through the bottom pole",
+    ],
+)
 def test_attitude_satisfies_kinematics(name):
     """dR/dt = R hat(ω_body), by a 6th-order central difference of the attitude."""
     ic = CASES[name]
@@ -243,9 +253,13 @@ def _rate(hi: float):
 
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(
-    I1=st.floats(0.01, 1.0), ratio=st.floats(0.05, 2.0), mgl=st.floats(0.01, 10.0),
-    theta0=st.one_of(st.just(0.0), st.just(math.pi), st.floats(1e-12, math.pi)), thetadot0=_rate(20.0),
-    phidot0=_rate(20.0), psidot0=_rate(200.0),
+    I1=st.floats(0.01, 1.0),
+    ratio=st.floats(0.05, 2.0),
+    mgl=st.floats(0.01, 10.0),
+    theta0=st.one_of(st.just(0.0), st.just(math.pi), st.floats(1e-12, math.pi)),
+    thetadot0=_rate(20.0),
+    phidot0=_rate(20.0),
+    psidot0=_rate(200.0),
 )
 def test_random_tops_match_dop853(I1, ratio, mgl, theta0, thetadot0, phidot0, psidot0):
     top = HeavyTop(I1, ratio * I1, mgl)
@@ -305,7 +319,7 @@ def test_cusps_stop_at_the_release_angle():
     assert np.all(s.phidot >= -1e-12)  # φ̇ ≥ 0, = 0 at the cusps
     at_top = np.abs(s.theta - ic[0]) < 1e-6
     assert np.max(np.abs(s.phidot[at_top])) < 1e-4
-    assert s.theta_max > ic[0]  # ERRATA 5: θ1 > θ0, the top falls first
+    assert s.theta_max > ic[0]  # docs/conventions.md erratum 5: θ1 > θ0, the top falls first
 
 
 def test_loops_reverse_the_precession_and_gentle_does_not():
@@ -467,7 +481,7 @@ def test_top_from_a_body_on_its_tip():
     M, a, ell = 2.0, 0.1, 0.4
     cyl = inertia.solid_cylinder(M, a, ell)
     top = HeavyTop.from_mass_properties(cyl, (0.0, 0.0, -ell / 2))
-    # ERRATA 1 plus the parallel-axis theorem to the tip; M g ℓ with ℓ = half the length.
+    # docs/conventions.md erratum 1 plus the parallel-axis theorem to the tip; M g ℓ with ℓ = half the length.
     assert top.I1 == pytest.approx(M * (a**2 / 4 + ell**2 / 12) + M * (ell / 2) ** 2, rel=1e-14)
     assert top.I3 == pytest.approx(M * a**2 / 2, rel=1e-14)
     assert top.mgl == pytest.approx(M * 9.81 * ell / 2, rel=1e-15)
@@ -505,24 +519,39 @@ def test_bad_input_raises():
 
 
 def accuracy_table() -> str:
-    """The measured accuracy per case (the issue's closing table): ``python tests/test_heavy_top.py``."""
-    rows = ["| case | θ vs mp | φ vs mp | ψ vs mp | axis vs mp | R vs DOP853 (0-2T, 97-99T) | ΔE/E | ΔLz, ΔL3 (kg m²/s) |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    """The measured accuracy per case (the issue's closing table): ``python -m tests.physics.test_heavy_top``."""
+    rows = [
+        "| case | θ vs mp | φ vs mp | ψ vs mp | axis vs mp | R vs DOP853 (0-2T, 97-99T) | ΔE/E | ΔLz, ΔL3 (kg m²/s) |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
     for name, ic in CASES.items():
         T = _period(ic)
         cells = ["—"] * 4
         if "steady" in name or name == "sleeping top":  # exact: θ0, φ̇0 t, ψ̇0 t
             t = (np.linspace(-10.0, 100.0, 12) + 0.37) * T
             s = TOP.solve(*ic, t)
-            cells = [f"{np.max(np.abs(x)):.1e}*" for x in (
-                s.theta - ic[0], s.phi - ic[2] * t, s.psi - ic[3] * t,
-                s.axis - symmetry_axis(ic[2] * t, np.full(t.size, ic[0])))]
+            cells = [
+                f"{np.max(np.abs(x)):.1e}*"
+                for x in (
+                    s.theta - ic[0],
+                    s.phi - ic[2] * t,
+                    s.psi - ic[3] * t,
+                    s.axis - symmetry_axis(ic[2] * t, np.full(t.size, ic[0])),
+                )
+            ]
         if name in MP_CASES:
             t = (np.linspace(-10.0, 100.0, 12) + 0.37) * T  # off the pole instants (φ jumps there)
             ref, *_ = mp_reference(TOP, ic, t, dps=50 if "1e-9" in name else 30)
             s = TOP.solve(*ic, t)
-            cells = [f"{np.max(np.abs(x)):.1e}" for x in (s.theta - ref[:, 0], s.phi - ref[:, 1], s.psi - ref[:, 2],
-                                                         s.axis - symmetry_axis(ref[:, 1], ref[:, 0]))]
+            cells = [
+                f"{np.max(np.abs(x)):.1e}"
+                for x in (
+                    s.theta - ref[:, 0],
+                    s.phi - ref[:, 1],
+                    s.psi - ref[:, 2],
+                    s.axis - symmetry_axis(ref[:, 1], ref[:, 0]),
+                )
+            ]
         tt = np.linspace(0.0, 2.0 * T, 41)
         errs = []
         for off in (0.0, 97.0 * T):
@@ -535,8 +564,10 @@ def accuracy_table() -> str:
         Lsp = _space_L(TOP, s.attitude, s.omega_body)
         dE = np.max(np.abs(E_body - s.energy)) / abs(s.energy)
         ok = np.abs(s.phidot) < 1e6  # Euler-rate L3 is ill-conditioned right at a pole (see the test)
-        rows.append(f"| {name} | " + " | ".join(cells) + f" | {errs[0]:.1e}, {errs[1]:.1e} | {dE:.1e} | "
-                    f"{np.max(np.abs(Lsp[:, 2] - s.Lz)):.1e}, {np.max(np.abs(L3[ok] - s.L3)):.1e} |")
+        rows.append(
+            f"| {name} | " + " | ".join(cells) + f" | {errs[0]:.1e}, {errs[1]:.1e} | {dE:.1e} | "
+            f"{np.max(np.abs(Lsp[:, 2] - s.Lz)):.1e}, {np.max(np.abs(L3[ok] - s.L3)):.1e} |"
+        )
     return "\n".join(rows)
 
 

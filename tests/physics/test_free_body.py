@@ -1,6 +1,6 @@
 """Tests of physics.free_body: the torque-free body in closed form.
 
-References: a 30-digit mpmath evaluation of Landau's closed form (tests/test_free_body_reference.py, its own
+References: a 30-digit mpmath evaluation of Landau's closed form (tests/physics/test_free_body_reference.py, its own
 Jacobi functions, K and Π), DOP853 integrations of Euler's equations and Ṙ = R hat(ω) over short spans,
 the lecture's symmetric solution, and exact identities (conservation, periodicity, flow composition).
 """
@@ -16,7 +16,7 @@ from scipy.integrate import solve_ivp
 
 from physics.free_body import FreeBody, jacobi_sn_cn_dn
 from physics.rotations import expm_so3, hat, orthonormality_error, rotation_angle
-from test_free_body_reference import _symmetric_reference, reference_motion
+from tests.physics.test_free_body_reference import _symmetric_reference, reference_motion
 
 SEP_MOMENTS = [1.40625, 1.15625, 1.0]  # with ω = (±1, y, 1.5): L² = 2 E I2 exactly in binary
 R_TILT = expm_so3(np.array([0.3, -0.7, 0.5]))
@@ -55,8 +55,16 @@ def _integrate(moments, w0, r0, times):
     for sign in (1.0, -1.0):
         idx = np.nonzero(times * sign > 0 if sign < 0 else times >= 0)[0]
         order = idx[np.argsort(times[idx] * sign)]
-        sol = solve_ivp(_euler_rhs, (0.0, times[order[-1]]), np.concatenate([w0, r0.ravel()]),
-                        method="DOP853", rtol=1e-13, atol=1e-15, t_eval=times[order], args=(inertia,))
+        sol = solve_ivp(
+            _euler_rhs,
+            (0.0, times[order[-1]]),
+            np.concatenate([w0, r0.ravel()]),
+            method="DOP853",
+            rtol=1e-13,
+            atol=1e-15,
+            t_eval=times[order],
+            args=(inertia,),
+        )
         out_w[order], out_r[order] = sol.y[:3].T, sol.y[3:].T.reshape(-1, 3, 3)
     return out_w, out_r
 
@@ -88,8 +96,12 @@ def test_jacobi_functions_on_the_separatrix_are_tanh_and_sech():
 
 
 def test_regimes_have_the_intended_parameter():
-    expect = {"near_separatrix_above_1e-6": 2e-6, "near_separatrix_below_1e-6": 2e-6,
-              "separatrix_1e-10": 1e-10, "separatrix_1e-14": 2e-14}
+    expect = {
+        "near_separatrix_above_1e-6": 2e-6,
+        "near_separatrix_below_1e-6": 2e-6,
+        "separatrix_1e-10": 1e-10,
+        "separatrix_1e-14": 2e-14,
+    }
     for name, (moments, w0) in {**REGIMES, **CLOSE_REGIMES}.items():
         m, mc = FreeBody(moments).elliptic_parameter(w0)
         assert m + mc == pytest.approx(1.0, abs=1e-15)
@@ -146,9 +158,15 @@ def test_accuracy_closer_to_the_separatrix(name):
     assert np.max(rotation_angle(rr, ref_r)) < 1e-10
 
 
-ALL = {**REGIMES, **CLOSE_REGIMES, "separatrix_exact": (SEP_MOMENTS, [1.0, -0.3, -1.5]),
-       "symmetric": ([2.0, 1.0, 2.0], [0.3, -1.0, 0.7]), "rod": ([0.0, 1.0, 1.0], [2.5, 0.3, -1.0]),
-       "sphere": ([1.0, 1.0, 1.0], [0.3, -1.0, 2.5]), "spin_axis_1": ([2.0, 1.5, 1.2], [0.0, -3.0, 0.0])}
+ALL = {
+    **REGIMES,
+    **CLOSE_REGIMES,
+    "separatrix_exact": (SEP_MOMENTS, [1.0, -0.3, -1.5]),
+    "symmetric": ([2.0, 1.0, 2.0], [0.3, -1.0, 0.7]),
+    "rod": ([0.0, 1.0, 1.0], [2.5, 0.3, -1.0]),
+    "sphere": ([1.0, 1.0, 1.0], [0.3, -1.0, 2.5]),
+    "spin_axis_1": ([2.0, 1.5, 1.2], [0.0, -3.0, 0.0]),
+}
 
 
 @pytest.mark.parametrize("name", list(ALL))
@@ -184,8 +202,18 @@ def test_omega_is_periodic_with_period_4K_over_lambda(name):
         assert np.max(np.abs(shifted - fb.omega(w0, t))) / np.linalg.norm(w0) < tol
 
 
-@pytest.mark.parametrize("name", ["generic_L2_below_2EI2", "flat_lamina", "near_separatrix_above_1e-6",
-                                  "separatrix_exact", "rod", "symmetric", "separatrix_1e-14"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "generic_L2_below_2EI2",
+        "flat_lamina",
+        "near_separatrix_above_1e-6",
+        "separatrix_exact",
+        "rod",
+        "symmetric",
+        "separatrix_1e-14",
+    ],
+)
 def test_finite_difference_residuals_of_euler_and_attitude_equations(name):
     moments, w0 = ALL[name]
     fb = FreeBody(moments)
@@ -304,8 +332,11 @@ def test_unstable_growth_rate_matches_the_exact_motion():
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.lists(st.floats(0.05, 10.0), min_size=3, max_size=3).filter(lambda v: len(set(v)) == 3),
-       st.integers(0, 2), st.floats(0.1, 10.0))
+@given(
+    st.lists(st.floats(0.05, 10.0), min_size=3, max_size=3).filter(lambda v: len(set(v)) == 3),
+    st.integers(0, 2),
+    st.floats(0.1, 10.0),
+)
 def test_classification_matches_the_lecture_inequalities(raw, axis, omega):
     moments = np.array(raw)
     if np.any(moments > moments.sum() - moments):
@@ -319,8 +350,11 @@ def test_classification_matches_the_lecture_inequalities(raw, axis, omega):
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.lists(st.floats(0.2, 5.0), min_size=3, max_size=3), st.lists(st.floats(-3, 3), min_size=3, max_size=3),
-       st.floats(-50, 50))
+@given(
+    st.lists(st.floats(0.2, 5.0), min_size=3, max_size=3),
+    st.lists(st.floats(-3, 3), min_size=3, max_size=3),
+    st.floats(-50, 50),
+)
 def test_flow_is_a_flow(raw, w, t):
     moments = np.array(raw)
     if np.any(moments > moments.sum() - moments):
@@ -390,15 +424,22 @@ def test_extreme_magnitudes_scale_exactly():
     fb = FreeBody([2.0, 1.5, 1.2])
     w0 = np.array([1.0, 0.2, 0.3])
     t = np.linspace(-9, 9, 7)
-    c = 2.0 ** -600
+    c = 2.0**-600
     assert np.allclose(fb.omega(c * w0, t / c) / c, fb.omega(w0, t), rtol=0, atol=1e-15)
     assert np.max(rotation_angle(fb.attitude(c * w0, t / c), fb.attitude(w0, t))) < 1e-14
     om = fb.omega([0.0, 1.0, 2e-214], t)
     assert np.all(np.isfinite(om)) and np.allclose(om, [0.0, 1.0, 0.0], rtol=0, atol=1e-200)
 
 
-@pytest.mark.parametrize("moments, w0", [([2.0, 1.0, 2.0], [0.3, -1.0, 0.7]), ([0.0, 1.0, 1.0], [2.5, 0.3, -1.0]),
-                                         ([1.0, 1.0, 1.0], [0.3, -1.0, 2.5]), ([1.0, 2.0, 2.0], [-4.0, 0.1, 0.0])])
+@pytest.mark.parametrize(
+    "moments, w0",
+    [
+        ([2.0, 1.0, 2.0], [0.3, -1.0, 0.7]),
+        ([0.0, 1.0, 1.0], [2.5, 0.3, -1.0]),
+        ([1.0, 1.0, 1.0], [0.3, -1.0, 2.5]),
+        ([1.0, 2.0, 2.0], [-4.0, 0.1, 0.0]),
+    ],
+)
 def test_symmetric_rod_and_sphere_over_a_thousand_rotation_periods(moments, w0):
     w0 = np.asarray(w0, float)
     big_t = 1000 * _rotation_period(w0)
@@ -410,14 +451,19 @@ def test_symmetric_rod_and_sphere_over_a_thousand_rotation_periods(moments, w0):
 
 
 def test_both_poles_of_the_attitude_frame_are_exercised():
-    poles = {name: bool(FreeBody(mo)._setup(np.array([w], float))["pole_c"][0])
-             for name, (mo, w) in REGIMES.items() if name.startswith("near_rod")}
+    poles = {
+        name: bool(FreeBody(mo)._setup(np.array([w], float))["pole_c"][0])
+        for name, (mo, w) in REGIMES.items()
+        if name.startswith("near_rod")
+    }
     assert poles == {"near_rod_tumbling": True, "near_rod_spinning_about_its_axis": False}
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.lists(st.floats(0.05, 5.0), min_size=3, max_size=3),
-       st.lists(st.floats(-4.0, 4.0), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 1e-3))
+@given(
+    st.lists(st.floats(0.05, 5.0), min_size=3, max_size=3),
+    st.lists(st.floats(-4.0, 4.0), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 1e-3),
+)
 def test_random_bodies_satisfy_euler_and_conserve(raw, w):
     moments = np.array(raw)
     if np.any(moments > moments.sum() - moments):
@@ -428,14 +474,16 @@ def test_random_bodies_satisfy_euler_and_conserve(raw, w):
     h = 1e-3 / np.linalg.norm(w0)
     om, rr = fb.motion(w0, np.concatenate([t, t - 2 * h, t - h, t + h, t + 2 * h]), R_TILT)
     n = len(t)
-    dw = (om[n:2 * n] - 8 * om[2 * n:3 * n] + 8 * om[3 * n:4 * n] - om[4 * n:]) / (12 * h)
-    dr = (rr[n:2 * n] - 8 * rr[2 * n:3 * n] + 8 * rr[3 * n:4 * n] - rr[4 * n:]) / (12 * h)
+    dw = (om[n : 2 * n] - 8 * om[2 * n : 3 * n] + 8 * om[3 * n : 4 * n] - om[4 * n :]) / (12 * h)
+    dr = (rr[n : 2 * n] - 8 * rr[2 * n : 3 * n] + 8 * rr[3 * n : 4 * n] - rr[4 * n :]) / (12 * h)
     scale = np.max(moments) * np.linalg.norm(w0) ** 2
     # 4th-order differences at h|ω| = 1e-3: truncation ~1e-12, rounding ~eps/(h|ω|) ≈ 1e-13 (relative)
     assert np.max(np.abs(moments * dw - np.cross(moments * om[:n], om[:n]))) < 1e-9 * scale
     assert np.max(np.abs(dr - rr[:n] @ hat(om[:n]))) < 1e-9 * np.linalg.norm(w0)
     l_space = np.einsum("nij,nj->ni", rr, moments * om)
-    assert np.max(np.linalg.norm(l_space - fb.angular_momentum(w0, R_TILT), axis=1)) < 1e-13 * np.linalg.norm(
-        moments * w0) * 10
+    assert (
+        np.max(np.linalg.norm(l_space - fb.angular_momentum(w0, R_TILT), axis=1))
+        < 1e-13 * np.linalg.norm(moments * w0) * 10
+    )
     assert np.allclose(om[2], w0, rtol=0, atol=1e-15 * np.linalg.norm(w0))
     assert np.max(orthonormality_error(rr)) < 1e-14

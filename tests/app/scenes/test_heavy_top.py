@@ -1,0 +1,127 @@
+"""The heavy-top scene headless: the exact solution drawn, U(θ) plot, sliders, presets, friction, refusals."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from physics.heavy_top import HeavyTop
+from tests.harness import FRAME, matrix, open_scene
+
+SCENES = ["heavy_top", "wobble", "free_fall"]
+
+
+# --------------------------------------------------------------------------------------------------
+# Shared pieces
+# --------------------------------------------------------------------------------------------------
+
+
+def test_heavy_top_draws_the_exact_solution(app):
+    scene = open_scene(app, "heavy_top")
+    for _ in range(45):
+        app.frame(FRAME)
+    v = scene.params.values
+    top = HeavyTop(v["I1"], v["I3"], v["mgl"])
+    theta0 = math.radians(v["theta0"])
+    sol = top.solve(theta0, 0.0, v["phidot0"], v["spin"] - v["phidot0"] * math.cos(theta0), [app.time])
+    # The handle carries float32-rounded quaternions from viser: agreement to ~1e-6.
+    np.testing.assert_allclose(matrix(scene.body.handle), sol.attitude[0], atol=2e-6)
+    np.testing.assert_allclose(scene.trace.points()[-1], sol.axis[0], atol=1e-12)
+
+
+def test_heavy_top_potential_plot_shows_U_energy_and_now(app):
+    scene = open_scene(app, "heavy_top")
+    for _ in range(20):
+        app.frame(FRAME)
+    assert scene.plot_theta > 0.0  # the plot has been drawn at least once
+    x, U, energy, now = (np.asarray(a) for a in scene.plot.data)
+    # uPlot draws nothing at all when a series holds NaN: every series must be finite.
+    assert all(np.all(np.isfinite(a)) for a in (x, U, energy, now))
+    exact = scene.exact
+    # Released at rest in θ: the energy line is U(θ0) (θ̇0 = 0), to round-off of the partial fractions.
+    U0 = scene.top.effective_potential(np.array([scene.start[0]]), exact.Lz, exact.L3)[0]
+    np.testing.assert_allclose(energy, U0, rtol=1e-9)
+    # One visible "now" point, inside the y range, on the curve U at the current θ.
+    lo, hi = scene._y_range
+    visible = np.flatnonzero((now >= lo) & (now <= hi))
+    assert visible.size == 1
+    theta = scene.plot_theta
+    assert abs(math.radians(x[visible[0]]) - theta) <= math.radians(0.5) + 1e-12  # grid spacing 0.5°
+    U_now = scene.top.effective_potential(np.array([theta]), exact.Lz, exact.L3)[0]
+    assert now[visible[0]] == pytest.approx(U_now, rel=1e-6)  # θ̇² recovered from |ω⊥|²: round-off
+
+
+def test_heavy_top_sliders_change_the_model_and_restart(app):
+    scene = open_scene(app, "heavy_top")
+    for _ in range(10):
+        app.frame(FRAME)
+    scene.params.sliders["mgl"].value = 2.0  # as a browser would (callbacks run)
+    assert scene.top.mgl == 2.0 and app.time == 0.0
+    assert scene.params.values["mgl"] == 2.0
+    scene.params.sliders["spin"].value = 25.0
+    assert scene.exact.L3 == pytest.approx(scene.top.I3 * 25.0, rel=1e-14)
+    # A faster top precesses more slowly (pseudo-regular rate M g l / L3 to leading order).
+    assert 0.0 < scene.exact.precession_rate < 2.0 / (0.2 * 25.0) * 1.2
+
+
+def test_heavy_top_presets_reach_cusps_loops_and_waves(app):
+    scene = open_scene(app, "heavy_top")
+    expected = {"cusps": 0.0, "loops": -1.0, "waves": 2.0}
+    for name in scene.presets.presets:
+        assert scene.presets.choose(name), name
+        app.frame(FRAME)
+        key = name.split()[0]
+        if key in expected:
+            v = scene.params.values
+            steady = HeavyTop(v["I1"], v["I3"], v["mgl"]).steady_precession_rates(
+                math.radians(v["theta0"]), v["I3"] * v["spin"]
+            )[0]
+            assert v["phidot0"] == pytest.approx(expected[key] * steady, abs=1e-3)
+    # Loops: φ̇ changes sign along the motion; waves: it does not; cusps: it touches 0.
+    scene.presets.choose("loops (φ̇0 = −1 × steady)")
+    v = scene.params.values
+    theta0 = math.radians(v["theta0"])
+    sol = scene.top.solve(
+        theta0,
+        0.0,
+        v["phidot0"],
+        v["spin"] - v["phidot0"] * math.cos(theta0),
+        np.linspace(0, 3 * scene.exact.nutation_period, 600),
+    )
+    assert sol.phidot.min() < 0.0 < sol.phidot.max()
+
+
+def test_heavy_top_with_friction_spins_down_and_falls(app):
+    scene = open_scene(app, "heavy_top")
+    assert scene.presets.choose("sleeping top with friction: falls")
+    L3_start = scene.L_body[2]
+    app.set_speed(10.0)
+    thetas = []
+    for _ in range(25):  # 0.1 s of wall time at 10x: 1 s of simulation per frame, 25 s in all
+        app.frame(0.1)
+        thetas.append(math.degrees(math.acos(np.clip(scene.R[2, 2], -1, 1))))
+    assert app.time == pytest.approx(25.0, rel=1e-12)
+    # Spin friction alone: L3 decays as exp(-c t / I3) (dL3/dt = -c L3/I3; gravity's torque has no axis part).
+    c, I3 = scene.params.values["friction"], scene.params.values["I3"]
+    assert scene.L_body[2] == pytest.approx(L3_start * math.exp(-c * 25.0 / I3), rel=1e-6)
+    assert thetas[0] < 5.0  # still sleeping at first
+    assert max(thetas) > 45.0  # below the threshold it wobbles and falls
+    assert "too slow to sleep" in scene.gauge.text.content
+
+
+def test_impossible_heavy_top_is_refused_and_the_last_state_stays(app):
+    scene = open_scene(app, "heavy_top")
+    for _ in range(5):
+        app.frame(FRAME)
+    top_before, t_before, refusals = scene.top, app.time, scene.params.refusals
+    pose_before = np.array(scene.body.handle.wxyz)
+    scene.params.sliders["I3"].value = 0.9  # I3 > 2 I1 = 0.8: no rigid body
+    assert scene.params.refusals == refusals + 1
+    assert scene.top is top_before and app.time == t_before
+    assert scene.params.sliders["I3"].value == 0.2  # the slider snapped back
+    title, body = app.messages[-1]
+    assert title.startswith("Refused") and "no rigid body" in body and "I3" in body
+    np.testing.assert_array_equal(scene.body.handle.wxyz, pose_before)
+    assert app.frame(FRAME)  # the server goes on

@@ -1,0 +1,77 @@
+"""The shared drawing pieces of app.draw: quaternion conversion, the trace's ring buffer, cones."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from app import draw
+from tests.harness import matrix
+
+SCENES = ["heavy_top", "wobble", "free_fall"]
+
+
+# --------------------------------------------------------------------------------------------------
+# Shared pieces
+# --------------------------------------------------------------------------------------------------
+
+
+def test_wxyz_from_matrix_and_scipy_quaternion_agree():
+    rot = Rotation.from_rotvec([0.3, -1.2, 0.7])
+    from_matrix = draw.wxyz(rot.as_matrix())
+    from_quat = draw.wxyz(rot.as_quat())
+    # Same rotation up to the quaternion sign; both unit norm (round-off only).
+    assert min(np.abs(from_matrix - from_quat).max(), np.abs(from_matrix + from_quat).max()) < 1e-12
+    np.testing.assert_allclose(draw.wxyz(np.eye(3)), [1.0, 0.0, 0.0, 0.0], atol=1e-15)
+    x, y, z, w = rot.as_quat()
+    np.testing.assert_allclose(draw.wxyz(rot.as_quat()), [w, x, y, z], atol=1e-15)
+    # The fast single-matrix path (Shepperd) against scipy on many rotations, including half turns
+    # (trace -1: the branch that divides by the largest diagonal term).
+    mats = np.concatenate(
+        [Rotation.random(500, random_state=3).as_matrix(), Rotation.from_rotvec(np.pi * np.eye(3)).as_matrix()]
+    )
+    for m in mats:
+        a, b = draw.wxyz(m), draw.wxyz(m[None])[0]
+        assert min(np.abs(a - b).max(), np.abs(a + b).max()) < 1e-14
+    batch = draw.wxyz(np.stack([np.eye(3), rot.as_matrix()]))
+    assert batch.shape == (2, 4)
+    with pytest.raises(ValueError, match="rotation matrix"):
+        draw.wxyz(np.zeros(5))
+
+
+def test_trace_is_a_bounded_ring_buffer_in_time_order(app):
+    trace = draw.Trace(app.server, "/test_trace", capacity=10)
+    for i in range(25):
+        trace.append([float(i), 0.0, 0.0])
+    pts = trace.points()
+    assert pts.shape == (10, 3)
+    np.testing.assert_array_equal(pts[:, 0], np.arange(15, 25))
+    # The drawn segments join consecutive points, oldest first.
+    segs = np.asarray(trace.handle.points)
+    np.testing.assert_array_equal(segs[:, 0, 0], np.arange(15, 24))
+    np.testing.assert_array_equal(segs[:, 1, 0], np.arange(16, 25))
+    trace.resize(4)
+    assert trace.points().shape == (0, 3)
+    with pytest.raises(ValueError, match="at least 2"):
+        trace.resize(1)
+    trace.handle.remove()
+
+
+def test_cone_points_along_its_axis_with_its_half_angle(app):
+    cone = draw.Cone(app.server, "/test_cone", "body_cone")
+    axis = np.array([0.3, -0.5, -0.8])
+    cone.set(axis, math.radians(25.0), 2.0, apex=(1.0, 2.0, 3.0))
+    R = matrix(cone.handle)
+    # viser stores float32: agreement to ~1e-7.
+    np.testing.assert_allclose(R @ [0, 0, 1], axis / np.linalg.norm(axis), atol=1e-6)
+    r, _, h = cone.handle.scale
+    assert math.degrees(math.atan2(r, h)) == pytest.approx(25.0, abs=1e-9)
+    assert math.hypot(r, h) == pytest.approx(2.0, rel=1e-12)
+    np.testing.assert_allclose(cone.handle.position, [1.0, 2.0, 3.0])
+    cone.set(axis, 0.0, 2.0)  # degenerate: hidden
+    assert not cone.handle.visible
+    cone.handle.remove()
+    cone.rim.remove()
