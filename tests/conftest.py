@@ -9,6 +9,13 @@ from __future__ import annotations
 import os
 
 import pytest
+from hypothesis import settings
+
+# Property tests draw the same examples on every run (a fixed seed): CI is reproducible, and a failure
+# seen once is seen again. Widen the search locally with `--hypothesis-seed=N` or HYPOTHESIS_PROFILE=explore.
+settings.register_profile("fixed", derandomize=True, database=None, print_blob=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "fixed"))
 
 _skipped: list[str] = []
 
