@@ -65,7 +65,7 @@ Cost (median, 1,000 times, one initial state; the setup of the last state is cac
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -74,6 +74,12 @@ from scipy.special import ellipkm1, elliprf, elliprj
 from physics.inertia import validate_moments
 from physics.rotations import expm_so3
 from physics.validation import finite_array
+
+Floats = NDArray[np.float64]
+# A double-double number: (high part, low part), arrays or scalars.
+DD = tuple[Any, Any]
+# The descending Landen ladder: the √μ of each step and the total argument scale.
+Ladder = tuple[list[Floats], Floats]
 
 __all__ = ["FreeBody", "Stability", "PrecessionRates", "jacobi_sn_cn_dn"]
 
@@ -84,40 +90,40 @@ __all__ = ["FreeBody", "Stability", "PrecessionRates", "jacobi_sn_cn_dn"]
 _SPLIT = 134217729.0  # 2**27 + 1
 
 
-def _two_sum(a, b):
+def _two_sum(a: Any, b: Any) -> DD:
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
 
 
-def _split(a):
+def _split(a: Any) -> DD:
     c = _SPLIT * a
     hi = c - (c - a)
     return hi, a - hi
 
 
-def _two_prod(a, b):
+def _two_prod(a: Any, b: Any) -> DD:
     p = a * b
     ah, al = _split(a)
     bh, bl = _split(b)
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
-def _dd_mul(x, y):
+def _dd_mul(x: DD, y: DD) -> DD:
     p, e = _two_prod(x[0], y[0])
     e = e + (x[0] * y[1] + x[1] * y[0])
     s = p + e
     return s, e - (s - p)
 
 
-def _dd_add(x, y):
+def _dd_add(x: DD, y: DD) -> DD:
     s, e = _two_sum(x[0], y[0])
     e = e + (x[1] + y[1])
     t = s + e
     return t, e - (t - s)
 
 
-def _dd_term(moment, diff, w):
+def _dd_term(moment: Any, diff: DD, w: Any) -> DD:
     """``moment · diff · w²`` in double-double; ``diff`` is a double-double."""
     return _dd_mul(_dd_mul((moment, 0.0 * moment), diff), _two_prod(w, w))
 
@@ -125,14 +131,14 @@ def _dd_term(moment, diff, w):
 # ---------------------------------------------------------------------------------------------------
 # Jacobi elliptic functions from m and its complement mc = 1 − m (both accurate).
 # ---------------------------------------------------------------------------------------------------
-def _landen_ladder(m: NDArray, mc: NDArray) -> tuple[list[NDArray], NDArray]:
+def _landen_ladder(m: Floats, mc: Floats) -> Ladder:
     """Descending Landen ladder: the ``√μ`` of each step and the total argument scale.
 
     Each step maps ``(m, mc)`` to ``μ = ((1 − √mc)/(1 + √mc))²`` (A&S 16.12) computed as
     ``√μ = m / (1 + √mc)²`` and ``1 − μ = 4 √mc / (1 + √mc)²``, without cancellation; it stops when every
     ``μ`` is below 1e-17, where ``sn = sin`` to double precision.
     """
-    roots = []
+    roots: list[Floats] = []
     scale = np.ones_like(m)
     while np.any(m > 1e-17) and len(roots) < 40:
         r = np.sqrt(mc)
@@ -144,7 +150,7 @@ def _landen_ladder(m: NDArray, mc: NDArray) -> tuple[list[NDArray], NDArray]:
     return roots, scale
 
 
-def _sn_cn_dn_small(w: NDArray, m: NDArray, mc: NDArray, ladder) -> tuple[NDArray, NDArray, NDArray]:
+def _sn_cn_dn_small(w: Floats, m: Floats, mc: Floats, ladder: Ladder) -> tuple[Floats, Floats, Floats]:
     """``sn, cn, dn`` for ``0 ≤ w ≤ K/2`` by the ascending pass of the Landen ladder."""
     roots, scale = ladder
     v = w / scale
@@ -159,7 +165,9 @@ def _sn_cn_dn_small(w: NDArray, m: NDArray, mc: NDArray, ladder) -> tuple[NDArra
     return s, c, d
 
 
-def _reduced_jacobi(u, m, mc, kk, ladder):
+def _reduced_jacobi(
+    u: Floats, m: Floats, mc: Floats, kk: Any, ladder: Ladder
+) -> tuple[Floats, Floats, Floats, Floats, Floats]:
     """Jacobi functions of ``u`` reduced to ``v = u − 2 K j`` in ``[−K, K]``.
 
     Returns ``(j, v, sn(v), cn(v), dn(v))``; ``sn(u) = (−1)^j sn(v)``, ``cn(u) = (−1)^j cn(v)``,
@@ -184,7 +192,7 @@ def _reduced_jacobi(u, m, mc, kk, ladder):
     return j, v, s, c, d
 
 
-def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[NDArray, NDArray, NDArray]:
+def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[Floats, Floats, Floats]:
     """Jacobi elliptic functions ``sn, cn, dn (u | m)`` accurate up to and on ``m = 1``.
 
     Parameters
@@ -201,13 +209,13 @@ def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[ND
     -------
     sn, cn, dn : ndarray, shape (n,)
     """
-    u = np.asarray(u, dtype=float)
-    m = np.asarray(float(m))
-    mc = np.asarray(1.0 - float(m) if mc is None else float(mc))
-    if not (0.0 <= m <= 1.0 and 0.0 <= mc <= 1.0):
-        raise ValueError(f"the elliptic parameter must lie in [0, 1], got m = {float(m)}, 1 - m = {float(mc)}")
-    kk = ellipkm1(mc) if mc > 0 else np.inf
-    j, _, s, c, d = _reduced_jacobi(u, m, mc, kk, _landen_ladder(m, mc))
+    uu = np.asarray(u, dtype=float)
+    mm = np.asarray(float(m))
+    mmc = np.asarray(1.0 - float(m) if mc is None else float(mc))
+    if not (0.0 <= mm <= 1.0 and 0.0 <= mmc <= 1.0):
+        raise ValueError(f"the elliptic parameter must lie in [0, 1], got m = {float(mm)}, 1 - m = {float(mmc)}")
+    kk = ellipkm1(mmc) if mmc > 0 else np.inf
+    j, _, s, c, d = _reduced_jacobi(uu, mm, mmc, kk, _landen_ladder(mm, mmc))
     sign = 1.0 - 2.0 * np.mod(j, 2.0)
     return sign * s, sign * c, d
 
@@ -285,7 +293,7 @@ class FreeBody:
 
     def __init__(self, moments: ArrayLike) -> None:
         self.moments = validate_moments(moments)
-        self._cache: tuple[bytes, dict] | None = None
+        self._cache: tuple[bytes, dict[str, Any]] | None = None
         inertia = self.moments
         order = np.argsort(-inertia, kind="stable")
         perm = np.eye(3)[order]
@@ -391,14 +399,14 @@ class FreeBody:
         return np.inf
 
     # --- setup per initial state (vectorised over states) -------------------------------------------
-    def _setup(self, w: NDArray[np.float64]) -> dict:
+    def _setup(self, w: NDArray[np.float64]) -> dict[str, Any]:
         """Constants of the motion for each initial ω (k, 3).
 
         ``kind``: 0 uniform rotation (ω along one principal axis, or a sphere), 1 symmetric body
         (trigonometric solution), 2 elliptic.
         """
         k = w.shape[0]
-        p: dict = {"kind": np.zeros(k, dtype=int)}
+        p: dict[str, Any] = {"kind": np.zeros(k, dtype=int)}
         if self._kind in ("spherical", "symmetric"):
             s = self._sym_axis
             i_s = self.moments[s]
@@ -609,7 +617,9 @@ class FreeBody:
         om, rr = self._evaluate(w, step, r, np.arange(k), want_attitude=True)
         return rr, om * self.moments
 
-    def _evaluate(self, w, t, r0, which, want_attitude):
+    def _evaluate(
+        self, w: Floats, t: Floats, r0: Floats | None, which: NDArray[np.intp], want_attitude: bool
+    ) -> tuple[Floats, Floats]:
         """Evaluate the motion of initial states ``w`` (k, 3), ``r0`` (k, 3, 3) at times ``t`` (n,);
         ``which`` (n,) says which state each time belongs to."""
         if w.shape[0] == 1:
@@ -625,7 +635,10 @@ class FreeBody:
             p = self._setup(w)
         n = t.shape[0]
         out_w = np.empty((n, 3))
-        out_r = np.empty((n, 3, 3)) if want_attitude else None
+        # Without attitudes, out_r stays empty and r0 is never read.
+        out_r = np.empty((n if want_attitude else 0, 3, 3))
+        if r0 is None:
+            r0 = np.broadcast_to(np.eye(3), (w.shape[0], 3, 3))
         kind = p["kind"][which]
         # Uniform rotation about a principal axis: ω constant, R = R0 exp(t hat ω).
         sel = np.nonzero(kind == 0)[0]
@@ -659,14 +672,16 @@ class FreeBody:
                 e_index, ws, rs = np.zeros(1, dtype=int), w, r0
             else:
                 e_index = (np.cumsum(p["kind"] == 2) - 1)[which[sel]]
-                ws, rs = w[which[sel]], (r0[which[sel]] if want_attitude else None)
+                ws, rs = w[which[sel]], r0[which[sel]]
             wt, rt = self._elliptic(p, e_index, t[sel], rs if want_attitude else None, ws)
             out_w[sel] = wt
-            if want_attitude:
+            if rt is not None:
                 out_r[sel] = rt
         return out_w, out_r
 
-    def _elliptic(self, p, e, t, r0, w0):
+    def _elliptic(
+        self, p: dict[str, Any], e: NDArray[np.intp], t: Floats, r0: Floats | None, w0: Floats
+    ) -> tuple[Floats, Floats | None]:
         """The general motion for elliptic states ``e`` (indices into the setup arrays) at times t."""
         lam, u0 = p["lam"][e], p["u0"][e]
         u = lam * t + u0
@@ -764,7 +779,9 @@ class FreeBody:
         return PrecessionRates(float(w[s] * (i_perp - self.moments[s]) / i_perp), float(big_l / i_perp), s)
 
 
-def _third_kind_excess(p, e, u, reduced=None):
+def _third_kind_excess(
+    p: dict[str, Any], e: NDArray[np.intp], u: Floats, reduced: tuple[Floats, ...] | None = None
+) -> Floats:
     """``Q(u) = ∫₀ᵘ sn²/(1 − n sn²) du = (Π(n; am u|m) − u)/n`` for elliptic states ``e`` at phases u.
 
     Carlson: ``Q = (1/3) sn³ R_J(cn², dn², 1, 1 − n sn²)`` for ``|u| ≤ K`` (no division by n), and
@@ -785,10 +802,10 @@ def _third_kind_excess(p, e, u, reduced=None):
         small = np.abs(x) < 1e-8
         atan_over = np.where(small, th * (1.0 - x * x / 3.0), np.arctan(x) / np.where(small, 1.0, rn))
         out = np.where(sep, (u - atan_over) / (1.0 - n), out)
-    return out
+    return np.asarray(out, dtype=float)
 
 
-def _frame_from_momentum(wc, ia, ib, ic, pole_c):
+def _frame_from_momentum(wc: Floats, ia: Floats, ib: Floats, ic: Floats, pole_c: NDArray[np.bool_]) -> Floats:
     """Frame B (columns, canonical body coordinates (a, b, c)) with third column L̂ = I ω / |I ω| and
     first column ``e_p × L̂`` normalised, the pole ``p`` being ``c`` where ``pole_c`` else ``a``;
     shape (k, 3, 3)."""

@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -51,6 +52,11 @@ from scipy.special import ellipj, ellipkm1, elliprf, elliprj
 
 from physics import G
 from physics.validation import finite_array, finite_scalar
+
+if TYPE_CHECKING:
+    from physics.inertia import MassProperties
+
+Floats = NDArray[np.float64]
 
 MAX_RATE = 1e100
 """Largest angular rate accepted, rad/s: far beyond any body, well inside the float range of its square."""
@@ -97,7 +103,7 @@ def euler_attitude(phi: ArrayLike, theta: ArrayLike, psi: ArrayLike) -> NDArray[
     return _attitude_from_trig(cf, sf, ct, st, cp, sp)
 
 
-def _attitude_from_trig(cf, sf, ct, st, cp, sp) -> NDArray[np.float64]:
+def _attitude_from_trig(cf: Floats, sf: Floats, ct: Floats, st: Floats, cp: Floats, sp: Floats) -> Floats:
     r = np.empty(np.shape(cf) + (3, 3))
     r[..., 0, 0] = cf * cp - sf * ct * sp
     r[..., 0, 1] = -cf * sp - sf * ct * cp
@@ -305,7 +311,9 @@ class _PoleTerm:
     one_n: float
     pic: float
 
-    def integral(self, tau, K: float, m: float, one_m: float, jac=None):
+    def integral(
+        self, tau: ArrayLike, K: float, m: float, one_m: float, jac: tuple[Floats, ...] | None = None
+    ) -> Floats:
         x = np.asarray(tau, dtype=float) - self.shift
         if self.jump:
             return self.jump * math.pi * np.floor((x + K) / (2.0 * K))
@@ -342,7 +350,7 @@ class _Motion:
     one_m: float = 1.0
     c: float = 0.0
     spin_rate: float = 0.0  # L3/I3 − L3/I1: the constant part of ψ̇
-    terms: list = field(default_factory=list)  # two _PoleTerm
+    terms: list[_PoleTerm] = field(default_factory=list)  # two of them
     period: float = math.inf
     precession_rate: float = 0.0
 
@@ -402,7 +410,9 @@ class HeavyTop:
         return f"HeavyTop(I1={self.I1!r}, I3={self.I3!r}, mgl={self.mgl!r})"
 
     @classmethod
-    def from_mass_properties(cls, body, tip: ArrayLike, *, g: float = G, rtol: float = 1e-9) -> HeavyTop:
+    def from_mass_properties(
+        cls, body: MassProperties, tip: ArrayLike, *, g: float = G, rtol: float = 1e-9
+    ) -> HeavyTop:
         """The top made of ``body`` (a :class:`physics.inertia.MassProperties`) spinning on ``tip``.
 
         The symmetry axis is the line from the tip to the centre of mass; the inertia tensor about the tip
@@ -485,9 +495,10 @@ class HeavyTop:
         phidot = np.asarray(phidot, dtype=float)
         w3 = np.asarray(psidot, dtype=float) + phidot * np.cos(theta)
         td = np.asarray(thetadot, dtype=float)
-        return (
+        energy: Floats = (
             0.5 * self.I1 * (td**2 + np.sin(theta) ** 2 * phidot**2) + 0.5 * self.I3 * w3**2 + self.mgl * np.cos(theta)
         )
+        return energy
 
     @staticmethod
     def _potential_arguments(theta: ArrayLike, Lz: float, L3: float) -> tuple[NDArray[np.float64], float, float]:
@@ -577,7 +588,15 @@ class HeavyTop:
         return (slow, fast) if abs(slow) <= abs(fast) else (fast, slow)
 
     # ------------------------------------------------------------------ the exact motion
-    def _motion(self, theta0, thetadot0, phidot0, psidot0, phi0=0.0, psi0=0.0) -> _Motion:
+    def _motion(
+        self,
+        theta0: float,
+        thetadot0: float,
+        phidot0: float,
+        psidot0: float,
+        phi0: float = 0.0,
+        psi0: float = 0.0,
+    ) -> _Motion:
         th0 = finite_scalar(theta0, "theta0")
         thd0 = finite_scalar(thetadot0, "thetadot0")
         phd0 = finite_scalar(phidot0, "phidot0")
@@ -609,7 +628,9 @@ class HeavyTop:
         Lz = I1 * s0 * s0 * phd0 + L3 * u0
         K0 = 0.5 * thd0 * thd0 + 0.5 * s0 * s0 * phd0 * phd0  # ℰ − a u0
         energy = I1 * K0 + L3 * L3 / (2.0 * I3) + self.mgl * u0
-        base = dict(theta0=th0, phi0=phi0, psi0=psi0, phidot0=phd0, psidot0=psd0, L3=L3, Lz=Lz, energy=energy)
+        base: dict[str, Any] = dict(
+            theta0=th0, phi0=phi0, psi0=psi0, phidot0=phd0, psidot0=psd0, L3=L3, Lz=Lz, energy=energy
+        )
         if at_pole and thd0 == 0.0:
             # Sleeping (or hanging) top exactly vertical: an equilibrium of θ, stable or not.
             mo = _Motion(kind="vertical", **base)
@@ -659,7 +680,7 @@ class HeavyTop:
                 anchor = ""
                 for _ in range(3):
                     offs = {"0": abs(v), "1": abs(v - w0), "-1": abs(v + z0)}
-                    best = min(offs, key=offs.get)
+                    best = min(offs, key=lambda name: offs[name])
                     if best == anchor:
                         break
                     anchor = best
@@ -793,7 +814,7 @@ class HeavyTop:
         if mo.kind == "vertical":
             return mo.theta0, mo.theta0
         cu = mo.cubic
-        if mo.kind == "steady":
+        if mo.kind == "steady" or cu is None:
             return mo.theta0, mo.theta0
         return _theta_from(cu.one_minus_u2, cu.one_plus_u2), _theta_from(cu.one_minus_u1, cu.one_plus_u1)
 
@@ -865,6 +886,7 @@ class HeavyTop:
         else:
             th, phi, psi, thd, fd, pd, ct, st = self._evaluate(mo, tt)
             cu = mo.cubic
+            assert cu is not None  # a nutating motion has its cubic
             tmin = _theta_from(cu.one_minus_u2, cu.one_plus_u2)
             tmax = _theta_from(cu.one_minus_u1, cu.one_plus_u1)
         cf, sf, cp, sp = np.cos(phi), np.sin(phi), np.cos(psi), np.sin(psi)
@@ -958,8 +980,9 @@ class HeavyTop:
             psi0,
         )
 
-    def _evaluate(self, mo: _Motion, t: NDArray[np.float64]):
+    def _evaluate(self, mo: _Motion, t: NDArray[np.float64]) -> tuple[Floats, ...]:
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
+        assert cu is not None  # only nutating motions are evaluated here
         tau = lam * t + mo.c
         k, r = _reduce(tau, K)
         sn, cn, dn = _jacobi(r, m, mo.one_m, K)
@@ -1003,7 +1026,7 @@ class HeavyTop:
 # --------------------------------------------------------------------------------------------------
 
 
-def _theta_from(one_mu, one_pu):
+def _theta_from(one_mu: ArrayLike, one_pu: ArrayLike) -> Any:
     """θ from 1 − cos θ = 2 sin²(θ/2) and 1 + cos θ = 2 cos²(θ/2): accurate at both poles."""
     return 2.0 * np.arctan2(np.sqrt(np.maximum(one_mu, 0.0)), np.sqrt(np.maximum(one_pu, 0.0)))
 
@@ -1018,7 +1041,7 @@ def _complete_third_kind(n: float, one_n: float, m: float, one_m: float, K: floa
     return float(K + n / 3.0 * elliprj(0.0, one_m, 1.0, one_n))
 
 
-def _incomplete_third_kind(r, sn, cn2, dn2, n: float, one_n: float):
+def _incomplete_third_kind(r: Floats, sn: Floats, cn2: Floats, dn2: Floats, n: float, one_n: float) -> Floats:
     """∫₀^r dτ/(1 − n sn²τ) for |r| ≤ K: ``r + (n/3) sn³ R_J(cn², dn², 1, 1 − n sn²)`` (DLMF 19.25.14,
     with s R_F(c², d², 1) = F(am r) = r)."""
     p = one_n + n * cn2 if n > 0.0 else 1.0 - n * sn * sn  # 1 − n sn², both forms free of cancellation
@@ -1028,7 +1051,7 @@ def _incomplete_third_kind(r, sn, cn2, dn2, n: float, one_n: float):
     return r + term
 
 
-def _jacobi(r, m: float, one_m: float, K: float):
+def _jacobi(r: Floats, m: float, one_m: float, K: float) -> tuple[Floats, Floats, Floats]:
     """sn, cn, dn of r in [−K, K) with cn keeping its relative digits near r = ±K (the top turning
     point, where 1 − u ∝ cn² may be all that separates the axis from the pole): there
     ``sn(K − x) = cd x``, ``cn(K − x) = sqrt(1 − m) sd x``, ``dn(K − x) = sqrt(1 − m) nd x``."""
@@ -1045,7 +1068,7 @@ def _jacobi(r, m: float, one_m: float, K: float):
     return sn, cn, dn
 
 
-def _reduce(tau, K: float):
+def _reduce(tau: Floats, K: float) -> tuple[Floats, Floats]:
     """``τ = 2K k + r`` with r in [−K, K): sn² has period 2K. The half-open interval puts τ = K (the
     top turning point) at r = −K, on the side the pole-jump count already counts as passed."""
     k = np.floor((tau + K) / (2.0 * K))
@@ -1074,7 +1097,7 @@ class TransverseAirDrag:
 
     def __call__(self, R: NDArray[np.float64], L_body: NDArray[np.float64]) -> NDArray[np.float64]:
         w = np.asarray(L_body, dtype=float) / self.moments
-        out = -self.coefficient * w
+        out: Floats = -self.coefficient * w
         out[..., 2] = 0.0
         return out
 
@@ -1122,13 +1145,14 @@ class FrictionRun:
 _METHOD_NAMES = ("LiePoissonStrang", "Yoshida4", "Suzuki4", "Yoshida6", "ExactFreeSplitting", "LieRK4")
 
 
-def _method_class(method):
+def _method_class(method: str | type) -> type:
     from physics import integrators
 
     if isinstance(method, str):
         if method not in _METHOD_NAMES:
             raise ValueError(f"unknown method {method!r}; choose one of {', '.join(_METHOD_NAMES)}")
-        return getattr(integrators, method)
+        cls: type = getattr(integrators, method)
+        return cls
     return method
 
 
@@ -1141,7 +1165,7 @@ def simulate_heavy_body(
     t_final: float,
     dt: float,
     *,
-    torques: Sequence[Callable] = (),
+    torques: Sequence[Callable[..., Any]] = (),
     method: str | type = "LieRK4",
     g: float = G,
     save_every: int = 1,
@@ -1234,18 +1258,18 @@ def simulate_heavy_body(
 
 def _simulate_symmetric(
     top: HeavyTop,
-    theta0,
-    thetadot0,
-    phidot0,
-    psidot0,
-    t_final,
-    dt,
-    spin_friction,
-    air_drag,
-    method,
-    save_every,
-    phi0,
-    psi0,
+    theta0: float,
+    thetadot0: float,
+    phidot0: float,
+    psidot0: float,
+    t_final: float,
+    dt: float,
+    spin_friction: float,
+    air_drag: float,
+    method: str | type,
+    save_every: int,
+    phi0: float,
+    psi0: float,
 ) -> FrictionRun:
     from physics import integrators
 
@@ -1268,7 +1292,7 @@ def _simulate_symmetric(
     moments = np.array([top.I1, top.I1, top.I3])
     R0 = euler_attitude(vals[4], vals[0], vals[5])
     w0 = omega_body_from_euler(vals[0], vals[5], vals[1], vals[2], vals[3])
-    torques: list = []
+    torques: list[Any] = []
     if c > 0.0:
         torques.append(integrators.SpinFriction(c, moments, axis_body=(0.0, 0.0, 1.0)))
     if air_drag:

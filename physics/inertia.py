@@ -20,11 +20,15 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from physics.validation import finite_array
+
+if TYPE_CHECKING:  # trimesh is imported where a mesh is read, not for every import of physics
+    import trimesh
 
 __all__ = [
     "MassProperties",
@@ -121,7 +125,8 @@ def parallel_axis(mass: float, offset: ArrayLike) -> NDArray[np.float64]:
         kg m²; add it to the tensor about the centre of mass.
     """
     a = np.asarray(offset, dtype=float)
-    return mass * ((a @ a) * np.eye(3) - np.outer(a, a))
+    out: NDArray[np.float64] = mass * ((a @ a) * np.eye(3) - np.outer(a, a))
+    return out
 
 
 def _unit(vector: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -420,7 +425,7 @@ def point_masses(masses: ArrayLike, positions: ArrayLike) -> MassProperties:
     return MassProperties(total, com, tensor)
 
 
-def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: float | None = None) -> MassProperties:  # noqa: F821
+def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: float | None = None) -> MassProperties:
     """Mass properties of a closed triangle mesh of uniform density.
 
     Parameters

@@ -141,7 +141,8 @@ def _incomplete_f(
 ) -> NDArray[np.float64]:
     """``F(φ | m)`` for ``|φ| <= π/2`` as ``sin φ R_F(cos²φ, cos²φ + m1 sin²φ, 1)`` (Carlson)."""
     c2 = cos_phi * cos_phi
-    return sin_phi * elliprf(c2, c2 + m1 * sin_phi * sin_phi, 1.0)
+    out: NDArray[np.float64] = sin_phi * elliprf(c2, c2 + m1 * sin_phi * sin_phi, 1.0)
+    return out
 
 
 class PhysicalPendulum:
@@ -272,7 +273,9 @@ class PhysicalPendulum:
         return 0.5 * self.moment_of_inertia * thd**2 - self.mass * self.gravity_in_plane * self.a_perp * np.cos(th)
 
     # -- exact swing ----------------------------------------------------------------------------
-    def _energy_parameter(self, theta0: NDArray[np.float64], thetadot0: NDArray[np.float64]):
+    def _energy_parameter(
+        self, theta0: NDArray[np.float64], thetadot0: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], ...]:
         """Wrapped angle, turns, ``x = θ̇0/2ω0``, ``κ²`` and ``κ² − 1`` (computed without cancellation)."""
         turns = np.round(theta0 / (2.0 * np.pi))
         wrapped = theta0 - 2.0 * np.pi * turns  # in [-π, π]
@@ -413,7 +416,8 @@ class PhysicalPendulum:
             return np.full(amp.shape, np.inf)
         m1 = np.cos(0.5 * amp) ** 2
         m1 = np.where(amp == np.pi, 0.0, m1)  # cos(π/2) in floats is 6e-17, not 0
-        return 4.0 * ellipkm1(m1) / self.omega0
+        out: NDArray[np.float64] = 4.0 * ellipkm1(m1) / self.omega0
+        return out
 
     def motion_period(self, theta0: ArrayLike, thetadot0: ArrayLike) -> NDArray[np.float64]:
         """Time after which the state repeats, s: a full swing (libration), one turn of ``2π``

@@ -79,7 +79,8 @@ def expm_so3(v: ArrayLike) -> NDArray[np.float64]:
     c = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, (1.0 - np.cos(safe)) / (safe * safe))
     k = hat(v)
     eye = np.broadcast_to(np.eye(3), k.shape)
-    return eye + s[..., None, None] * k + c[..., None, None] * (k @ k)
+    out: NDArray[np.float64] = eye + s[..., None, None] * k + c[..., None, None] * (k @ k)
+    return out
 
 
 def rotation_about(axis: ArrayLike, angle: ArrayLike) -> NDArray[np.float64]:
@@ -116,28 +117,32 @@ def rotation_angle(r_a: ArrayLike, r_b: ArrayLike) -> NDArray[np.float64]:
     """
     d = np.asarray(r_a, dtype=float) - np.asarray(r_b, dtype=float)
     f = np.sqrt(np.einsum("...ij,...ij->...", d, d))
-    return 2.0 * np.arcsin(np.clip(f / np.sqrt(8.0), 0.0, 1.0))
+    out: NDArray[np.float64] = 2.0 * np.arcsin(np.clip(f / np.sqrt(8.0), 0.0, 1.0))
+    return out
 
 
 def orthonormality_error(r: ArrayLike) -> NDArray[np.float64]:
     """Max-abs entry of ``R.T @ R - I``: shape (..., 3, 3) -> (...)."""
     r = np.asarray(r, dtype=float)
     e = np.swapaxes(r, -1, -2) @ r - np.eye(3)
-    return np.max(np.abs(e), axis=(-1, -2))
+    out: NDArray[np.float64] = np.max(np.abs(e), axis=(-1, -2))
+    return out
 
 
 def as_quaternion(r: ArrayLike) -> NDArray[np.float64]:
     """Rotation matrices (..., 3, 3) to scipy quaternions (..., 4), ``x, y, z, w``."""
     r = np.asarray(r, dtype=float)
     q = Rotation.from_matrix(r.reshape(-1, 3, 3)).as_quat()
-    return q.reshape(r.shape[:-2] + (4,))
+    out: NDArray[np.float64] = q.reshape(r.shape[:-2] + (4,))
+    return out
 
 
 def from_quaternion(q: ArrayLike) -> NDArray[np.float64]:
     """Scipy quaternions (..., 4), ``x, y, z, w``, to rotation matrices (..., 3, 3)."""
     q = np.asarray(q, dtype=float)
     r = Rotation.from_quat(q.reshape(-1, 4)).as_matrix()
-    return r.reshape(q.shape[:-1] + (3, 3))
+    out: NDArray[np.float64] = r.reshape(q.shape[:-1] + (3, 3))
+    return out
 
 
 def frame_from_axis(axis: ArrayLike) -> NDArray[np.float64]:
