@@ -174,7 +174,9 @@ def top_mesh(length: float = 1.0, radius: float = 0.3, sections: int = 48) -> tr
     disc.apply_translation([0, 0, cone_h + 0.06 * length])
     stem = trimesh.creation.cylinder(radius=0.05 * length, height=0.33 * length, sections=16)
     stem.apply_translation([0, 0, cone_h + 0.12 * length + 0.165 * length])
-    return trimesh.util.concatenate([cone, disc, stem])
+    top = trimesh.util.concatenate([cone, disc, stem])
+    assert isinstance(top, trimesh.Trimesh)  # concatenating meshes gives a mesh
+    return top
 
 
 def cylinder_mesh(radius: float, length: float, sections: int = 40) -> trimesh.Trimesh:
@@ -332,8 +334,14 @@ class Trace:
         self._quantity = quantity
         self._thickness = thickness
         self.min_step = min_step
-        self.handle: viser.LineSegmentsHandle | None = None
+        self._handle: viser.LineSegmentsHandle | None = None
         self.resize(capacity)
+
+    @property
+    def handle(self) -> viser.LineSegmentsHandle:
+        """The line-segments node (always present once constructed)."""
+        assert self._handle is not None
+        return self._handle
 
     def resize(self, capacity: int) -> None:
         """Change the number of points kept (re-creates the handle once; the trace restarts)."""
@@ -343,9 +351,9 @@ class Trace:
         self._buf = np.zeros((self.capacity, 3))
         self._count = 0
         self._head = 0  # index of the next write
-        if self.handle is not None:
-            self.handle.remove()
-        self.handle = self._server.scene.add_line_segments(
+        if self._handle is not None:
+            self._handle.remove()
+        self._handle = self._server.scene.add_line_segments(
             self._name,
             points=np.zeros((self.capacity - 1, 2, 3), dtype=np.float32),
             colors=COLOURS[self._quantity],
@@ -459,7 +467,9 @@ class Caption:
             self.handle.content = text
 
 
-def faint_sphere(server: viser.ViserServer, name: str, radius: float, *, opacity: float = 0.08) -> viser.MeshHandle:
+def faint_sphere(
+    server: viser.ViserServer, name: str, radius: float, *, opacity: float = 0.08
+) -> viser.IcosphereHandle:
     """A faint reference sphere (the axis tip of a top moves on it), with a thin equator."""
     handle = server.scene.add_icosphere(
         name,
@@ -516,6 +526,7 @@ class InertiaEllipsoid:
 
     def set(self, moments: ArrayLike, axes: ArrayLike, largest: float, centre: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         """Moments (3,), principal axes as columns (3, 3) (right-handed), longest semi-axis (m), centre (3,)."""
-        self.handle.scale = tuple(float(s) for s in self.semi_axes(moments, largest))
+        a, b, c = (float(s) for s in self.semi_axes(moments, largest))
+        self.handle.scale = (a, b, c)
         self.handle.wxyz = wxyz(np.asarray(axes, dtype=float))
         self.handle.position = np.asarray(centre, dtype=float)

@@ -239,7 +239,7 @@ class App:
         with self.lock:
             self._speed = speed
             if self.speed_slider.value != speed:
-                self.speed_slider.value = speed
+                self.speed_slider.value = speed  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
 
     def switch_to(self, name: str, payload: Any = None) -> None:
         """For scenes: switch to another scene and hand it a payload (see Scene.accept)."""
@@ -254,9 +254,9 @@ class App:
             previous = type(self.scene) if self.scene is not None else None
             self._teardown()
             try:
-                self._build(REGISTRY[name])
+                scene = self._build(REGISTRY[name])
                 if payload is not None:
-                    self.scene.accept(payload)
+                    scene.accept(payload)
             except Exception as exc:
                 traceback.print_exc()
                 self._teardown()
@@ -265,11 +265,11 @@ class App:
                 )
                 if previous is None or previous is REGISTRY[name]:
                     raise
-                self._build(previous)
-            cls = type(self.scene)
+                scene = self._build(previous)
+            cls = type(scene)
             self._switching = True
             try:
-                self.scene_picker.value = cls.title
+                self.scene_picker.value = cls.title  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
             finally:
                 self._switching = False
             self.legend.content = draw.legend_html(cls.quantities)
@@ -284,7 +284,7 @@ class App:
             self._t = 0.0
             self._dirty = True
 
-    def _build(self, cls: type[Scene]) -> None:
+    def _build(self, cls: type[Scene]) -> Scene:
         self.server.scene.add_frame(self.root, show_axes=False)
         self._folder = self.server.gui.add_folder(cls.title)
         scene = cls(self)
@@ -293,6 +293,7 @@ class App:
                 self.server.gui.add_markdown(cls.caption)
             scene.build()
         self.scene = scene
+        return scene
 
     def _teardown(self) -> None:
         if self.scene is not None:
@@ -338,7 +339,7 @@ class App:
                     now = time.monotonic()
                     if now - self._last_time_text > 0.1 or not self._playing:
                         self._last_time_text = now
-                        self.time_text.value = f"{self._t:.2f}"
+                        self.time_text.value = f"{self._t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
             except Exception as exc:  # noqa: BLE001
                 self._failed(exc)
                 return False

@@ -119,7 +119,7 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
     if isinstance(loaded, trimesh.Scene):
         # GLB (and a failed STL/OBJ parse) come back as a scene: flatten its geometry into one mesh.
         meshes = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if loaded.geometry else []
-        loaded = trimesh.util.concatenate(meshes) if meshes else None
+        loaded = trimesh.util.concatenate(meshes) if meshes else None  # type: ignore[assignment]
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0 or len(loaded.vertices) == 0:
         raise ValueError(
             f"{name} contains no triangles: the file is empty or is not really a {ext.upper()} mesh "

@@ -46,7 +46,9 @@ same code runs on numpy arrays of shape ``(n,)``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -315,10 +317,10 @@ def _expm_coeffs(u0, u1, u2, xp):
         a = math.sqrt(a2)
         return math.sin(a) / a, (1.0 - math.cos(a)) / a2
     small = a2 < 1e-8
-    a = np.sqrt(np.where(small, 1.0, a2))
-    sa = np.where(small, 1.0 - a2 / 6.0 + a2 * a2 / 120.0, np.sin(a) / a)
+    angle = np.sqrt(np.where(small, 1.0, a2))
+    sa = np.where(small, 1.0 - a2 / 6.0 + a2 * a2 / 120.0, np.sin(angle) / angle)
     # 2 sin²(a/2) avoids the cancellation of 1 − cos a.
-    ca = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, 2.0 * np.sin(0.5 * a) ** 2 / (a * a))
+    ca = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, 2.0 * np.sin(0.5 * angle) ** 2 / (angle * angle))
     return sa, ca
 
 
@@ -492,10 +494,10 @@ class _Method:
         """Hold L at 0 along a zero-moment (rod) axis."""
         if not self._zero_axes:
             return s
-        s = list(s)
+        held = list(s)
         for i in self._zero_axes:
-            s[9 + i] = 0.0 * s[9 + i]
-        return tuple(s)
+            held[9 + i] = 0.0 * held[9 + i]
+        return tuple(held)
 
     def _torque_half(self, s, h, xp, first: bool):
         """Torque sub-flows for a time h, nested symmetrically (kicks outside, others inside)."""
@@ -542,12 +544,13 @@ class _Splitting(_Method):
     """Compositions of a symmetric base step ``T(h/2) F(h) T(h/2)`` with weights ``_weights``."""
 
     symplectic = True
-    _weights: tuple = (1.0,)
+    _weights: tuple[float, ...] = (1.0,)
+    _sym: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
 
     def __init__(self, moments: ArrayLike, torque=None) -> None:
         super().__init__(moments, torque)
         self._program = self._build_program()
-        self._compiled = None  # generated scalar code for one body, built on first use by integrate()
+        self._compiled: _CompiledRun | None = None  # generated scalar code for one body, built on first use
         conserves = ["orthonormality of R", "|L| (Casimir) of each free sub-step"]
         if not self.torques:
             conserves = ["orthonormality of R", "|L|", "L_space", "symplectic form"]
@@ -628,7 +631,7 @@ class LiePoissonStrang(_Splitting):
 
     name = "Lie-Poisson Strang"
     order = 2
-    _weights = (1.0,)
+    _weights: tuple[float, ...] = (1.0,)
 
     def _free_ops(self, w):
         ops = [("X", 0.5 * w), ("Y", 0.5 * w), ("Z", w), ("Y", 0.5 * w), ("X", 0.5 * w)]
@@ -739,6 +742,7 @@ class ExactFreeSplitting(_Splitting):
             return _ROT[ax](s, h * dinv * s[9 + ax], xp)
         batched = xp is not math
         R, L = _from_state(s, batched)
+        assert self._free_body is not None  # set in __init__ whenever this flow is used
         R2, L2 = self._free_body.flow(R, L, h)
         if not batched:
             return _to_state(R2[0], L2[0])
@@ -778,7 +782,7 @@ class LieRK4(_Method):
 
     def __init__(self, moments: ArrayLike, torque=None) -> None:
         super().__init__(moments, torque)
-        self._fast = []
+        self._fast: list[Callable[..., Any]] = []
         for t in self.torques:
             if isinstance(t, GravityTorque):
                 w0, w1, w2 = t._w
@@ -900,7 +904,7 @@ def integrate(
     states = [s]
     steps = [0]
     step = method._step
-    run = None
+    run: _CompiledRun | None = None
     if not batched and isinstance(method, _Splitting):
         if method._compiled is None:
             method._compiled = _CompiledRun(method)
@@ -1025,6 +1029,7 @@ def _compile_splitting(method: _Splitting):
             for z in method._zero_axes:
                 lines.append(f"{ind}l{z} = 0.0")
         elif kind == "E":
+            assert method._sym is not None  # only symmetric bodies take this branch
             ax, inv_perp, dinv = method._sym
             const_specs.append((name, "sym", (frac, inv_perp, dinv)))
             lines += _src_symmetric_free(name + "a", ax, name + "b", ind)
@@ -1101,7 +1106,7 @@ class _CompiledRun:
             env = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt}
             env.update(_constants(self.method, self.specs, dt))
             exec(compile(self.source, f"<{self.method.name} step>", "exec"), env)
-            fn = env["run"]
+            fn = cast(Callable[[Any, int], Any], env["run"])
             if len(self._cache) > 64:
                 self._cache.clear()
             self._cache[dt] = fn

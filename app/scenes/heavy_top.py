@@ -111,7 +111,7 @@ class HeavyTopScene(Scene):
             series=(
                 viser.uplot.Series(label="θ (°)"),
                 viser.uplot.Series(label="U(θ)", stroke="#1478ff", width=2),
-                viser.uplot.Series(label="energy ℰ", stroke="#888888", width=1, dash=[6, 4]),
+                viser.uplot.Series(label="energy ℰ", stroke="#888888", width=1, dash=(6, 4)),
                 viser.uplot.Series(
                     label="now (θ, U)", stroke="#dc1e3c", width=0, points={"show": True, "size": 10, "fill": "#dc1e3c"}
                 ),
@@ -128,7 +128,7 @@ class HeavyTopScene(Scene):
         self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
         self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
         self._plot_time = 0.0
-        self._y_range = None
+        self._y_range: tuple[float, float] | None = None
         self.apply(self.params.values)
 
     # -- parameters
@@ -148,7 +148,7 @@ class HeavyTopScene(Scene):
         self.L_scale = 1.6 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
         self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
-        self._curve_key = None
+        self._curve_key: tuple[float, ...] | None = None
         self.reset()
         self.ctx.restart()
 

@@ -74,7 +74,9 @@ def _point_set(masses: np.ndarray, pos: np.ndarray, length: float) -> tuple[trim
             parts.append(
                 trimesh.creation.cylinder(radius=0.008 * length, segment=[props.center_of_mass, p], sections=8)
             )
-    return trimesh.util.concatenate(parts), props
+    mesh = trimesh.util.concatenate(parts)
+    assert isinstance(mesh, trimesh.Trimesh)  # concatenating meshes gives a mesh
+    return mesh, props
 
 
 def tensor_markdown(tensor: np.ndarray, title: str) -> str:

@@ -107,7 +107,7 @@ class Pendulum(Scene):
         self.l_readout = controls.Readout(self.ctx, "effective length ℓ = k²/a⊥ (m)")
         self.period_readout = controls.Readout(self.ctx, "period: small swings / this amplitude (s)", fmt="{}")
         self.strike_readout = controls.Readout(self.ctx, "last strike: Δω (rad/s), |pivot impulse| (N s)", fmt="{}")
-        self.last_strike = None
+        self.last_strike: dict[str, Any] | None = None
         self.apply(self.params.values)
 
     # -- parameters --------------------------------------------------------------------------------

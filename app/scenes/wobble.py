@@ -7,7 +7,7 @@ Model: :class:`physics.free_body.FreeBody`, evaluated in closed form at the cloc
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -38,7 +38,7 @@ class Wobble(Scene):
     name = "wobble"
     title = "Torque-free wobble"
     order = 20
-    quantities = ("L", "omega", "body_cone", "space_cone", "trace", "axes")
+    quantities: ClassVar[tuple[str, ...]] = ("L", "omega", "body_cone", "space_cone", "trace", "axes")
     caption = (
         "**Torque-free symmetric body.** L is fixed in space. In the body, ω turns about the symmetry axis "
         "at Ω = ω₃ (I₁ − I₃)/I₁; in space the axis turns about L at φ̇ = L/I₁. The body cone (about the "
