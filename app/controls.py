@@ -16,7 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["SliderSpec", "ParameterPanel", "Readout", "Presets", "Gauge"]
+__all__ = ["SliderSpec", "ParameterPanel", "Readout", "Presets", "Gauge", "refusable_dropdown"]
 
 
 @dataclass(frozen=True)
@@ -178,3 +178,33 @@ class Gauge:
         self.bar.value = fill
         self.bar.color = colour
         self.text.content = f"{self.label}  \n{text}"
+
+
+def refusable_dropdown(
+    ctx: Any,
+    label: str,
+    options: tuple[str, ...],
+    initial: str,
+    *,
+    accepted: Callable[[], str],
+    apply: Callable[[], None],
+) -> Any:
+    """A dropdown whose choice is offered to ``apply()`` (which reads the dropdown's new value).
+
+    ``apply`` raises ``ValueError`` to refuse the choice: the dropdown snaps back to ``accepted()`` (the
+    last value ``apply`` adopted) and the browser that chose gets a notification saying why. Returns the
+    viser handle.
+    """
+    handle = ctx.server.gui.add_dropdown(label, options=options, initial_value=initial)
+
+    def on_update(event: Any) -> None:
+        if handle.value == accepted():
+            return  # includes the snap-back below, which runs this callback again
+        try:
+            apply()
+        except ValueError as exc:
+            handle.value = accepted()
+            ctx.notify("Refused", str(exc), client=getattr(event, "client", None), error=True)
+
+    handle.on_update(ctx.guarded(on_update))
+    return handle

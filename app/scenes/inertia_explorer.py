@@ -122,8 +122,14 @@ class InertiaExplorer(Scene):
             thickness_units="screen",
         )
 
-        self.choice = gui.add_dropdown("Body", options=(*PRIMITIVES, *ASSET_CHOICES), initial_value="Box (L × 2a × a)")
-        self.choice.on_update(self.ctx.guarded(lambda e: self._choice_changed(getattr(e, "client", None))))
+        self.choice = controls.refusable_dropdown(
+            self.ctx,
+            "Body",
+            (*PRIMITIVES, *ASSET_CHOICES),
+            "Box (L × 2a × a)",
+            accepted=lambda: self._last_choice,
+            apply=lambda: self.apply(self.params.values),
+        )
         self.params = controls.ParameterPanel(
             self.ctx,
             [
@@ -167,15 +173,6 @@ class InertiaExplorer(Scene):
 
     def _upload_label(self) -> str:
         return f"Uploaded: {self.uploaded.name}" if self.uploaded is not None else ""
-
-    def _choice_changed(self, client: Any = None) -> None:
-        if self.choice.value == self._last_choice:
-            return
-        try:
-            self.apply(self.params.values)
-        except ValueError as exc:
-            self.choice.value = self._last_choice
-            self.ctx.notify("Refused", str(exc), client=client, error=True)
 
     def apply(self, values: dict[str, float]) -> None:
         label, mesh, props = self.current_body(values)

@@ -159,8 +159,14 @@ class TennisRacket(Scene):
             position=self.sphere_centre + [0, 0, 1.3 * self.sphere_radius],
         )
 
-        self.source = gui.add_dropdown("Body", options=tuple(BODIES), initial_value="Tennis racket (mesh)")
-        self.source.on_update(self.ctx.guarded(lambda e: self._source_changed(getattr(e, "client", None))))
+        self.source = controls.refusable_dropdown(
+            self.ctx,
+            "Body",
+            tuple(BODIES),
+            "Tennis racket (mesh)",
+            accepted=lambda: self._last_source,
+            apply=lambda: self.apply(self.params.values),
+        )
         self.axis = gui.add_dropdown(
             "Spin about principal axis", options=tuple(AXES), initial_value="2 — intermediate (flips)"
         )
@@ -210,15 +216,6 @@ class TennisRacket(Scene):
         self.apply(self.params.values)
 
     # -- parameters --------------------------------------------------------------------------------
-    def _source_changed(self, client: Any = None) -> None:
-        if self.source.value == self._last_source:
-            return
-        try:
-            self.apply(self.params.values)
-        except ValueError as exc:
-            self.source.value = self._last_source  # the previous body stays
-            self.ctx.notify("Refused", str(exc), client=client, error=True)
-
     def _body(self, values: dict[str, float]) -> tuple[np.ndarray, trimesh.Trimesh, str]:
         """Moments (I1 >= I2 >= I3), the mesh in the principal frame, and a description."""
         choice = self.source.value

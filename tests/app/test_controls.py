@@ -1,0 +1,35 @@
+"""The shared GUI pieces of app.controls: a refused dropdown choice snaps back and says why."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+from app import controls
+
+
+def test_refused_dropdown_choice_snaps_back_and_notifies(app):
+    ctx = SimpleNamespace(server=app.server, guarded=app.guarded, notify=app.notify)
+    adopted = {"value": "box"}
+    applied = []
+
+    def apply() -> None:
+        value = handle.value
+        applied.append(value)
+        if value == "impossible":
+            raise ValueError("no rigid body has these moments")
+        adopted["value"] = value
+
+    handle = controls.refusable_dropdown(
+        ctx, "Body", ("box", "rod", "impossible"), "box", accepted=lambda: adopted["value"], apply=apply
+    )
+    try:
+        handle.value = "rod"  # as a browser would: the callback runs
+        assert adopted["value"] == "rod" and handle.value == "rod"
+        before = len(app.messages)
+        handle.value = "impossible"
+        assert handle.value == "rod"  # snapped back to the last accepted choice
+        assert adopted["value"] == "rod"
+        assert app.messages[before:] == [("Refused", "no rigid body has these moments")]
+        assert applied == ["rod", "impossible"]  # the snap-back does not offer "rod" again
+    finally:
+        handle.remove()
