@@ -7,6 +7,7 @@
 * :func:`open_page` — load the app in a page and wait until the server sees the client and the
   3D canvas exists.
 * :func:`wait_for` — poll a condition with a timeout (no fixed sleeps in tests).
+* :func:`click` — click without waiting for a re-rendering element to be stable;
 * :func:`slider_by_label` / :func:`nudge_slider` — drive a viser slider in the page with the keyboard;
   :func:`pick_scene` — choose a scene in the page's dropdown.
 * :func:`image_stats` — is a render blank; how much two renders differ.
@@ -125,10 +126,21 @@ def control_id(page: Any, label: str) -> str:
     return found
 
 
+def click(locator: Any, timeout: float = 30.0) -> None:
+    """Click an element that is in the page, without waiting for it to be "stable".
+
+    The panel re-renders every frame while the clock runs, so Playwright's actionability wait for a
+    stable bounding box can time out on a loaded machine; we wait only for the element to be attached
+    and visible, then click it where it is.
+    """
+    locator.first.wait_for(state="visible", timeout=timeout * 1000)
+    locator.first.click(force=True, timeout=timeout * 1000)
+
+
 def pick_scene(page: Any, title: str) -> None:
     """Choose a scene in the page's Scene dropdown, as a user does."""
-    page.locator(f"[id='{control_id(page, 'Scene')}']").click()
-    page.get_by_role("option", name=title, exact=True).click()
+    click(page.locator(f"[id='{control_id(page, 'Scene')}']"))
+    click(page.get_by_role("option", name=title, exact=True))
 
 
 def slider_by_label(page: Any, label: str) -> Any:
@@ -139,10 +151,10 @@ def slider_by_label(page: Any, label: str) -> Any:
 def nudge_slider(page: Any, label: str, key: str = "ArrowRight", times: int = 1) -> None:
     """Focus a slider in the page and press a key (one step per press), like a user with a keyboard."""
     thumb = slider_by_label(page, label)
-    thumb.scroll_into_view_if_needed()
-    thumb.focus()
+    # Focus through the DOM and type on the keyboard: no wait for a re-rendering thumb to be "stable".
+    thumb.first.evaluate("el => { el.scrollIntoView({block: 'center'}); el.focus(); }")
     for _ in range(times):
-        thumb.press(key)
+        page.keyboard.press(key)
 
 
 def image_stats(image: np.ndarray) -> float:

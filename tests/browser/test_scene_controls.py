@@ -13,7 +13,16 @@ import trimesh
 
 import app.upload as app_upload
 from app.scenes import REGISTRY
-from tests.harness import image_difference, image_stats, nudge_slider, open_page, pick_scene, running_app, wait_for
+from tests.harness import (
+    click,
+    image_difference,
+    image_stats,
+    nudge_slider,
+    open_page,
+    pick_scene,
+    running_app,
+    wait_for,
+)
 
 pytestmark = pytest.mark.browser
 
@@ -94,9 +103,9 @@ def test_convex_hull_offer_and_spin_it_from_the_page(explorer_app, page_and_clie
     scene = explorer_app.scene
     upload(page, "open.stl", open_stl())
     wait_for(lambda: scene.hull_button.visible, what="the convex-hull offer")
-    page.get_by_role("button", name="Use its convex hull instead").click()
+    click(page.get_by_role("button", name="Use its convex hull instead"))
     wait_for(lambda: scene.label == "open.stl (convex hull)", what="the hull to become the body")
-    page.get_by_role("button", name="Spin it (torque-free)").click()
+    click(page.get_by_role("button", name="Spin it (torque-free)"))
     wait_for(
         lambda: getattr(explorer_app.scene, "name", None) == "tennis_racket", what="the hand-over to the tennis racket"
     )
@@ -131,6 +140,6 @@ def test_pendulum_strike_button_and_pivot_slider_from_the_page(explorer_app, pag
     a_perp = scene.model.a_perp
     nudge_slider(page, "pivot below the knob end (m)", "ArrowRight", times=5)
     wait_for(lambda: explorer_app.scene.model.a_perp < a_perp - 0.04, what="the pivot to move")
-    page.get_by_role("button", name="Strike!").click()
+    click(page.get_by_role("button", name="Strike!"))
     wait_for(lambda: scene.last_strike is not None, what="the strike")
     assert image_stats(client.get_render(*RENDER, timeout=30)) > 5.0
