@@ -69,23 +69,56 @@ class ParameterPanel:
         return on_update
 
     def offer(self, changes: dict[str, float], client: Any = None) -> bool:
-        """Offer new values (some keys); returns True if accepted. Refused: notify, snap sliders back."""
+        """Offer new values (some keys); returns True if accepted. Refused: notify, snap sliders back.
+
+        Transactional: whatever ``apply`` raises, of any type, the scene's attributes are put back as they
+        were (``apply`` builds new models and assigns them; it is undone by restoring the references), the
+        sliders show the last accepted values, and the clock's Reset still works.
+        """
         with self.ctx.lock:
-            candidate = {**self.values, **{k: float(v) for k, v in changes.items()}}
-            bad = [k for k, v in candidate.items() if not math.isfinite(v)]
+            owner = getattr(self._apply, "__self__", None)
+            before = dict(vars(owner)) if owner is not None else None
             try:
-                if bad:
-                    raise ValueError(f"{', '.join(bad)} must be a finite number")
+                candidate = {**self.values, **{k: self._number(k, v) for k, v in changes.items()}}
                 self._apply(candidate)
-            except ValueError as exc:
+            except Exception as exc:  # noqa: BLE001 - any failure refuses the change, none escapes
+                if owner is not None and before is not None:
+                    vars(owner).clear()
+                    vars(owner).update(before)
                 self.refusals += 1
-                self.ctx.notify("Refused: that is not a possible body", str(exc), client=client, error=True)
+                if isinstance(exc, ValueError):
+                    title, text = "Refused: that is not a possible body", str(exc)
+                else:
+                    title, text = "Refused: the scene could not take these values", f"{type(exc).__name__}: {exc}"
+                self.ctx.notify(title, text, client=client, error=True)
                 self._sync(self.values)
                 return False
             self.values = candidate
             self._sync(candidate)
             self.ctx.request_redraw()
+            clear = getattr(self.ctx, "clear_status", None)
+            if clear is not None:
+                clear()
             return True
+
+    def _number(self, key: str, value: Any) -> float:
+        """A candidate value for slider ``key``: a finite number (its slider's range is the browser's limit)."""
+        if key not in self.sliders:
+            raise ValueError(f"there is no parameter {key!r}; the parameters are {', '.join(self.sliders)}")
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError(f"{key} must be a number, got {type(value).__name__}")
+        try:
+            number = float(value)
+        except OverflowError:
+            raise ValueError(f"{key} must be a finite number, got an integer of {len(str(value))} digits") from None
+        if not math.isfinite(number):
+            raise ValueError(f"{key} must be a finite number, got {value}")
+        slider = self.sliders[key]
+        low, high = float(slider.min), float(slider.max)
+        slack = 1e-9 * (high - low)
+        if not low - slack <= number <= high + slack:
+            raise ValueError(f"{key} must be between {low:g} and {high:g}, got {number:g}")
+        return number
 
     def _sync(self, values: dict[str, float]) -> None:
         # Setting .value from Python runs the callbacks synchronously: suppress them while syncing.

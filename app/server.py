@@ -25,11 +25,13 @@ import numpy as np
 import viser
 
 from app import draw
+from app.inputs import guard_inputs
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 
 __all__ = ["App", "NumericalFailure", "check_finite"]
 
 FPS = 60.0
+NOTIFY_SECONDS = 6.0  # a notification closes by itself after this long; an identical one is not stacked
 SPEED_MIN, SPEED_MAX = 0.1, 10.0
 FOV = math.radians(50.0)  # vertical field of view (viser's default 75° makes the scene look far away)
 MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
@@ -82,6 +84,7 @@ class App:
         start_loop: bool = True,
         verbose: bool = False,
         fps: float = FPS,
+        share: bool = False,
     ) -> None:
         load_all()
         names = scene_names()
@@ -106,11 +109,15 @@ class App:
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._last_time_text = 0.0
+        self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
+        self._shown_lock = threading.Lock()  # notify runs on callback threads, the loop and viser's event loop
 
         self.server.scene.set_up_direction("+z")
         self.server.scene.add_grid("/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0))
-        self.server.gui.configure_theme(control_width="large")
+        # No public tunnel unless asked for: viser's share button would publish this server to the world.
+        self.server.gui.configure_theme(control_width="large", show_share_button=share)
         self._build_global_gui(names)
+        guard_inputs(self.server.gui, self._refuse_input)
         self.server.on_client_connect(self._on_connect)
         self.switch_scene(scene or names[0])
         if start_loop:
@@ -186,19 +193,40 @@ class App:
         return wrapper
 
     def notify(self, title: str, body: str, client: Any = None, error: bool = False) -> None:
-        """A notification to one client (the one who acted) or, without one, to every connected client."""
+        """A notification to one client (the one who acted) or, without one, to every connected client.
+
+        It closes by itself after :data:`NOTIFY_SECONDS`; the same notification is not sent to the same
+        browser again while the first is still showing. An error also goes to the scene's status line
+        (cleared on a scene switch and on the next accepted change).
+        """
         self.messages.append((title, body))
         del self.messages[:-50]
         clients = [client] if client is not None else list(self.server.get_clients().values())
+        now = time.monotonic()
         for c in clients:
+            key = (getattr(c, "client_id", None), title, body)
+            with self._shown_lock:
+                self._shown = {k: v for k, v in self._shown.items() if now - v < NOTIFY_SECONDS}
+                if key in self._shown:
+                    continue
+                self._shown[key] = now
             try:
-                c.add_notification(
-                    title, body, color="red" if error else "blue", auto_close_seconds=None if error else 6.0
-                )
+                c.add_notification(title, body, color="red" if error else "blue", auto_close_seconds=NOTIFY_SECONDS)
             except Exception:  # noqa: BLE001 - a client that just left must not break the caller
                 pass
         if error:
             self.status.content = f"⚠ **{title}**: {body}"
+
+    def clear_status(self) -> None:
+        """Empty the scene's status line (a change was accepted, or the scene changed)."""
+        if self.status.content:
+            self.status.content = ""
+
+    def _refuse_input(self, client_id: Any, message: str) -> None:
+        """A value a browser sent was refused by :func:`app.inputs.guard_inputs`: tell that browser."""
+        client = self.server.get_clients().get(client_id)
+        if client is not None:
+            self.notify("Refused", message, client=client, error=True)
 
     def request_redraw(self) -> None:
         self._dirty = True
@@ -273,6 +301,7 @@ class App:
             finally:
                 self._switching = False
             self.legend.content = draw.legend_html(cls.quantities)
+            self.clear_status()  # the status line belongs to the scene
             position, look_at = cls.camera
             for c in self.server.get_clients().values():
                 c.camera.fov = FOV

@@ -1,0 +1,158 @@
+"""Every value a browser sends is checked on the server before viser or a scene sees it.
+
+viser applies a browser's ``GuiUpdateMessage`` to the control's state, casts it to the control's type and
+rebroadcasts it to every other browser (and to every later one). A value that cannot be encoded again
+(``int(1e23)`` does not fit msgpack's 64 bits) then closes every connection with code 1011, and the
+stored value is replayed to whoever joins next. A disabled control, a dropdown option that does not
+exist, a string of megabytes or a NaN would also pass straight through.
+
+:func:`guard_inputs` puts a check in front of viser's handler for those messages. A value is accepted
+only when it has the control's type; numbers must be finite and are clamped to the control's range
+(a slider's, or a number box's ``min``/``max``); integers must fit in 53 bits; a dropdown's value must be
+one of its options; text is at most :data:`MAX_TEXT` characters; a disabled control takes nothing; and
+only the ``value`` property may change. A refused message never reaches viser: the browser that sent it
+gets its control set back to the current value and one notification saying why, and nobody else hears
+of it. A clamped value is sent back to its sender too, so every browser shows the value in force.
+
+This wraps one private piece of viser 1.1.1 (its handler list for ``GuiUpdateMessage``); viser is pinned,
+and ``tests/app/test_inputs.py`` sends the messages through a real websocket to prove the wrapper is in
+place.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import viser
+from viser import _messages
+
+__all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
+
+MAX_TEXT = 2000
+"""Longest text a browser may send into a text control, characters."""
+
+MAX_INT = 2**53
+"""Largest integer magnitude taken (exact in a JavaScript number and in a float64)."""
+
+
+class InputRefused(ValueError):
+    """A browser's value for a control was refused; the message says why, for that browser."""
+
+
+def _number(value: Any, what: str) -> float | int:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputRefused(f"{what} must be a number, got {type(value).__name__} {_short(value)}")
+    if isinstance(value, int) and abs(value) > MAX_INT:
+        raise InputRefused(f"{what} must be between −2⁵³ and 2⁵³, got {_short(value)}")
+    if not math.isfinite(float(value)):
+        raise InputRefused(f"{what} must be a finite number, got {value}")
+    return value
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "…"
+
+
+def _clamp(value: float, low: Any, high: Any) -> float:
+    if low is not None and value < low:
+        return float(low)
+    if high is not None and value > high:
+        return float(high)
+    return value
+
+
+def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) -> dict[str, Any]:
+    """The checked (and clamped) updates for one control, or :class:`InputRefused`.
+
+    Parameters
+    ----------
+    current : Any
+        The control's current value (its type is the type the new value must have).
+    props : viser's props of the control
+        ``min``/``max``/``options``/``disabled`` are read where the control has them.
+    label : str
+        The control's label, for the message.
+    updates : dict
+        What the browser sent: property name to new value.
+    """
+    what = f"“{label}”"
+    if set(updates) != {"value"}:
+        raise InputRefused(f"{what}: only a control's value can be changed")
+    if getattr(props, "disabled", False):
+        raise InputRefused(f"{what} cannot be changed (it only shows a value)")
+    value = updates["value"]
+    if isinstance(current, bool):
+        if not isinstance(value, bool):
+            raise InputRefused(f"{what} must be on or off, got {_short(value)}")
+        return {"value": value}
+    if isinstance(current, (int, float)):
+        number = _number(value, what)
+        clamped = _clamp(float(number), getattr(props, "min", None), getattr(props, "max", None))
+        return {"value": int(round(clamped)) if isinstance(current, int) else float(clamped)}
+    if isinstance(current, str):
+        if not isinstance(value, str):
+            raise InputRefused(f"{what} must be text, got {type(value).__name__}")
+        if len(value) > MAX_TEXT:
+            raise InputRefused(f"{what} takes at most {MAX_TEXT} characters, got {len(value)}")
+        options = getattr(props, "options", None)
+        if options is not None and value not in options:
+            raise InputRefused(f"{what} has no option {_short(value)}")
+        return {"value": value}
+    if isinstance(current, tuple):
+        if not isinstance(value, (list, tuple)) or len(value) != len(current):
+            raise InputRefused(f"{what} must be {len(current)} numbers, got {_short(value)}")
+        low, high = getattr(props, "min", None), getattr(props, "max", None)
+        out = []
+        for i, (old, new) in enumerate(zip(current, value, strict=True)):
+            number = float(_number(new, what))
+            number = _clamp(number, None if low is None else low[i], None if high is None else high[i])
+            out.append(int(round(number)) if isinstance(old, int) else number)
+        return {"value": tuple(out)}
+    raise InputRefused(f"{what} cannot be changed from a browser")
+
+
+def guard_inputs(gui: viser.GuiApi, refuse: Callable[[Any, str], None]) -> None:
+    """Check every ``GuiUpdateMessage`` that reaches ``gui`` before viser applies it.
+
+    Parameters
+    ----------
+    gui : viser.GuiApi
+        The server's GUI (``server.gui``) or one client's (``client.gui``).
+    refuse : callable(client_id, message)
+        Tells the browser that sent a refused value why (a notification); called on viser's event loop.
+    """
+    interface = gui._websock_interface
+    handlers: list[Any] = interface._incoming_handlers[_messages.GuiUpdateMessage]
+    original = gui._handle_gui_updates
+    index = handlers.index(original)  # a ValueError here means viser changed: the pin test catches it
+
+    async def checked(client_id: Any, message: _messages.GuiUpdateMessage) -> None:
+        handle = gui._gui_input_handle_from_uuid.get(message.uuid, None)
+        if handle is None or handle._impl.removed:
+            return
+        state = handle._impl
+        try:
+            label = str(getattr(state.props, "label", ""))
+            updates = check_update(state.value, state.props, label, message.updates)
+        except InputRefused as exc:
+            _send_value(gui, client_id, message.uuid, state.value)
+            refuse(client_id, str(exc))
+            return
+        clamped = updates != message.updates
+        message.updates = updates
+        await original(client_id, message)
+        if clamped:
+            _send_value(gui, client_id, message.uuid, state.value)
+
+    handlers[index] = checked
+
+
+def _send_value(gui: viser.GuiApi, client_id: Any, uuid: str, value: Any) -> None:
+    """Set one browser's control back to the value in force (nobody else is told)."""
+    owner = gui._owner
+    client = owner if isinstance(owner, viser.ClientHandle) else owner.get_clients().get(client_id)
+    if client is not None:
+        client._websock_connection.queue_message(_messages.GuiUpdateMessage(uuid, {"value": value}))

@@ -1,0 +1,189 @@
+"""Every value a browser sends is checked on the server (app.inputs) before viser or a scene sees it.
+
+The unit tests call :func:`app.inputs.check_update` with viser's own props objects; the websocket tests
+connect real clients to a running server on 127.0.0.1 and send the messages a browser (or a hostile
+script) could send: the server keeps running, every other client stays connected, the values in force
+stay, and only the sender hears of the refusal.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import msgspec
+import pytest
+import viser
+from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import ClientConnection, connect
+
+from app.inputs import MAX_INT, MAX_TEXT, InputRefused, check_update
+from tests.harness import running_app, wait_for
+
+
+@pytest.fixture(scope="module")
+def gui_app():
+    with running_app("heavy_top", start_loop=True) as app:
+        yield app
+
+
+def props_of(handle: Any) -> Any:
+    return handle._impl.props
+
+
+# --------------------------------------------------------------------------------------------------
+# check_update
+# --------------------------------------------------------------------------------------------------
+def test_numbers_are_clamped_to_the_slider_range_and_keep_the_controls_type(gui_app):
+    gui = gui_app.server.gui
+    real = gui.add_slider("real", min=0.0, max=2.0, step=0.1, initial_value=1.0)
+    whole = gui.add_slider("whole", min=0, max=10, step=1, initial_value=5)
+    try:
+        assert check_update(1.0, props_of(real), "real", {"value": 1e23}) == {"value": 2.0}
+        assert check_update(1.0, props_of(real), "real", {"value": -7}) == {"value": 0.0}
+        assert check_update(1.0, props_of(real), "real", {"value": 0.5}) == {"value": 0.5}
+        # int(1e23) would not fit msgpack's 64 bits: this is the value that closed every browser.
+        out = check_update(5, props_of(whole), "whole", {"value": 1e23})
+        assert out == {"value": 10} and isinstance(out["value"], int)
+    finally:
+        real.remove()
+        whole.remove()
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (math.nan, "finite"),
+        (math.inf, "finite"),
+        (-math.inf, "finite"),
+        (99999999999999999999999, "between −2⁵³ and 2⁵³"),
+        (MAX_INT + 1, "between −2⁵³ and 2⁵³"),
+        ("1.5", "must be a number"),
+        (True, "must be a number"),
+        (None, "must be a number"),
+        ([1.0], "must be a number"),
+    ],
+)
+def test_bad_numbers_are_refused_with_a_reason(gui_app, value, message):
+    handle = gui_app.server.gui.add_slider("x", min=0.0, max=1.0, step=0.1, initial_value=0.5)
+    try:
+        with pytest.raises(InputRefused, match=message):
+            check_update(0.5, props_of(handle), "x", {"value": value})
+    finally:
+        handle.remove()
+
+
+def test_text_dropdowns_checkboxes_disabled_controls_and_other_properties(gui_app):
+    gui = gui_app.server.gui
+    text = gui.add_text("name", initial_value="")
+    shown = gui.add_text("shown", initial_value="0", disabled=True)
+    choice = gui.add_dropdown("body", options=("rod", "box"), initial_value="rod")
+    box = gui.add_checkbox("on", initial_value=False)
+    try:
+        assert check_update("", props_of(text), "name", {"value": "ok"}) == {"value": "ok"}
+        with pytest.raises(InputRefused, match=f"at most {MAX_TEXT} characters"):
+            check_update("", props_of(text), "name", {"value": "x" * (MAX_TEXT + 1)})
+        with pytest.raises(InputRefused, match="only shows a value"):
+            check_update("0", props_of(shown), "shown", {"value": "1"})
+        with pytest.raises(InputRefused, match="has no option"):
+            check_update("rod", props_of(choice), "body", {"value": "<script>"})
+        with pytest.raises(InputRefused, match="on or off"):
+            check_update(False, props_of(box), "on", {"value": 1})
+        with pytest.raises(InputRefused, match="only a control's value"):
+            check_update("rod", props_of(choice), "body", {"options": ["a"], "value": "rod"})
+    finally:
+        for h in (text, shown, choice, box):
+            h.remove()
+
+
+# --------------------------------------------------------------------------------------------------
+# Real websocket clients
+# --------------------------------------------------------------------------------------------------
+@contextlib.contextmanager
+def raw_client(app: Any) -> Iterator[ClientConnection]:
+    """A websocket client speaking viser's protocol, as the page's script does."""
+    before = set(app.server.get_clients())
+    ws = connect(
+        f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"], max_size=None, open_timeout=30
+    )
+    try:
+        # viser counts a client as connected once it reports its camera, as the page does at once.
+        ws.send(
+            msgspec.msgpack.encode(
+                {
+                    "type": "ViewerCameraMessage",
+                    "wxyz": (1.0, 0.0, 0.0, 0.0),
+                    "position": (3.0, -3.0, 2.0),
+                    "fov": 0.9,
+                    "near": 0.01,
+                    "far": 100.0,
+                    "image_height": 480,
+                    "image_width": 640,
+                    "look_at": (0.0, 0.0, 0.0),
+                    "up_direction": (0.0, 0.0, 1.0),
+                }
+            )
+        )
+        wait_for(lambda: set(app.server.get_clients()) - before, what="the client to be registered")
+        yield ws
+    finally:
+        ws.close()
+
+
+def send_value(ws: ClientConnection, uuid: str, value: Any) -> None:
+    ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
+
+
+def still_connected(ws: ClientConnection, seconds: float = 2.0) -> bool:
+    """The server keeps talking to this client (the loop sends the time every frame)."""
+    deadline = time.monotonic() + seconds
+    received = 0
+    try:
+        while time.monotonic() < deadline:
+            with contextlib.suppress(TimeoutError):
+                ws.recv(timeout=0.2)
+                received += 1
+    except ConnectionClosed:
+        return False
+    return received > 0
+
+
+def test_absurd_values_from_one_client_leave_every_other_client_connected(gui_app):
+    app = gui_app
+    whole = app.server.gui.add_slider("whole (test)", min=0, max=10, step=1, initial_value=5)
+    speed_uuid = app.speed_slider._impl.uuid
+    try:
+        with raw_client(app) as sender, raw_client(app) as other:
+            refusals = sum(1 for title, _ in app.messages if title == "Refused")
+            send_value(sender, whole._impl.uuid, 1e23)  # int(1e23) does not fit in 64 bits
+            send_value(sender, speed_uuid, "fast")
+            send_value(sender, speed_uuid, None)
+            send_value(sender, app.time_text._impl.uuid, "999")  # a read-only display
+            wait_for(lambda: whole.value == 10, what="the clamped value")
+            wait_for(
+                lambda: sum(1 for title, _ in app.messages if title == "Refused") >= refusals + 3,
+                what="three refusals",
+            )
+            assert app.speed == 1.0 and app.speed_slider.value == 1.0
+            assert still_connected(other) and still_connected(sender)
+            assert len(app.server.get_clients()) >= 2
+            # A later browser gets the state in force, which encodes: it connects and hears the server.
+            with raw_client(app) as late:
+                assert still_connected(late)
+    finally:
+        whole.remove()
+
+
+def test_a_value_a_slider_accepts_still_reaches_the_scene(gui_app):
+    app = gui_app
+    app.switch_scene("heavy_top")
+    slider = app.scene.params.sliders["spin"]
+    target = slider.min + 0.5 * (slider.max - slider.min)
+    with raw_client(app) as ws:
+        send_value(ws, slider._impl.uuid, target)
+        wait_for(lambda: app.scene.params.values["spin"] == pytest.approx(target), what="the scene to take it")
+        send_value(ws, slider._impl.uuid, 1e300)  # clamped to the slider's maximum, then offered
+        wait_for(lambda: app.scene.params.values["spin"] == pytest.approx(slider.max), what="the clamped spin")
