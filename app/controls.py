@@ -85,13 +85,7 @@ class ParameterPanel:
                 if owner is not None and before is not None:
                     vars(owner).clear()
                     vars(owner).update(before)
-                self.refusals += 1
-                if isinstance(exc, ValueError):
-                    title, text = "Refused: that is not a possible body", str(exc)
-                else:
-                    title, text = "Refused: the scene could not take these values", f"{type(exc).__name__}: {exc}"
-                self.ctx.notify(title, text, client=client, error=True)
-                self._sync(self.values)
+                self.refuse(exc, client)
                 return False
             self.values = candidate
             self._sync(candidate)
@@ -100,6 +94,16 @@ class ParameterPanel:
             if clear is not None:
                 clear()
             return True
+
+    def refuse(self, exc: Exception, client: Any = None) -> None:
+        """Tell the browser that asked why its change was refused, and show the values in force."""
+        self.refusals += 1
+        if isinstance(exc, ValueError):
+            title, text = "Refused: that is not a possible body", str(exc)
+        else:
+            title, text = "Refused: the scene could not take these values", f"{type(exc).__name__}: {exc}"
+        self.ctx.notify(title, text, client=client, error=True)
+        self._sync(self.values)
 
     def _number(self, key: str, value: Any) -> float:
         """A candidate value for slider ``key``: a finite number (its slider's range is the browser's limit)."""
@@ -184,7 +188,12 @@ class Presets:
     def choose(self, name: str, client: Any = None) -> bool:
         """Apply a preset by name; returns True if accepted."""
         preset = self.presets[name]
-        values = preset(dict(self.panel.values)) if callable(preset) else preset
+        try:
+            # A computed preset (e.g. a steady-precession rate) may not exist for the current body.
+            values = preset(dict(self.panel.values)) if callable(preset) else preset
+        except ValueError as exc:
+            self.panel.refuse(exc, client)
+            return False
         ok = self.panel.offer(values, client=client)
         if ok:
             self.last = name
@@ -219,25 +228,30 @@ def refusable_dropdown(
     options: tuple[str, ...],
     initial: str,
     *,
-    accepted: Callable[[], str],
-    apply: Callable[[], None],
+    apply: Callable[[], bool | None],
 ) -> Any:
     """A dropdown whose choice is offered to ``apply()`` (which reads the dropdown's new value).
 
-    ``apply`` raises ``ValueError`` to refuse the choice: the dropdown snaps back to ``accepted()`` (the
-    last value ``apply`` adopted) and the browser that chose gets a notification saying why. Returns the
-    viser handle.
+    ``apply`` refuses the choice by returning ``False`` (e.g. :meth:`ParameterPanel.offer`, which has
+    already told the browser why) or by raising ``ValueError`` (the browser that chose is told here). A
+    refused choice snaps back to the last accepted one. Returns the viser handle.
     """
     handle = ctx.server.gui.add_dropdown(label, options=options, initial_value=initial)
+    accepted = {"value": initial}
 
     def on_update(event: Any) -> None:
-        if handle.value == accepted():
+        value = handle.value
+        if value == accepted["value"]:
             return  # includes the snap-back below, which runs this callback again
         try:
-            apply()
+            ok = apply()
         except ValueError as exc:
-            handle.value = accepted()
             ctx.notify("Refused", str(exc), client=getattr(event, "client", None), error=True)
+            ok = False
+        if ok is False:
+            handle.value = accepted["value"]
+        else:
+            accepted["value"] = value
 
     handle.on_update(ctx.guarded(on_update))
     return handle

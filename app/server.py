@@ -110,7 +110,10 @@ class App:
         self._thread: threading.Thread | None = None
         self._last_time_text = 0.0
         self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
-        self._shown_lock = threading.Lock()  # notify runs on callback threads, the loop and viser's event loop
+        self._shown_lock = threading.Lock()
+        self._building: Scene | None = (
+            None  # the scene whose build() is running (see guarded)  # notify runs on callback threads, the loop and viser's event loop
+        )
 
         self.server.scene.set_up_direction("+z")
         self.server.scene.add_grid("/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0))
@@ -175,13 +178,21 @@ class App:
         return self._speed
 
     def guarded(self, fn: Callable[..., Any]) -> Callable[..., Any]:
-        """Wrap a callback: run it under the lock, show an exception to the user, ask for a redraw."""
+        """Wrap a callback: run it under the lock, show an exception to the user, ask for a redraw.
+
+        A callback wrapped while a scene is being built belongs to that scene: once the scene is gone (a
+        browser's message can arrive just after a switch), it is dropped instead of acting on removed
+        controls.
+        """
+        owner = self._building
 
         @functools.wraps(fn)
         def wrapper(*args: Any, **kwargs: Any) -> Any:
             client = getattr(args[0], "client", None) if args else None
             try:
                 with self.lock:
+                    if owner is not None and owner is not self.scene:
+                        return None
                     out = fn(*args, **kwargs)
                     self._dirty = True
                     return out
@@ -317,10 +328,14 @@ class App:
         self.server.scene.add_frame(self.root, show_axes=False)
         self._folder = self.server.gui.add_folder(cls.title)
         scene = cls(self)
-        with self._folder:
-            if cls.caption:
-                self.server.gui.add_markdown(cls.caption)
-            scene.build()
+        self._building = scene
+        try:
+            with self._folder:
+                if cls.caption:
+                    self.server.gui.add_markdown(cls.caption)
+                scene.build()
+        finally:
+            self._building = None
         self.scene = scene
         return scene
 

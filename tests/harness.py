@@ -11,6 +11,8 @@
 * :func:`slider_by_label` / :func:`nudge_slider` — drive a viser slider in the page with the keyboard;
   :func:`pick_scene` — choose a scene in the page's dropdown.
 * :func:`image_stats` — is a render blank; how much two renders differ.
+* :func:`raw_client` / :func:`send_value` / :func:`still_connected` — a websocket client speaking viser's
+  protocol without a browser (what a page's script, or a hostile one, can send).
 * :func:`open_scene` / :func:`matrix` — headless: switch to a scene and play one frame; a handle's
   attitude as a rotation matrix.
 
@@ -28,8 +30,12 @@ import time
 from collections.abc import Callable, Iterator
 from typing import Any
 
+import msgspec
 import numpy as np
 import pytest
+import viser
+from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import connect
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [
@@ -186,3 +192,66 @@ def matrix(handle: Any) -> np.ndarray:
 
     w, x, y, z = handle.wxyz
     return Rotation.from_quat([x, y, z, w]).as_matrix()
+
+
+# --------------------------------------------------------------------------------------------------
+# Raw websocket clients: what a page's script (or a hostile one) can send, without a browser.
+# --------------------------------------------------------------------------------------------------
+@contextlib.contextmanager
+def raw_client(app: Any) -> Iterator[Any]:
+    """A websocket client speaking viser's protocol, as the page's script does."""
+    before = set(app.server.get_clients())
+    ws = connect(
+        f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"], max_size=None, open_timeout=30
+    )
+    try:
+        # viser counts a client as connected once it reports its camera, as the page does at once.
+        ws.send(
+            msgspec.msgpack.encode(
+                {
+                    "type": "ViewerCameraMessage",
+                    "wxyz": (1.0, 0.0, 0.0, 0.0),
+                    "position": (3.0, -3.0, 2.0),
+                    "fov": 0.9,
+                    "near": 0.01,
+                    "far": 100.0,
+                    "image_height": 480,
+                    "image_width": 640,
+                    "look_at": (0.0, 0.0, 0.0),
+                    "up_direction": (0.0, 0.0, 1.0),
+                }
+            )
+        )
+        wait_for(lambda: set(app.server.get_clients()) - before, what="the client to be registered")
+        yield ws
+    finally:
+        ws.close()
+
+
+def drain(ws: Any) -> int:
+    """Read whatever the server has sent so far, as a page does continuously; returns how many messages."""
+    count = 0
+    while True:
+        try:
+            ws.recv(timeout=0)
+        except TimeoutError:
+            return count
+        count += 1
+
+
+def send_value(ws: Any, uuid: str, value: Any) -> None:
+    ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
+
+
+def still_connected(ws: Any, seconds: float = 2.0) -> bool:
+    """The server keeps talking to this client (the loop sends the time every frame)."""
+    deadline = time.monotonic() + seconds
+    received = 0
+    try:
+        while time.monotonic() < deadline:
+            with contextlib.suppress(TimeoutError):
+                ws.recv(timeout=0.2)
+                received += 1
+    except ConnectionClosed:
+        return False
+    return received > 0

@@ -127,8 +127,7 @@ class InertiaExplorer(Scene):
             "Body",
             (*PRIMITIVES, *ASSET_CHOICES),
             "Box (L × 2a × a)",
-            accepted=lambda: self._last_choice,
-            apply=lambda: self.apply(self.params.values),
+            apply=lambda: self.params.offer({}),
         )
         self.params = controls.ParameterPanel(
             self.ctx,

@@ -80,8 +80,9 @@ class Pendulum(Scene):
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
         self.traces = [self.trace]
 
-        self.choice = gui.add_dropdown("Body", options=BODIES, initial_value=BODIES[0])
-        self.choice.on_update(self.ctx.guarded(lambda _: self.params.offer({})))
+        self.choice = controls.refusable_dropdown(
+            self.ctx, "Body", tuple(BODIES), BODIES[0], apply=lambda: self.params.offer({})
+        )
         self.params = controls.ParameterPanel(
             self.ctx,
             [

@@ -164,13 +164,15 @@ class TennisRacket(Scene):
             "Body",
             tuple(BODIES),
             "Tennis racket (mesh)",
-            accepted=lambda: self._last_source,
-            apply=lambda: self.apply(self.params.values),
+            apply=lambda: self.params.offer({}),
         )
-        self.axis = gui.add_dropdown(
-            "Spin about principal axis", options=tuple(AXES), initial_value="2 — intermediate (flips)"
+        self.axis = controls.refusable_dropdown(
+            self.ctx,
+            "Spin about principal axis",
+            tuple(AXES),
+            "2 — intermediate (flips)",
+            apply=lambda: self.params.offer({}),
         )
-        self.axis.on_update(self.ctx.guarded(lambda _: self.apply(self.params.values)))
         self.params = controls.ParameterPanel(
             self.ctx,
             [

@@ -8,20 +8,13 @@ stay, and only the sender hears of the refusal.
 
 from __future__ import annotations
 
-import contextlib
 import math
-import time
-from collections.abc import Iterator
 from typing import Any
 
-import msgspec
 import pytest
-import viser
-from websockets.exceptions import ConnectionClosed
-from websockets.sync.client import ClientConnection, connect
 
 from app.inputs import MAX_INT, MAX_TEXT, InputRefused, check_update
-from tests.harness import running_app, wait_for
+from tests.harness import raw_client, running_app, send_value, still_connected, wait_for
 
 
 @pytest.fixture(scope="module")
@@ -102,55 +95,6 @@ def test_text_dropdowns_checkboxes_disabled_controls_and_other_properties(gui_ap
 # --------------------------------------------------------------------------------------------------
 # Real websocket clients
 # --------------------------------------------------------------------------------------------------
-@contextlib.contextmanager
-def raw_client(app: Any) -> Iterator[ClientConnection]:
-    """A websocket client speaking viser's protocol, as the page's script does."""
-    before = set(app.server.get_clients())
-    ws = connect(
-        f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"], max_size=None, open_timeout=30
-    )
-    try:
-        # viser counts a client as connected once it reports its camera, as the page does at once.
-        ws.send(
-            msgspec.msgpack.encode(
-                {
-                    "type": "ViewerCameraMessage",
-                    "wxyz": (1.0, 0.0, 0.0, 0.0),
-                    "position": (3.0, -3.0, 2.0),
-                    "fov": 0.9,
-                    "near": 0.01,
-                    "far": 100.0,
-                    "image_height": 480,
-                    "image_width": 640,
-                    "look_at": (0.0, 0.0, 0.0),
-                    "up_direction": (0.0, 0.0, 1.0),
-                }
-            )
-        )
-        wait_for(lambda: set(app.server.get_clients()) - before, what="the client to be registered")
-        yield ws
-    finally:
-        ws.close()
-
-
-def send_value(ws: ClientConnection, uuid: str, value: Any) -> None:
-    ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
-
-
-def still_connected(ws: ClientConnection, seconds: float = 2.0) -> bool:
-    """The server keeps talking to this client (the loop sends the time every frame)."""
-    deadline = time.monotonic() + seconds
-    received = 0
-    try:
-        while time.monotonic() < deadline:
-            with contextlib.suppress(TimeoutError):
-                ws.recv(timeout=0.2)
-                received += 1
-    except ConnectionClosed:
-        return False
-    return received > 0
-
-
 def test_absurd_values_from_one_client_leave_every_other_client_connected(gui_app):
     app = gui_app
     whole = app.server.gui.add_slider("whole (test)", min=0, max=10, step=1, initial_value=5)
