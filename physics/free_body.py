@@ -69,7 +69,7 @@ from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import ellipkm1, elliprf, elliprj
+from scipy.special import ellipkm1, elliprc, elliprf, elliprj
 
 from physics.inertia import validate_moments
 from physics.rotations import expm_so3
@@ -150,7 +150,50 @@ def _landen_ladder(m: Floats, mc: Floats) -> Ladder:
     return roots, scale
 
 
+# Below this 1 − m the ascending Landen pass loses cn's relative accuracy (its dn cancels) and, below
+# about 1e-130, underflows; the first-order expansion about m = 1 is exact to rounding there (below).
+_MC_NEAR_ONE = 1e-15
+
+
+def _sn_cn_dn_near_one(w: Floats, mc: Floats) -> tuple[Floats, Floats, Floats]:
+    """``sn, cn, dn`` for ``0 ≤ w ≤ K/2`` and ``1 − m = mc ≤ 1e-15`` (A&S 16.15.1-3).
+
+    ``sn = tanh w + (mc/4)(sinh w cosh w − w) sech²w``, ``cn = sech w − (mc/4)(sinh w cosh w − w) tanh w
+    sech w``, ``dn = sech w + (mc/4)(sinh w cosh w + w) tanh w sech w``. The neglected terms are of
+    relative order ``(mc e^{2w})²``, and ``e^{2w} ≤ e^K ≈ 4/√mc`` for ``w ≤ K/2``, so they are below
+    ``16 mc ≤ 2e-14`` relative to the first-order term and below rounding in the result: every value keeps
+    its full relative precision however small ``mc`` is (down to the smallest double), with no underflow
+    (``sech w ≥ sech(K/2) ≈ (√mc/4)^{1/2}``).
+    """
+    # For mc > 0, w ≤ K/2 < 187; the cap only keeps the separatrix's own (mc = 0, w unbounded) entries
+    # finite until _reduced_jacobi replaces them with tanh and sech.
+    w = np.clip(w, 0.0, 300.0)
+    ch = np.cosh(w)
+    sh = np.sinh(w)
+    th = np.tanh(w)
+    se = 1.0 / ch
+    quarter = 0.25 * mc
+    s = th + quarter * (sh * ch - w) * se * se
+    c = se * (1.0 - quarter * (sh * ch - w) * th)
+    d = se * (1.0 + quarter * (sh * ch + w) * th)
+    return s, c, d
+
+
 def _sn_cn_dn_small(w: Floats, m: Floats, mc: Floats, ladder: Ladder) -> tuple[Floats, Floats, Floats]:
+    """``sn, cn, dn`` for ``0 ≤ w ≤ K/2``: the ascending pass of the Landen ladder, or the expansion
+    about ``m = 1`` where ``1 − m ≤ 1e-15``."""
+    near_one = mc <= _MC_NEAR_ONE
+    if np.all(near_one):
+        return _sn_cn_dn_near_one(w, mc)
+    s, c, d = _sn_cn_dn_landen(w, m, mc, ladder)
+    if np.any(near_one):
+        with np.errstate(all="ignore"):
+            s1, c1, d1 = _sn_cn_dn_near_one(np.where(near_one, w, 0.0), mc)
+        s, c, d = np.where(near_one, s1, s), np.where(near_one, c1, c), np.where(near_one, d1, d)
+    return s, c, d
+
+
+def _sn_cn_dn_landen(w: Floats, m: Floats, mc: Floats, ladder: Ladder) -> tuple[Floats, Floats, Floats]:
     """``sn, cn, dn`` for ``0 ≤ w ≤ K/2`` by the ascending pass of the Landen ladder."""
     roots, scale = ladder
     v = w / scale
@@ -218,6 +261,27 @@ def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[Fl
     j, _, s, c, d = _reduced_jacobi(uu, mm, mmc, kk, _landen_ladder(mm, mmc))
     sign = 1.0 - 2.0 * np.mod(j, 2.0)
     return sign * s, sign * c, d
+
+
+def _elliprj(x: ArrayLike, y: ArrayLike, z: ArrayLike, p: ArrayLike) -> Floats:
+    """Carlson's ``R_J(x, y, z, p)``, accurate when ``x`` and ``y`` are both below 1e-150.
+
+    scipy's ``elliprj`` loses about 3 digits once both of its first arguments are below ~1e-200 (they are
+    ``cn²`` and ``dn²`` of a body within 1e-100 of its separatrix). One step of Carlson's duplication
+    (DLMF 19.26.9: ``R_J = 2 R_J(x+λ, y+λ, z+λ, p+λ) + 6 R_C(1, 1+e)/d``, ``λ = √x√y + √x√z + √y√z``,
+    ``d = (√p+√x)(√p+√y)(√p+√z)``, ``e = (p−x)(p−y)(p−z)/d²``) lifts them to about √(x z).
+    """
+    xs, ys, zs, ps = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (x, y, z, p)))
+    out: Floats = elliprj(xs, ys, zs, ps)
+    small = np.maximum(xs, ys) < 1e-150
+    if np.any(small):
+        sx, sy, sz, sp = np.sqrt(xs), np.sqrt(ys), np.sqrt(zs), np.sqrt(ps)
+        lam = sx * sy + sx * sz + sy * sz
+        d = (sp + sx) * (sp + sy) * (sp + sz)
+        e = (ps - xs) * (ps - ys) * (ps - zs) / (d * d)
+        lifted = 2.0 * elliprj(xs + lam, ys + lam, zs + lam, ps + lam) + 6.0 * elliprc(1.0, 1.0 + e) / d
+        out = np.where(small, lifted, out)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -480,7 +544,7 @@ class FreeBody:
         rate0 = np.where(pole_c, 1.0 / ia, 1.0 / ic)
         # coef multiplies Q(u) = ∫ sn²/(1 − n sn²) du; it is L/λ times the coefficient of that term.
         coef = np.where(pole_c, ga * dac_f / (ia * ia * gc), dac_f * n_a / (ia * ic)) * ang / lam
-        jc = np.where(mc > 0.0, elliprj(0.0, np.where(mc > 0.0, mc, 1.0), 1.0, 1.0 - n), 0.0)
+        jc = np.where(mc > 0.0, _elliprj(0.0, np.where(mc > 0.0, mc, 1.0), 1.0, 1.0 - n), 0.0)
         p.update(
             ell=ell,
             q_can=q_can,
@@ -793,7 +857,7 @@ def _third_kind_excess(
         roots, scale = p["ladder"]
         reduced = _reduced_jacobi(u, m, mc, kk, ([q[e] for q in roots], scale[e]))
     j, v, s, c, d = reduced
-    out = (2.0 * j * jc + s**3 * elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
+    out = (2.0 * j * jc + s**3 * _elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
     sep = mc == 0.0
     if np.any(sep):
         rn = np.sqrt(-n)

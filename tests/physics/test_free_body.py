@@ -87,6 +87,61 @@ def test_jacobi_functions_match_mpmath_near_m_equal_one_for_large_arguments():
             assert np.allclose([sn[k], cn[k], dn[k]], ref, rtol=0, atol=2e-15 * max(1.0, abs(x))), (mc, x)
 
 
+@pytest.mark.parametrize("mc", [1e-15, 1e-16, 1e-70, 1e-140, 1e-300, 5e-324])
+def test_jacobi_functions_keep_their_precision_down_to_the_smallest_complement(mc):
+    """Issue 15, item 1: below 1 − m ≈ 1e-130 cn used to underflow. Every value must be right to the
+    rounding of its argument: |error| ≤ |f| eps + |f'| eps |u| (f' = cn dn, −sn dn, −m sn cn), however small
+    1 − m is. The reference needs more digits than 1 − m has zeros, or mpmath itself rounds m to 1."""
+    from scipy.special import ellipkm1
+
+    kk = float(ellipkm1(mc))
+    u = np.concatenate([np.linspace(0.0, 4.0 * kk, 13)[1:], [0.31 * kk, 0.5 * kk, 0.97 * kk, kk + 0.5, 2.9 * kk]])
+    sn, cn, dn = jacobi_sn_cn_dn(u, 1.0 - mc, mc)
+    mp.mp.dps = 40 + int(-np.log10(mc))
+    mm = 1 - mp.mpf(mc)
+    try:
+        for k, x in enumerate(u):
+            ux = mp.mpf(float(x))
+            s, c, d = (mp.ellipfun(f, ux, m=mm) for f in ("sn", "cn", "dn"))
+            for got, ref, slope in ((sn[k], s, c * d), (cn[k], c, s * d), (dn[k], d, mm * s * c)):
+                tol = 2.5 * 2.2e-16 * (abs(ref) + abs(slope) * abs(ux))
+                assert abs(got - ref) <= tol, (mc, float(x), got, float(ref))
+    finally:
+        mp.mp.dps = 30
+
+
+def test_spin_about_the_intermediate_axis_with_a_push_of_1e_70_matches_the_linear_growth():
+    """Issue 15's repro: ω at t = 213.5 s was (0.61, 0, 0.87). While the push is small the lecture's
+    linearisation is exact to its square (here ≤ 1e-48): (η1, η3)' = A (η1, η3), ω2 = 1."""
+    eps = 1e-70
+    body = FreeBody([2.0, 1.5, 1.0])
+    mp.mp.dps = 40
+    a = mp.matrix([[0, mp.mpf(0.5) / 2], [mp.mpf(0.5), 0]])  # ((I2 − I3)/I1, (I1 − I2)/I3) Ω, Ω = 1
+    for t in (1.0, 100.0, 213.5, 300.0):
+        eta = mp.expm(a * t) * mp.matrix([eps, 0])
+        w = body.omega([eps, 1.0, 0.0], [t])[0]
+        assert w[1] == 1.0
+        np.testing.assert_allclose(w[[0, 2]], [float(eta[0]), float(eta[1])], rtol=1e-13)
+    # The attitude: a rotation about body axis 2 by ω2 t (the push has not tilted it by 1e-37 yet).
+    r = body.attitude([eps, 1.0, 0.0], [213.5])[0]
+    angle = 213.5 % (2 * np.pi)
+    expected = np.array([[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]])
+    assert rotation_angle(r, expected) < 1e-12
+
+
+def test_a_push_of_3e_101_about_the_intermediate_axis_found_by_hypothesis():
+    """A random draw of the property test below (moments (2, 3, 1), ω0 = (1, 0, 2.96e-101)): the
+    attitude's finite-difference residual was 0.28 when 1 − m ≈ 1e-201."""
+    body = FreeBody([2.0, 3.0, 1.0])
+    w0 = np.array([1.0, 0.0, 2.957256465716797e-101])
+    t = np.array([-7.3, -0.2, 0.0, 1.1, 13.0])
+    h = 1e-3
+    om, rr = body.motion(w0, np.concatenate([t - 2 * h, t - h, t + h, t + 2 * h, t]), R_TILT)
+    n = len(t)
+    dr = (rr[:n] - 8 * rr[n : 2 * n] + 8 * rr[2 * n : 3 * n] - rr[3 * n : 4 * n]) / (12 * h)
+    assert np.max(np.abs(dr - rr[4 * n :] @ hat(om[4 * n :]))) < 1e-9
+
+
 def test_jacobi_functions_on_the_separatrix_are_tanh_and_sech():
     u = np.linspace(-40, 40, 81)
     sn, cn, dn = jacobi_sn_cn_dn(u, 1.0, 0.0)
