@@ -13,6 +13,8 @@ one of its options; text is at most :data:`MAX_TEXT` characters; a disabled cont
 only the ``value`` property may change. A refused message never reaches viser: the browser that sent it
 gets its control set back to the current value and one notification saying why, and nobody else hears
 of it. A clamped value is sent back to its sender too, so every browser shows the value in force.
+A browser that sends more than :data:`RATE` changes a second (after a burst of :data:`BURST`) has the
+excess dropped, so no one browser can flood the simulation everyone shares.
 
 This wraps one private piece of viser 1.1.1 (its handler list for ``GuiUpdateMessage``); viser is pinned,
 and ``tests/app/test_inputs.py`` sends the messages through a real websocket to prove the wrapper is in
@@ -22,6 +24,7 @@ place.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -35,6 +38,12 @@ MAX_TEXT = 2000
 
 MAX_INT = 2**53
 """Largest integer magnitude taken (exact in a JavaScript number and in a float64)."""
+
+RATE = 60.0
+"""Changes a browser may send per second, sustained (a dragged slider sends at most one a frame)."""
+
+BURST = 120.0
+"""Changes a browser may send at once before :data:`RATE` applies."""
 
 
 class InputRefused(ValueError):
@@ -128,12 +137,25 @@ def guard_inputs(gui: viser.GuiApi, refuse: Callable[[Any, str], None]) -> None:
     handlers: list[Any] = interface._incoming_handlers[_messages.GuiUpdateMessage]
     original = gui._handle_gui_updates
     index = handlers.index(original)  # a ValueError here means viser changed: the pin test catches it
+    allowance: dict[Any, tuple[float, float]] = {}  # client id -> (changes it may still send, when)
 
     async def checked(client_id: Any, message: _messages.GuiUpdateMessage) -> None:
         handle = gui._gui_input_handle_from_uuid.get(message.uuid, None)
         if handle is None or handle._impl.removed:
             return
         state = handle._impl
+        now = time.monotonic()
+        tokens, then = allowance.get(client_id, (BURST, now))
+        tokens = min(BURST, tokens + RATE * (now - then))
+        if tokens < 1.0:
+            allowance[client_id] = (tokens, now)
+            _send_value(gui, client_id, message.uuid, state.value)
+            refuse(client_id, f"More than {RATE:.0f} changes a second: some were ignored. Slow down a little.")
+            return
+        allowance[client_id] = (tokens - 1.0, now)
+        if len(allowance) > 10_000:  # browsers come and go: forget the oldest
+            for key in list(allowance)[:5_000]:
+                del allowance[key]
         try:
             label = str(getattr(state.props, "label", ""))
             updates = check_update(state.value, state.props, label, message.updates)

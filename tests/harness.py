@@ -243,15 +243,17 @@ def send_value(ws: Any, uuid: str, value: Any) -> None:
     ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
 
 
-def still_connected(ws: Any, seconds: float = 2.0) -> bool:
-    """The server keeps talking to this client (the loop sends the time every frame)."""
+def still_connected(ws: Any, seconds: float = 10.0) -> bool:
+    """The server still talks to this client: a message arrives within ``seconds`` (a running clock sends
+    the time ten times a second) and the connection is open."""
     deadline = time.monotonic() + seconds
-    received = 0
     try:
         while time.monotonic() < deadline:
-            with contextlib.suppress(TimeoutError):
+            try:
                 ws.recv(timeout=0.2)
-                received += 1
+                return True
+            except TimeoutError:
+                continue
     except ConnectionClosed:
         return False
-    return received > 0
+    return False

@@ -131,3 +131,17 @@ def test_a_value_a_slider_accepts_still_reaches_the_scene(gui_app):
         wait_for(lambda: app.scene.params.values["spin"] == pytest.approx(target), what="the scene to take it")
         send_value(ws, slider._impl.uuid, 1e300)  # clamped to the slider's maximum, then offered
         wait_for(lambda: app.scene.params.values["spin"] == pytest.approx(slider.max), what="the clamped spin")
+
+
+def test_a_flood_of_changes_from_one_browser_is_limited(gui_app):
+    app = gui_app
+    speed_uuid = app.speed_slider._impl.uuid
+    with raw_client(app) as flooder, raw_client(app) as other:
+        before = len(app.messages)
+        for k in range(400):  # far more than a person can send: about 2,000 a second
+            send_value(flooder, speed_uuid, 1.0 + 0.001 * (k % 7))
+        wait_for(
+            lambda: any("changes a second" in body for _, body in app.messages[before:]),
+            what="the flood to be limited",
+        )
+        assert still_connected(other) and still_connected(flooder)
