@@ -1,4 +1,4 @@
-"""The ``rigid-body-lab`` command: start the viser server and print its address."""
+"""The ``rigid-body-lab`` command: start the viser server and print the addresses to open."""
 
 from __future__ import annotations
 
@@ -10,15 +10,27 @@ def main(argv: list[str] | None = None) -> None:
     from app.scenes import scene_names
 
     parser = argparse.ArgumentParser(prog="rigid-body-lab", description=__doc__)
-    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--host", default="127.0.0.1", help="127.0.0.1 (default) or 0.0.0.0 for a classroom LAN")
     parser.add_argument("--port", type=int, default=8080)
     parser.add_argument("--scene", default=None, choices=scene_names(), help="scene shown first")
+    parser.add_argument(
+        "--share",
+        action="store_true",
+        help="show viser's share button, which can publish this server on a public tunnel (off by default)",
+    )
     args = parser.parse_args(argv)
 
+    from app.addresses import is_loopback, urls
     from app.server import App
 
-    app = App(host=args.host, port=args.port, scene=args.scene)
-    print(f"Rigid Body Lab serving on {app.url}", flush=True)
+    app = App(host=args.host, port=args.port, scene=args.scene, share=args.share)
+    if is_loopback(args.host):
+        print(f"Rigid Body Lab serving on {app.url}", flush=True)
+    else:
+        found = urls(args.host, app.port)
+        print("Rigid Body Lab serving on the local network; students open:", flush=True)
+        for url in found or [f"http://<this machine's IP address>:{app.port}"]:
+            print(f"  {url}", flush=True)
     try:
         while True:
             time.sleep(1.0)
