@@ -28,6 +28,7 @@ from pathlib import PurePath
 import numpy as np
 import trimesh
 
+from app.upload_limits import MAX_FACES
 from physics.inertia import MassProperties, from_mesh
 
 __all__ = [
@@ -44,8 +45,6 @@ __all__ = [
 
 MAX_BYTES = 20 * 1024 * 1024
 """Largest upload accepted, bytes (20 MB)."""
-MAX_FACES = 500_000
-"""Most triangles accepted: more would make every frame slow for every connected browser."""
 FORMATS = ("stl", "obj", "ply", "glb")
 """File extensions accepted (lower case)."""
 MILLIMETRE_GUESS = 5.0
@@ -114,6 +113,8 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
         raise ValueError(f"{name} is empty (0 bytes): there is no mesh in it.")
     try:
         loaded = trimesh.load(io.BytesIO(content), file_type=ext, process=True)
+    except MemoryError:
+        raise  # not the file's form but its size: the worker's memory limit says so (app.upload_worker)
     except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable mesh"
         raise ValueError(f"{name} could not be read as a {ext.upper()} mesh ({type(exc).__name__}: {exc}).") from exc
     if isinstance(loaded, trimesh.Scene):

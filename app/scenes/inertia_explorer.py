@@ -17,7 +17,8 @@ import trimesh
 
 from app import controls, draw
 from app.scenes import Scene, register
-from app.upload import NotWatertightError, UploadedBody, body_from_mesh, body_from_upload
+from app.upload import NotWatertightError, UploadedBody, body_from_mesh
+from app.upload_worker import body_in_worker
 from assets import ASSETS, load_mesh, mass_properties
 from physics.inertia import MassProperties, box, point_masses, rod, solid_cylinder, solid_sphere
 
@@ -232,7 +233,7 @@ class InertiaExplorer(Scene):
         browsers keep moving; the lock is taken only to swap the new body in (or to refuse it).
         """
         try:
-            result: UploadedBody | Exception = body_from_upload(filename, content)
+            result: UploadedBody | Exception = body_in_worker(filename, content)
         except Exception as exc:  # noqa: BLE001 - shown to the user by the guarded swap below
             result = exc
         # Guarded: under the lock, any surprise shown to the user who uploaded, then a redraw.

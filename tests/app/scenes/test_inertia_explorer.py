@@ -216,7 +216,7 @@ def test_upload_is_parsed_outside_the_lock_and_swapped_in_under_it(app, monkeypa
         free["swap"] = lock_is_free()
         return adopt(body, client)
 
-    monkeypatch.setattr(explorer_module, "body_from_upload", parse)
+    monkeypatch.setattr(explorer_module, "body_in_worker", parse)
     monkeypatch.setattr(sc, "_adopt", swap)
     sc.upload._impl.value = UploadedFile("brick.stl", _box_stl())  # what viser stores when a file arrives
     for callback in sc.upload._impl.update_cb:  # the callback viser runs for the real upload button
@@ -233,7 +233,7 @@ def test_upload_parsed_after_the_user_left_the_scene_is_dropped(app, monkeypatch
         app.switch_scene("pendulum")  # possible now: the parse no longer holds the lock
         return body_from_upload(filename, content, **kw)
 
-    monkeypatch.setattr(explorer_module, "body_from_upload", parse_while_someone_switches)
+    monkeypatch.setattr(explorer_module, "body_in_worker", parse_while_someone_switches)
     assert not sc.load_upload("brick.stl", _box_stl())
     assert app.scene.name == "pendulum" and len(app.messages) == n_messages  # nothing adopted, nothing said
     assert app.frame(FRAME)
