@@ -307,13 +307,23 @@ class PrincipalFrame:
         self.handle.position = np.asarray(position, dtype=float)
 
 
+TRACE_CHUNK = 64
+"""Segments per line-segments node of a :class:`Trace`: a frame rewrites one such node, not the trace."""
+
+
 class Trace:
-    """A bounded trace (ring buffer) of a point, drawn as line segments updated in place.
+    """A bounded trace of a point, drawn as line segments in chunks so that a frame sends one chunk.
+
+    The whole trace used to be resent every frame (1,500 segments: 36 kB a frame, 2 MB/s a browser).
+    Here the segments live in chunks of :data:`TRACE_CHUNK`, each its own viser node; a new point adds
+    one segment to the newest chunk and only that chunk is sent (1.5 kB). When it is full, the oldest
+    chunk is emptied and becomes the newest, so the oldest segments drop out a chunk at a time.
 
     Parameters
     ----------
     capacity : int
-        Number of points kept (the oldest drop out); :meth:`resize` changes it.
+        Number of points kept (the oldest drop out); :meth:`resize` changes it. The drawing shows at
+        least the last ``capacity`` points and at most :data:`TRACE_CHUNK` − 1 more.
     min_step : float
         A new point closer than this (m) to the last one replaces nothing and is skipped, so a paused or
         slow motion does not fill the buffer with duplicates.
@@ -334,38 +344,49 @@ class Trace:
         self._quantity = quantity
         self._thickness = thickness
         self.min_step = min_step
-        self._handle: viser.LineSegmentsHandle | None = None
+        self._chunks: list[viser.LineSegmentsHandle] = []
         self.resize(capacity)
 
-    @property
-    def handle(self) -> viser.LineSegmentsHandle:
-        """The line-segments node (always present once constructed)."""
-        assert self._handle is not None
-        return self._handle
-
     def resize(self, capacity: int) -> None:
-        """Change the number of points kept (re-creates the handle once; the trace restarts)."""
+        """Change the number of points kept (re-creates the chunks; the trace restarts)."""
         if capacity < 2:
             raise ValueError(f"a trace needs at least 2 points, got {capacity}")
         self.capacity = int(capacity)
         self._buf = np.zeros((self.capacity, 3))
         self._count = 0
         self._head = 0  # index of the next write
-        if self._handle is not None:
-            self._handle.remove()
-        self._handle = self._server.scene.add_line_segments(
-            self._name,
-            points=np.zeros((self.capacity - 1, 2, 3), dtype=np.float32),
-            colors=COLOURS[self._quantity],
-            thickness=self._thickness,
-            thickness_units="screen",
-        )
-        self.handle.visible = False
+        self.remove()
+        length = min(TRACE_CHUNK, self.capacity - 1)
+        # One chunk more than the capacity needs: the newest may be nearly empty while the oldest is full.
+        n_chunks = -(-(self.capacity - 1) // length) + 1
+        self._segments = np.zeros((n_chunks, length, 2, 3), dtype=np.float32)
+        self._fill = np.zeros(n_chunks, dtype=int)
+        self._newest = 0
+        self._chunks = [
+            self._server.scene.add_line_segments(
+                f"{self._name}/{k}",
+                points=self._segments[k],
+                colors=COLOURS[self._quantity],
+                thickness=self._thickness,
+                thickness_units="screen",
+                visible=False,
+            )
+            for k in range(n_chunks)
+        ]
+
+    def remove(self) -> None:
+        """Remove the trace's nodes from the scene."""
+        for chunk in self._chunks:
+            chunk.remove()
+        self._chunks = []
 
     def clear(self) -> None:
         self._count = 0
         self._head = 0
-        self.handle.visible = False
+        self._fill[:] = 0
+        for chunk in self._chunks:
+            if chunk.visible:
+                chunk.visible = False
 
     def points(self) -> NDArray[np.float64]:
         """The kept points, oldest first, shape (k, 3)."""
@@ -373,25 +394,36 @@ class Trace:
             return self._buf[: self._count].copy()
         return np.roll(self._buf, -self._head, axis=0)
 
+    def drawn_segments(self) -> NDArray[np.float32]:
+        """The segments on screen, oldest first, shape (k, 2, 3) (what the browsers were sent)."""
+        n = len(self._chunks)
+        order = [(self._newest + 1 + i) % n for i in range(n)]
+        return np.concatenate([self._segments[k, : self._fill[k]] for k in order])
+
     def append(self, point: ArrayLike) -> None:
-        """Add a point (m) and redraw the segments in place."""
+        """Add a point (m): one segment from the previous point, sent with its chunk only."""
         p = np.asarray(point, dtype=float)
-        if self._count and np.linalg.norm(p - self._buf[(self._head - 1) % self.capacity]) < self.min_step:
+        previous = self._buf[(self._head - 1) % self.capacity]
+        if self._count and np.linalg.norm(p - previous) < self.min_step:
             return
         self._buf[self._head] = p
         self._head = (self._head + 1) % self.capacity
         self._count = min(self._count + 1, self.capacity)
-        pts = self.points()
-        if len(pts) < 2:
+        if self._count < 2:
             return
-        segs = np.empty((self.capacity - 1, 2, 3), dtype=np.float32)
-        k = len(pts) - 1
-        segs[:k, 0] = pts[:-1]
-        segs[:k, 1] = pts[1:]
-        # Unused segments collapse onto the newest point (invisible, and the buffer shape never changes).
-        segs[k:] = pts[-1]
-        self.handle.points = segs
-        self.handle.visible = True
+        k = self._newest
+        if self._fill[k] == self._segments.shape[1]:
+            k = self._newest = (k + 1) % len(self._chunks)  # the oldest chunk becomes the newest
+            self._fill[k] = 0
+        f = self._fill[k]
+        self._segments[k, f, 0] = previous
+        self._segments[k, f, 1] = p
+        self._segments[k, f + 1 :] = p  # unused segments collapse onto the newest point (invisible)
+        self._fill[k] = f + 1
+        chunk = self._chunks[k]
+        chunk.points = self._segments[k]
+        if not chunk.visible:
+            chunk.visible = True
 
 
 class Cone:

@@ -49,15 +49,31 @@ def test_trace_is_a_bounded_ring_buffer_in_time_order(app):
     pts = trace.points()
     assert pts.shape == (10, 3)
     np.testing.assert_array_equal(pts[:, 0], np.arange(15, 25))
-    # The drawn segments join consecutive points, oldest first.
-    segs = np.asarray(trace.handle.points)
-    np.testing.assert_array_equal(segs[:, 0, 0], np.arange(15, 24))
-    np.testing.assert_array_equal(segs[:, 1, 0], np.arange(16, 25))
+    # The drawn segments join consecutive points, oldest first, and include the last 9 (capacity − 1);
+    # older ones drop out a chunk at a time.
+    segs = trace.drawn_segments()
+    np.testing.assert_array_equal(segs[:, 1, 0], segs[:, 0, 0] + 1)
+    assert segs[-1, 1, 0] == 24 and 9 <= len(segs) < 9 + draw.TRACE_CHUNK
     trace.resize(4)
-    assert trace.points().shape == (0, 3)
+    assert trace.points().shape == (0, 3) and len(trace.drawn_segments()) == 0
     with pytest.raises(ValueError, match="at least 2"):
         trace.resize(1)
-    trace.handle.remove()
+    trace.remove()
+
+
+def test_trace_sends_one_chunk_a_point_not_the_whole_trace(app):
+    """Bandwidth: a new point rewrites one chunk of TRACE_CHUNK segments, whatever the capacity."""
+    trace = draw.Trace(app.server, "/test_trace_chunks", capacity=1500)
+    for i in range(200):
+        trace.append([0.01 * i, 0.0, 0.0])
+    sent = [c for c in trace._chunks if c.visible]
+    assert len(sent) == -(-199 // draw.TRACE_CHUNK)  # 199 segments so far, in 4 chunks
+    assert all(np.asarray(c.points).shape == (draw.TRACE_CHUNK, 2, 3) for c in trace._chunks)
+    bytes_per_point = np.asarray(trace._chunks[0].points).nbytes
+    assert bytes_per_point == draw.TRACE_CHUNK * 2 * 3 * 4  # 1.5 kB, against 36 kB for the whole trace
+    segs = trace.drawn_segments()
+    assert len(segs) == 199 and np.allclose(segs[:, 1, 0] - segs[:, 0, 0], 0.01)
+    trace.remove()
 
 
 def test_cone_points_along_its_axis_with_its_half_angle(app):
