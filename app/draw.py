@@ -307,7 +307,7 @@ class PrincipalFrame:
         self.handle.position = np.asarray(position, dtype=float)
 
 
-TRACE_CHUNK = 64
+TRACE_CHUNK = 32
 """Segments per line-segments node of a :class:`Trace`: a frame rewrites one such node, not the trace."""
 
 
@@ -316,7 +316,7 @@ class Trace:
 
     The whole trace used to be resent every frame (1,500 segments: 36 kB a frame, 2 MB/s a browser).
     Here the segments live in chunks of :data:`TRACE_CHUNK`, each its own viser node; a new point adds
-    one segment to the newest chunk and only that chunk is sent (1.5 kB). When it is full, the oldest
+    one segment to the newest chunk and only that chunk is sent (768 bytes). When it is full, the oldest
     chunk is emptied and becomes the newest, so the oldest segments drop out a chunk at a time.
 
     Parameters

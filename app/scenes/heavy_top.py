@@ -22,11 +22,12 @@ from physics.heavy_top import HeavyTop
 
 LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
 ELL = 0.5  # pivot-to-centre-of-mass distance used to split M g ℓ into M and ℓ for the stepping model (m)
-PLOT_HZ = 10.0  # the U(θ) plot is refreshed at most this often (it sends arrays to every browser)
+PLOT_HZ = 5.0  # the U(θ) plot is refreshed at most this often (it sends four arrays to every browser)
+PLOT_POINTS = 180  # one a degree: a smooth curve at a quarter of the bytes of a finer grid
 
 
 def _theta_grid() -> np.ndarray:
-    return np.radians(np.linspace(0.5, 179.5, 359))
+    return np.radians(np.linspace(0.5, 179.5, PLOT_POINTS))
 
 
 def _start(values: dict[str, float]) -> tuple[float, float, float, float]:
@@ -107,7 +108,12 @@ class HeavyTopScene(Scene):
         self.trace_length = gui.add_slider("trace length (points)", min=100, max=5000, step=100, initial_value=1500)
         self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
         self.plot = gui.add_uplot(
-            data=(np.degrees(_theta_grid()), np.zeros(359), np.zeros(359), np.full(359, -1e3)),
+            data=(
+                np.degrees(_theta_grid()),
+                np.zeros(PLOT_POINTS),
+                np.zeros(PLOT_POINTS),
+                np.full(PLOT_POINTS, -1e3),
+            ),
             series=(
                 viser.uplot.Series(label="θ (°)"),
                 viser.uplot.Series(label="U(θ)", stroke="#1478ff", width=2),

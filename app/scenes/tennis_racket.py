@@ -36,7 +36,7 @@ BODIES = {
 }
 AXES = {"1 — largest moment": 0, "2 — intermediate (flips)": 1, "3 — smallest moment": 2}
 HISTORY = 600  # samples of ω kept for the plot
-PLOT_EVERY = 3  # frames between plot updates (each update sends the whole history)
+PLOT_EVERY = 12  # frames between plot refreshes: 5 Hz at 60 frames/s (each refresh sends 19 kB)
 SYMMETRY_RTOL = 1e-6  # moments closer than this (relative) are equal: a float32 mesh (STL) resolves no more
 
 

@@ -67,10 +67,10 @@ def test_trace_sends_one_chunk_a_point_not_the_whole_trace(app):
     for i in range(200):
         trace.append([0.01 * i, 0.0, 0.0])
     sent = [c for c in trace._chunks if c.visible]
-    assert len(sent) == -(-199 // draw.TRACE_CHUNK)  # 199 segments so far, in 4 chunks
+    assert len(sent) == -(-199 // draw.TRACE_CHUNK)  # 199 segments so far, in 7 chunks
     assert all(np.asarray(c.points).shape == (draw.TRACE_CHUNK, 2, 3) for c in trace._chunks)
     bytes_per_point = np.asarray(trace._chunks[0].points).nbytes
-    assert bytes_per_point == draw.TRACE_CHUNK * 2 * 3 * 4  # 1.5 kB, against 36 kB for the whole trace
+    assert bytes_per_point == draw.TRACE_CHUNK * 2 * 3 * 4  # 768 bytes, against 36 kB for the whole trace
     segs = trace.drawn_segments()
     assert len(segs) == 199 and np.allclose(segs[:, 1, 0] - segs[:, 0, 0], 0.01)
     trace.remove()
