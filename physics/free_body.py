@@ -73,7 +73,7 @@ from scipy.special import ellipkm1, elliprc, elliprf, elliprj
 
 from physics.inertia import validate_moments
 from physics.rotations import expm_so3
-from physics.validation import finite_array
+from physics.validation import finite_array, rotation_array, vector_array
 
 Floats = NDArray[np.float64]
 # A double-double number: (high part, low part), arrays or scalars.
@@ -665,8 +665,8 @@ class FreeBody:
         attitude : ndarray, shape (k, 3, 3)
         L_body : ndarray, shape (k, 3)
         """
-        r = np.asarray(attitude, dtype=float).reshape(-1, 3, 3)
-        lb = np.asarray(L_body, dtype=float).reshape(-1, 3)
+        r = rotation_array(attitude, "attitude").reshape(-1, 3, 3)
+        lb = vector_array(L_body, "L_body").reshape(-1, 3)
         k = max(r.shape[0], lb.shape[0])
         r = np.broadcast_to(r, (k, 3, 3))
         lb = np.broadcast_to(lb, (k, 3))

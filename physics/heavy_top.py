@@ -51,7 +51,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipj, ellipkm1, elliprf, elliprj
 
 from physics import G
-from physics.validation import finite_array, finite_scalar
+from physics.validation import finite_array, finite_scalar, rotation_array, vector_array
 
 if TYPE_CHECKING:
     from physics.inertia import MassProperties
@@ -1210,15 +1210,9 @@ def simulate_heavy_body(
     mass = finite_scalar(mass, "mass")
     if mass <= 0.0:
         raise ValueError(f"mass must be positive, got {mass}")
-    com = np.asarray(center_of_mass_body, dtype=float).reshape(3)
-    if not np.all(np.isfinite(com)):
-        raise ValueError("center_of_mass_body must be finite")
-    R0 = np.asarray(attitude0, dtype=float).reshape(3, 3)
-    if not np.all(np.isfinite(R0)) or np.max(np.abs(R0.T @ R0 - np.eye(3))) > 1e-10 or np.linalg.det(R0) < 0:
-        raise ValueError("attitude0 must be a rotation matrix (orthonormal, det +1)")
-    w0 = np.asarray(omega_body0, dtype=float).reshape(3)
-    if not np.all(np.isfinite(w0)):
-        raise ValueError("omega_body0 must be finite")
+    com = vector_array(center_of_mass_body, "center_of_mass_body", batched=False)
+    R0 = rotation_array(attitude0, "attitude0", batched=False)
+    w0 = vector_array(omega_body0, "omega_body0", batched=False)
     t_final, dt = finite_scalar(t_final, "t_final"), finite_scalar(dt, "dt")
     if t_final <= 0.0 or dt <= 0.0:
         raise ValueError(f"t_final and dt must be positive, got t_final = {t_final}, dt = {dt}")

@@ -54,6 +54,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from physics import G
+from physics.validation import rotation_array, vector_array
 
 __all__ = [
     "GravityTorque",
@@ -518,8 +519,8 @@ class _Method:
 
 
 def _check_state(R, L_body):
-    R = np.asarray(R, dtype=float)
-    L = np.asarray(L_body, dtype=float)
+    R = rotation_array(R, "R0")
+    L = vector_array(L_body, "L0_body")
     if R.shape == (3, 3) and L.shape == (3,):
         batched = False
     elif R.ndim == 3 and R.shape[1:] == (3, 3) and L.ndim == 2 and L.shape[1] == 3 and R.shape[0] == L.shape[0]:
@@ -534,6 +535,8 @@ def _check_state(R, L_body):
 
 
 def _check_dt(dt) -> float:
+    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)):
+        raise ValueError(f"the time step dt must be one number of seconds, got {dt!r}")
     dt = float(dt)
     if not math.isfinite(dt):
         raise ValueError(f"the time step dt must be a finite number of seconds, got {dt}")

@@ -11,7 +11,10 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["finite_array", "finite_scalar"]
+__all__ = ["ROTATION_TOLERANCE", "finite_array", "finite_scalar", "rotation_array", "vector_array"]
+
+ROTATION_TOLERANCE = 1e-9
+"""Largest ``|RᵀR − I|`` entry accepted for an attitude (rounding of a stored matrix is far below it)."""
 
 
 def finite_array(value: ArrayLike, name: str, shape: tuple[int, ...] | None = None) -> NDArray[np.float64]:
@@ -50,3 +53,34 @@ def finite_scalar(value: float, name: str) -> float:
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite (no NaN or inf), got {v}")
     return v
+
+
+def rotation_array(value: ArrayLike, name: str, *, batched: bool = True) -> NDArray[np.float64]:
+    """``value`` as rotation matrices, shape (3, 3) or, when ``batched``, (n, 3, 3).
+
+    Raises
+    ------
+    ValueError
+        Not numeric, another shape (the message names the shapes accepted and the one given), NaN or
+        inf, not orthogonal beyond :data:`ROTATION_TOLERANCE` (e.g. ``2 I``), or a reflection
+        (determinant −1): an attitude maps body to space and keeps handedness.
+    """
+    arr = finite_array(value, name)
+    if not (arr.shape == (3, 3) or (batched and arr.ndim == 3 and arr.shape[1:] == (3, 3))):
+        accepted = "(3, 3) or (n, 3, 3)" if batched else "(3, 3)"
+        raise ValueError(f"{name} must have shape {accepted}, got shape {arr.shape}")
+    error = np.max(np.abs(np.swapaxes(arr, -1, -2) @ arr - np.eye(3)), initial=0.0)
+    if error > ROTATION_TOLERANCE:
+        raise ValueError(f"{name} must be a rotation matrix (orthonormal): |RᵀR − I| is {error:.3g}")
+    if np.any(np.linalg.det(arr) < 0.0):
+        raise ValueError(f"{name} must be a rotation (determinant +1), not a reflection (determinant −1)")
+    return arr
+
+
+def vector_array(value: ArrayLike, name: str, *, batched: bool = True) -> NDArray[np.float64]:
+    """``value`` as 3-vectors, shape (3,) or, when ``batched``, (n, 3); ValueError names the shapes."""
+    arr = finite_array(value, name)
+    if not (arr.shape == (3,) or (batched and arr.ndim == 2 and arr.shape[1] == 3)):
+        accepted = "(3,) or (n, 3)" if batched else "(3,)"
+        raise ValueError(f"{name} must have shape {accepted}, got shape {arr.shape}")
+    return arr

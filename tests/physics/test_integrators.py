@@ -299,3 +299,43 @@ def test_generated_scalar_code_matches_the_interpreted_step(cls):
         R, L = method.step(R, L, 0.01)
     # Same operations in a different association order: agreement to a few hundred ulps after 50 steps.
     assert np.max(np.abs(tr.attitude[-1] - R)) < 1e-13 and np.max(np.abs(tr.L_body[-1] - L)) < 1e-13
+
+
+# --------------------------------------------------------------------------------------------------
+# Validation (issue 15, item 6): attitudes must be rotations; shapes and steps are named in the message.
+# --------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("attitude", "message"),
+    [
+        (2 * np.eye(3), "must be a rotation matrix"),
+        (np.diag([1.0, 1.0, -1.0]), "not a reflection"),
+        (np.eye(4), r"must have shape \(3, 3\) or \(n, 3, 3\), got shape \(4, 4\)"),
+        ([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, np.nan]], "finite"),
+    ],
+)
+def test_integrate_and_flow_refuse_an_attitude_that_is_not_a_rotation(attitude, message):
+    from physics.free_body import FreeBody
+
+    with pytest.raises(ValueError, match=message):
+        integrate(LiePoissonStrang([2.0, 1.5, 1.0]), attitude, [1.0, 2.0, 3.0], 0.1, 10)
+    with pytest.raises(ValueError, match=message):
+        FreeBody([2.0, 1.5, 1.0]).flow(attitude, [1.0, 2.0, 3.0], 0.1)
+
+
+def test_wrong_shapes_and_steps_name_the_argument():
+    from physics.free_body import FreeBody
+    from physics.heavy_top import simulate_heavy_body
+
+    with pytest.raises(ValueError, match=r"L0_body must have shape \(3,\) or \(n, 3\), got shape \(2,\)"):
+        integrate(LiePoissonStrang([2.0, 1.5, 1.0]), np.eye(3), [1.0, 2.0], 0.1, 10)
+    with pytest.raises(ValueError, match=r"L_body must have shape \(3,\) or \(n, 3\), got shape \(2,\)"):
+        FreeBody([2.0, 1.5, 1.0]).flow(np.eye(3), [1.0, 2.0], 0.1)
+    with pytest.raises(ValueError, match="dt must be one number of seconds"):
+        integrate(LiePoissonStrang([2.0, 1.5, 1.0]), np.eye(3), [1.0, 2.0, 3.0], [0.1, 0.2], 10)
+    args = ([1.0, 1.0, 0.5], 1.0, [0.0, 0.0, 0.1])
+    with pytest.raises(ValueError, match=r"attitude0 must have shape \(3, 3\), got shape \(2, 2\)"):
+        simulate_heavy_body(*args, np.eye(2), [0.0, 0.0, 10.0], 1.0, 0.01)
+    with pytest.raises(ValueError, match=r"omega_body0 must have shape \(3,\), got shape \(2,\)"):
+        simulate_heavy_body(*args, np.eye(3), [0.0, 10.0], 1.0, 0.01)
+    with pytest.raises(ValueError, match="not a reflection"):
+        simulate_heavy_body(*args, np.diag([1.0, -1.0, -1.0]) @ np.diag([1.0, 1.0, -1.0]), [0.0, 0.0, 10.0], 1.0, 0.01)
