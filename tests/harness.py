@@ -120,8 +120,20 @@ def open_page(browser: Any, app: Any, timeout: float = 30.0, viewport: dict | No
     return page, client
 
 
-def control_id(page: Any, label: str) -> str:
-    """The DOM id of the viser control whose label text is ``label`` (viser labels it with for=id)."""
+def control_id(page: Any, label: str, timeout: float = 30.0) -> str:
+    """The DOM id of the viser control whose label text is ``label`` (viser labels it with for=id).
+
+    Waits for the control to appear: after a scene switch the server has the new controls before the
+    page has drawn them, more so on a loaded machine.
+    """
+    try:
+        page.wait_for_function(
+            """(text) => [...document.querySelectorAll('label[for]')].some(el => el.textContent.trim() === text)""",
+            arg=label,
+            timeout=timeout * 1000,
+        )
+    except Exception:  # noqa: BLE001 - reported below with the label that never came
+        pass
     found = page.evaluate(
         """(text) => { for (const el of document.querySelectorAll('label[for]')) {
                if (el.textContent.trim() === text) return el.getAttribute('for'); } return null; }""",

@@ -95,6 +95,8 @@ def test_switching_scenes_in_the_page(live_app, page_and_client):
     page, client = page_and_client
     for name in ("wobble", "free_fall", "heavy_top"):
         pick_scene(page, REGISTRY[name].title)
-        wait_for(lambda name=name: live_app.scene.name == name, what=f"the server to switch to {name}")
+        wait_for(
+            lambda name=name: getattr(live_app.scene, "name", None) == name, what=f"the server to switch to {name}"
+        )
         page.get_by_text(REGISTRY[name].caption.split("**")[1]).first.wait_for(timeout=30_000)
         assert image_stats(client.get_render(*RENDER, timeout=30)) > 5.0
