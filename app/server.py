@@ -110,10 +110,8 @@ class App:
         self._thread: threading.Thread | None = None
         self._last_time_text = 0.0
         self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
-        self._shown_lock = threading.Lock()
-        self._building: Scene | None = (
-            None  # the scene whose build() is running (see guarded)  # notify runs on callback threads, the loop and viser's event loop
-        )
+        self._shown_lock = threading.Lock()  # notify runs on callback threads, the loop and viser's event loop
+        self._building: Scene | None = None  # the scene whose build() is running (see guarded)
 
         self.server.scene.set_up_direction("+z")
         self.server.scene.add_grid("/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import pytest
+
 from app import controls
 
 
@@ -36,3 +38,40 @@ def test_refused_dropdown_choice_snaps_back_and_notifies(app):
         assert handle.value == "rod" and applied == ["rod", "impossible", "refused"]
     finally:
         handle.remove()
+
+
+def test_offer_is_transactional_for_any_exception_and_reset_still_works(app, monkeypatch):
+    from tests.harness import open_scene
+
+    scene = open_scene(app, "heavy_top")
+    panel = scene.params
+    top, values = scene.top, dict(panel.values)
+    real_apply = type(scene).apply
+
+    def half_then_crash(self, candidate):
+        self.top = "half-built"  # what a scene might have assigned before failing
+        raise ZeroDivisionError("|ω| = 0")
+
+    monkeypatch.setattr(type(scene), "apply", half_then_crash)
+    panel._apply = scene.apply  # the panel holds the bound method it was built with
+    assert panel.offer({"spin": values["spin"] + 1.0}) is False
+    assert scene.top is top and panel.values == values
+    assert app.messages[-1] == ("Refused: the scene could not take these values", "ZeroDivisionError: |ω| = 0")
+    monkeypatch.setattr(type(scene), "apply", real_apply)
+    panel._apply = scene.apply
+    app.restart()  # Reset works, and the clock runs the previous model
+    app.frame(1 / 60)
+    assert scene.top is top and app.time > 0
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [(float("nan"), "finite"), (10**400, "finite"), ("fast", "must be a number"), (1e6, "must be between")],
+)
+def test_offer_checks_type_finiteness_and_the_slider_range(app, value, message):
+    from tests.harness import open_scene
+
+    scene = open_scene(app, "heavy_top")
+    before = dict(scene.params.values)
+    assert scene.params.offer({"spin": value}) is False
+    assert scene.params.values == before and message in app.messages[-1][1]
