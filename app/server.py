@@ -28,7 +28,7 @@ from app import draw
 from app.inputs import guard_inputs
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 
-__all__ = ["App", "NumericalFailure", "check_finite"]
+__all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 
 FPS = 60.0
 NOTIFY_SECONDS = 6.0  # a notification closes by itself after this long; an identical one is not stacked
@@ -58,44 +58,48 @@ def check_finite(state: dict[str, Any], where: str = "") -> None:
             check_finite({str(i): v for i, v in enumerate(value)}, name + "[")
 
 
-class App:
-    """The app: viser server, scene picker, clock, the shared simulation and its real-time loop.
+def _first_scene(scene: str | None) -> tuple[str, list[str]]:
+    """The scene to open first and the picker's list; refuses an unknown name."""
+    load_all()
+    names = scene_names()
+    if not names:
+        raise RuntimeError("no scenes are registered")
+    if scene is not None and scene not in REGISTRY:
+        raise ValueError(f"unknown scene {scene!r}; choose one of: {', '.join(names)}")
+    return scene or names[0], names
+
+
+class Simulation:
+    """One simulation: a scene, its clock, its panel and its scene nodes, drawn for its browsers.
 
     Parameters
     ----------
-    host, port : str, int
-        Where to serve (default http://127.0.0.1:8080).
+    target : viser.ViserServer or viser.ClientHandle
+        Where it is drawn: the server (every browser sees and drives the same simulation) or one
+        browser's own client handle (a private session, ``rigid-body-lab --private``). Scenes reach it as
+        ``ctx.server`` and use only its ``scene`` and ``gui``.
     scene : str, optional
         Name of the first scene (default: the first in the picker).
-    start_loop : bool
-        Start the real-time loop thread (tests and the benchmark drive :meth:`frame` themselves).
-    verbose : bool
-        Let viser print its banner.
+    fps : float
+        Frames per second of the loop that drives it.
+    share : bool
+        Show viser's share button (a public tunnel).
     """
 
     root = "/scene"
 
     def __init__(
         self,
-        host: str = "127.0.0.1",
-        port: int = 8080,
+        target: viser.ViserServer | viser.ClientHandle,
         scene: str | None = None,
         *,
-        start_loop: bool = True,
-        verbose: bool = False,
         fps: float = FPS,
         share: bool = False,
     ) -> None:
-        load_all()
-        names = scene_names()
-        if not names:
-            raise RuntimeError("no scenes are registered")
-        if scene is not None and scene not in REGISTRY:
-            raise ValueError(f"unknown scene {scene!r}; choose one of: {', '.join(names)}")
+        first, names = _first_scene(scene)
         self.lock = threading.RLock()
         self.fps = float(fps)
-        self.server = viser.ViserServer(host=host, port=port, verbose=verbose)
-        self.host, self.port = host, self.server.get_port()
+        self.server: Any = target
         self.scene: Scene | None = None
         self.messages: list[tuple[str, str]] = []  # every notification sent (title, body), newest last
         self.frames = 0  # frames drawn
@@ -106,8 +110,6 @@ class App:
         self._dirty = True
         self._folder: Any = None
         self._switching = False
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
         self._last_time_text = 0.0
         self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
         self._shown_lock = threading.Lock()  # notify runs on callback threads, the loop and viser's event loop
@@ -119,10 +121,18 @@ class App:
         self.server.gui.configure_theme(control_width="large", show_share_button=share)
         self._build_global_gui(names)
         guard_inputs(self.server.gui, self._refuse_input)
-        self.server.on_client_connect(self._on_connect)
-        self.switch_scene(scene or names[0])
-        if start_loop:
-            self.start()
+        if isinstance(self.server, viser.ViserServer):
+            self.server.on_client_connect(self._on_connect)
+        self.switch_scene(first)
+
+    def _clients(self) -> list[Any]:
+        """The browsers this simulation is drawn for."""
+        if isinstance(self.server, viser.ViserServer):
+            return list(self.server.get_clients().values())
+        return [self.server]
+
+    def _client(self, client_id: Any) -> Any:
+        return next((c for c in self._clients() if c.client_id == client_id), None)
 
     # ------------------------------------------------------------------ GUI shared by all scenes
     def _build_global_gui(self, names: list[str]) -> None:
@@ -210,7 +220,7 @@ class App:
         """
         self.messages.append((title, body))
         del self.messages[:-50]
-        clients = [client] if client is not None else list(self.server.get_clients().values())
+        clients = [client] if client is not None else self._clients()
         now = time.monotonic()
         for c in clients:
             key = (getattr(c, "client_id", None), title, body)
@@ -233,7 +243,7 @@ class App:
 
     def _refuse_input(self, client_id: Any, message: str) -> None:
         """A value a browser sent was refused by :func:`app.inputs.guard_inputs`: tell that browser."""
-        client = self.server.get_clients().get(client_id)
+        client = self._client(client_id)
         if client is not None:
             self.notify("Refused", message, client=client, error=True)
 
@@ -312,13 +322,14 @@ class App:
             self.legend.content = draw.legend_html(cls.quantities)
             self.clear_status()  # the status line belongs to the scene
             position, look_at = cls.camera
-            for c in self.server.get_clients().values():
+            for c in self._clients():
                 c.camera.fov = FOV
                 c.camera.position = position
                 c.camera.look_at = look_at
-            self.server.initial_camera.fov = FOV
-            self.server.initial_camera.position = position
-            self.server.initial_camera.look_at = look_at
+            if isinstance(self.server, viser.ViserServer):
+                self.server.initial_camera.fov = FOV
+                self.server.initial_camera.position = position
+                self.server.initial_camera.look_at = look_at
             self._t = 0.0
             self._dirty = True
 
@@ -402,6 +413,85 @@ class App:
             "change a parameter or press Reset."
         )
 
+
+class App(Simulation):
+    """The app: the viser server, its simulations and the real-time loop that drives them.
+
+    Two ways to serve. By default every browser sees and drives one shared simulation (the app is that
+    simulation: ``app.scene``, ``app.frame(dt)``, ...). With ``private=True`` every browser gets its own
+    :class:`Simulation` when it connects (``app.sessions``, by client id), freed when it leaves; the
+    app itself then has no scene.
+
+    Parameters
+    ----------
+    host, port : str, int
+        Where to serve (default http://127.0.0.1:8080).
+    scene : str, optional
+        Name of the first scene (default: the first in the picker).
+    start_loop : bool
+        Start the real-time loop thread (tests and the benchmark drive :meth:`frame` themselves).
+    verbose : bool
+        Let viser print its banner.
+    fps : float
+        Frames per second of the loop.
+    share : bool
+        Show viser's share button, which can publish the server on a public tunnel (off by default).
+    private : bool
+        One simulation per browser instead of one for all.
+    """
+
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        scene: str | None = None,
+        *,
+        start_loop: bool = True,
+        verbose: bool = False,
+        fps: float = FPS,
+        share: bool = False,
+        private: bool = False,
+    ) -> None:
+        first, _ = _first_scene(scene)
+        server = viser.ViserServer(host=host, port=port, verbose=verbose)
+        self.host, self.port = host, server.get_port()
+        self.private = bool(private)
+        self.sessions: dict[Any, Simulation] = {}
+        self._sessions_lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        if self.private:
+            self.server = server
+            self.fps, self._first, self._share = float(fps), first, share
+            self.lock = threading.RLock()
+            self.scene = None
+            server.gui.configure_theme(control_width="large", show_share_button=share)
+            server.on_client_connect(self._open_session)
+            server.on_client_disconnect(self._close_session)
+        else:
+            super().__init__(server, first, fps=fps, share=share)
+        if start_loop:
+            self.start()
+
+    # ------------------------------------------------------------------ private sessions
+    def _open_session(self, client: viser.ClientHandle) -> None:
+        session = Simulation(client, self._first, fps=self.fps, share=self._share)
+        with self._sessions_lock:
+            self.sessions[client.client_id] = session
+
+    def _close_session(self, client: viser.ClientHandle) -> None:
+        # The browser has gone: its panel and nodes went with its connection; drop the simulation.
+        with self._sessions_lock:
+            self.sessions.pop(client.client_id, None)
+
+    def simulations(self) -> list[Simulation]:
+        """The simulations the loop drives: the shared one, or one per connected browser."""
+        if not self.private:
+            return [self]
+        with self._sessions_lock:
+            return list(self.sessions.values())
+
+    # ------------------------------------------------------------------ the loop
     def start(self) -> None:
         """Start the real-time loop thread (daemon)."""
         if self._thread is not None:
@@ -416,10 +506,11 @@ class App:
         while not self._stop.is_set():
             now = time.perf_counter()
             dt, last = now - last, now
-            try:
-                self.frame(dt)
-            except Exception:  # noqa: BLE001 - the loop never dies
-                traceback.print_exc()
+            for simulation in self.simulations():
+                try:
+                    simulation.frame(dt)
+                except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
+                    traceback.print_exc()
             self._stop.wait(max(0.0, period - (time.perf_counter() - now)))
 
     def stop(self) -> None:
