@@ -18,12 +18,17 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="show viser's share button, which can publish this server on a public tunnel (off by default)",
     )
+    parser.add_argument(
+        "--private",
+        action="store_true",
+        help="every browser gets its own simulation (a lab session or a homework server)",
+    )
     args = parser.parse_args(argv)
 
     from app.addresses import is_loopback, urls
     from app.server import App
 
-    app = App(host=args.host, port=args.port, scene=args.scene, share=args.share)
+    app = App(host=args.host, port=args.port, scene=args.scene, share=args.share, private=args.private)
     if is_loopback(args.host):
         print(f"Rigid Body Lab serving on {app.url}", flush=True)
     else:

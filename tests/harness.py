@@ -57,11 +57,11 @@ def free_port() -> int:
 
 
 @contextlib.contextmanager
-def running_app(scene: str | None = None, *, start_loop: bool = True) -> Iterator[Any]:
-    """An App on a free port; stopped on exit."""
+def running_app(scene: str | None = None, *, start_loop: bool = True, private: bool = False) -> Iterator[Any]:
+    """An App on a free port (``private``: one simulation per browser); stopped on exit."""
     from app.server import App
 
-    app = App(host="127.0.0.1", port=free_port(), scene=scene, start_loop=start_loop)
+    app = App(host="127.0.0.1", port=free_port(), scene=scene, start_loop=start_loop, private=private)
     try:
         yield app
     finally:

@@ -1,0 +1,48 @@
+"""Private sessions (``rigid-body-lab --private``): every browser its own simulation, freed when it leaves.
+
+Real websocket clients on 127.0.0.1 stand in for browsers (tests/harness.py's raw_client).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from app.server import Simulation
+from tests.harness import raw_client, running_app, send_value, still_connected, wait_for
+
+
+@pytest.fixture()
+def private_app():
+    with running_app("heavy_top", private=True) as app:
+        yield app
+
+
+def test_each_browser_gets_its_own_simulation_and_drives_only_it(private_app):
+    app = private_app
+    with raw_client(app) as first, raw_client(app) as second:
+        wait_for(lambda: len(app.sessions) == 2, what="two sessions")
+        (id_a, a), (id_b, b) = sorted(app.sessions.items())
+        assert isinstance(a, Simulation) and a is not b
+        assert a.scene.name == b.scene.name == "heavy_top" and a.scene is not b.scene
+        # The first browser (the first to connect) picks another scene in its own panel.
+        send_value(first, a.scene_picker._impl.uuid, a.scene_picker._impl.props.options[1])
+        wait_for(lambda: a.scene is not None and a.scene.name != "heavy_top", what="the first session to switch")
+        assert b.scene.name == "heavy_top"
+        # A control of one session is nothing to another browser: its message is ignored.
+        spin = b.scene.params.values["spin"]
+        send_value(first, b.scene.params.sliders["spin"]._impl.uuid, spin + 1.0)
+        assert still_connected(first) and still_connected(second)
+        assert b.scene.params.values["spin"] == spin
+        # The loop drives both.
+        frames_a, frames_b = a.frames, b.frames
+        wait_for(lambda: a.frames > frames_a + 5 and b.frames > frames_b + 5, what="both sessions to run")
+    wait_for(lambda: not app.sessions, what="the sessions of departed browsers to be freed")
+
+
+def test_sessions_come_and_go_without_growing(private_app):
+    app = private_app
+    for _ in range(10):
+        with raw_client(app):
+            wait_for(lambda: len(app.sessions) == 1, what="a session")
+        wait_for(lambda: not app.sessions, what="the session to be freed")
+    assert app.scene is None  # the app itself holds no simulation in private mode
