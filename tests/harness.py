@@ -255,9 +255,14 @@ def send_value(ws: Any, uuid: str, value: Any) -> None:
     ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
 
 
-def still_connected(ws: Any, seconds: float = 10.0) -> bool:
-    """The server still talks to this client: a message arrives within ``seconds`` (a running clock sends
-    the time ten times a second) and the connection is open."""
+def still_connected(ws: Any, seconds: float = 10.0, app: Any = None) -> bool:
+    """The server still talks to this client: a message arrives within ``seconds`` and the connection is
+    open. With ``app``, the client first sends a value to the read-only time display, which the server
+    always answers (it sets that client's display back), so a paused clock cannot make a live client look
+    dead."""
+    if app is not None:
+        drain(ws)
+        send_value(ws, app.time_text._impl.uuid, "still there?")
     deadline = time.monotonic() + seconds
     try:
         while time.monotonic() < deadline:

@@ -112,11 +112,11 @@ def test_absurd_values_from_one_client_leave_every_other_client_connected(gui_ap
                 what="three refusals",
             )
             assert app.speed == 1.0 and app.speed_slider.value == 1.0
-            assert still_connected(other) and still_connected(sender)
+            assert still_connected(other, app=app) and still_connected(sender, app=app)
             assert len(app.server.get_clients()) >= 2
             # A later browser gets the state in force, which encodes: it connects and hears the server.
             with raw_client(app) as late:
-                assert still_connected(late)
+                assert still_connected(late, app=app)
     finally:
         whole.remove()
 
@@ -144,4 +144,4 @@ def test_a_flood_of_changes_from_one_browser_is_limited(gui_app):
             lambda: any("changes a second" in body for _, body in app.messages[before:]),
             what="the flood to be limited",
         )
-        assert still_connected(other) and still_connected(flooder)
+        assert still_connected(other, app=app) and still_connected(flooder, app=app)

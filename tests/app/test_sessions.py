@@ -31,7 +31,7 @@ def test_each_browser_gets_its_own_simulation_and_drives_only_it(private_app):
         # A control of one session is nothing to another browser: its message is ignored.
         spin = b.scene.params.values["spin"]
         send_value(first, b.scene.params.sliders["spin"]._impl.uuid, spin + 1.0)
-        assert still_connected(first) and still_connected(second)
+        assert still_connected(first, app=a) and still_connected(second, app=b)
         assert b.scene.params.values["spin"] == spin
         # The loop drives both.
         frames_a, frames_b = a.frames, b.frames
