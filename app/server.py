@@ -1,4 +1,4 @@
-"""The Rigid Body Lab server: one viser server, one simulation shared by every browser, a real-time clock.
+"""The Rigid Body Lab server: one viser server, its simulations (one shared, or one per browser), a clock.
 
 Threads. viser runs GUI callbacks in a thread pool; our loop thread advances the clock. One re-entrant
 lock (:attr:`App.lock`) guards the shared state: callbacks only change parameters (through
