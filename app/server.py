@@ -1,9 +1,11 @@
 """The Rigid Body Lab server: one viser server, its simulations (one shared, or one per browser), a clock.
 
-Threads. viser runs GUI callbacks in a thread pool; our loop thread advances the clock. One re-entrant
-lock (:attr:`App.lock`) guards the shared state: callbacks only change parameters (through
-:meth:`App.guarded`), and the loop is the only place that asks the scene's model for the state and
-moves the kept handles (inside ``server.atomic()``, so a browser applies a frame's updates together).
+Threads. viser runs GUI callbacks in a thread pool; our loop thread advances every simulation's clock.
+Each :class:`Simulation` has one re-entrant lock (:attr:`Simulation.lock`) guarding its state: callbacks
+only change parameters (through :meth:`Simulation.guarded`), and the loop is the only place that asks
+the scene's model for the state and moves the kept handles (inside ``atomic()``, so a browser applies a
+frame's updates together). Values from browsers are checked on viser's event loop before any of this
+(:mod:`app.inputs`).
 
 Robustness. An exception in a callback is shown to the user who caused it (a notification), not
 swallowed. An exception or a non-finite number in a frame pauses the clock with a message to everyone;
