@@ -23,12 +23,36 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="every browser gets its own simulation (a lab session or a homework server)",
     )
+    parser.add_argument(
+        "--presenter",
+        action="store_true",
+        help="presenter mode on 127.0.0.1 too (it is the default for any other --host): browsers follow "
+        "the lecture read-only until they enter the PIN",
+    )
+    parser.add_argument("--pin", default=None, help="presenter PIN, 4 to 32 letters or digits (default: random)")
     args = parser.parse_args(argv)
 
     from app.addresses import is_loopback, urls
+    from app.presenter import check_pin
     from app.server import App
 
-    app = App(host=args.host, port=args.port, scene=args.scene, share=args.share, private=args.private)
+    if args.pin is not None:
+        try:
+            check_pin(args.pin)
+        except ValueError as exc:
+            parser.error(str(exc))
+    if args.private and args.presenter:
+        parser.error("choose --presenter or --private, not both")
+    presenter = True if args.presenter else None
+    app = App(
+        host=args.host,
+        port=args.port,
+        scene=args.scene,
+        share=args.share,
+        private=args.private,
+        presenter=presenter,
+        pin=args.pin,
+    )
     if is_loopback(args.host):
         print(f"Rigid Body Lab serving on {app.url}", flush=True)
     else:
@@ -36,6 +60,12 @@ def main(argv: list[str] | None = None) -> None:
         print("Rigid Body Lab serving on the local network; students open:", flush=True)
         for url in found or [f"http://<this machine's IP address>:{app.port}"]:
             print(f"  {url}", flush=True)
+    if app.mode == "presenter":
+        print(
+            f"Presenter PIN: {app.pin}  (type it in the panel's “Presenter PIN” box to drive the lecture)", flush=True
+        )
+    else:
+        print(f"Mode: {app.mode} (every browser {'has its own' if app.private else 'drives the one'} simulation)")
     try:
         while True:
             time.sleep(1.0)

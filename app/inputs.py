@@ -123,7 +123,9 @@ def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) 
     raise InputRefused(f"{what} cannot be changed from a browser")
 
 
-def guard_inputs(gui: viser.GuiApi, refuse: Callable[[Any, str], None]) -> None:
+def guard_inputs(
+    gui: viser.GuiApi, refuse: Callable[[Any, str], None], permit: Callable[[Any], str | None] | None = None
+) -> None:
     """Check every ``GuiUpdateMessage`` that reaches ``gui`` before viser applies it.
 
     Parameters
@@ -132,7 +134,15 @@ def guard_inputs(gui: viser.GuiApi, refuse: Callable[[Any, str], None]) -> None:
         The server's GUI (``server.gui``) or one client's (``client.gui``).
     refuse : callable(client_id, message)
         Tells the browser that sent a refused value why (a notification); called on viser's event loop.
+    permit : callable(client_id) -> str or None, optional
+        Whether this browser may change these controls at all: None if it may, otherwise the reason it
+        may not (presenter mode: a follower without the PIN).
+
+    A GUI is guarded once: later calls for the same ``gui`` do nothing.
     """
+    if getattr(gui, "_rbl_guarded", False):
+        return  # one check per GUI: a browser's panel and its own simulation share client.gui
+    gui._rbl_guarded = True  # type: ignore[attr-defined]
     interface = gui._websock_interface
     handlers: list[Any] = interface._incoming_handlers[_messages.GuiUpdateMessage]
     original = gui._handle_gui_updates
@@ -144,6 +154,11 @@ def guard_inputs(gui: viser.GuiApi, refuse: Callable[[Any, str], None]) -> None:
         if handle is None or handle._impl.removed:
             return
         state = handle._impl
+        reason = permit(client_id) if permit is not None else None
+        if reason is not None:
+            _send_value(gui, client_id, message.uuid, state.value)
+            refuse(client_id, reason)
+            return
         now = time.monotonic()
         tokens, then = allowance.get(client_id, (BURST, now))
         tokens = min(BURST, tokens + RATE * (now - then))

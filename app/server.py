@@ -27,7 +27,10 @@ import numpy as np
 import viser
 
 from app import draw
+from app.addresses import is_loopback
+from app.event_loop import confine_events
 from app.inputs import guard_inputs
+from app.presenter import Classroom, check_pin, new_pin
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 
 __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
@@ -116,13 +119,17 @@ class Simulation:
         self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
         self._shown_lock = threading.Lock()  # notify runs on callback threads, the loop and viser's event loop
         self._building: Scene | None = None  # the scene whose build() is running (see guarded)
+        self._scene_inputs: list[Any] = []  # the scene's own controls, in the order it made them
+        self._payload: Any = None  # what the current scene was handed by another (see switch_to)
 
         self.server.scene.set_up_direction("+z")
-        self.server.scene.add_grid("/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0))
+        self._grid = self.server.scene.add_grid(
+            "/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0)
+        )
         # No public tunnel unless asked for: viser's share button would publish this server to the world.
         self.server.gui.configure_theme(control_width="large", show_share_button=share)
         self._build_global_gui(names)
-        guard_inputs(self.server.gui, self._refuse_input)
+        guard_inputs(self.server.gui, self._refuse_input, self.refusal)
         if isinstance(self.server, viser.ViserServer):
             self.server.on_client_connect(self._on_connect)
         self.switch_scene(first)
@@ -133,18 +140,28 @@ class Simulation:
             return list(self.server.get_clients().values())
         return [self.server]
 
+    def _gone(self) -> bool:
+        """True once the browser of a per-browser simulation has disconnected (nothing to draw for)."""
+        if isinstance(self.server, viser.ClientHandle):
+            return bool(self.server._websock_connection.get_message_buffer().done)
+        return False
+
     def _client(self, client_id: Any) -> Any:
         return next((c for c in self._clients() if c.client_id == client_id), None)
 
     # ------------------------------------------------------------------ GUI shared by all scenes
+    def refusal(self, client_id: Any) -> str | None:
+        """Why this browser may not drive this simulation, or None if it may (presenter mode overrides)."""
+        return None
+
     def _build_global_gui(self, names: list[str]) -> None:
         gui = self.server.gui
-        gui.add_markdown("**Rigid Body Lab** — drag a slider, the class sees L and ω change.")
+        self._title = gui.add_markdown("**Rigid Body Lab** — drag a slider, the class sees L and ω change.")
         titles = {REGISTRY[n].title: n for n in names}
         self._title_to_name = titles
         self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=REGISTRY[names[0]].title)
         self.scene_picker.on_update(self.guarded(self._on_pick))
-        with gui.add_folder("Clock"):
+        with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
             self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
             self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
@@ -158,6 +175,8 @@ class Simulation:
         self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(self.speed_slider.value)))
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("")
+        self._clock = clock
+        self._global_gui = [self._title, self.scene_picker, clock, self.status, self.legend]
 
     def _on_pick(self, event: Any) -> None:
         if self._switching:
@@ -199,6 +218,10 @@ class Simulation:
         @functools.wraps(fn)
         def wrapper(*args: Any, **kwargs: Any) -> Any:
             client = getattr(args[0], "client", None) if args else None
+            reason = self.refusal(client.client_id) if client is not None else None
+            if reason is not None:  # an upload or a click that did not pass through the input checks
+                self.notify("Refused", reason, client=client, error=True)
+                return None
             try:
                 with self.lock:
                     if owner is not None and owner is not self.scene:
@@ -235,7 +258,8 @@ class Simulation:
                 c.add_notification(title, body, color="red" if error else "blue", auto_close_seconds=NOTIFY_SECONDS)
             except Exception:  # noqa: BLE001 - a client that just left must not break the caller
                 pass
-        if error:
+        if error and (client is None or not self.__dict__.get("classroom")):
+            # In presenter mode the status line is the lecture's: one browser's refusal is not shown there.
             self.status.content = f"⚠ **{title}**: {body}"
 
     def clear_status(self) -> None:
@@ -294,6 +318,55 @@ class Simulation:
         """For scenes: switch to another scene and hand it a payload (see Scene.accept)."""
         self.switch_scene(name, payload=payload)
 
+    # ------------------------------------------------------------------ the state, to copy or restore
+    def snapshot(self) -> dict[str, Any]:
+        """Everything needed to start another simulation where this one is now.
+
+        The scene, what it was handed (a body from another scene), the values of its controls (by
+        label, in order), its own motion state (:meth:`Scene.snapshot`), the time, speed and whether the
+        clock runs.
+        """
+        with self.lock:
+            if self.scene is None:
+                raise ValueError("there is no scene to copy (it failed to build)")
+            return {
+                "scene": self.scene.name,
+                "payload": self._payload,
+                "controls": [(str(h.label), h.value) for h in self._scene_inputs if not h._impl.removed],
+                "motion": self.scene.snapshot(),
+                "time": self._t,
+                "speed": self._speed,
+                "playing": self._playing,
+            }
+
+    def restore(self, snapshot: dict[str, Any]) -> None:
+        """Go to the state :meth:`snapshot` gave (a control whose label differs is left as it is)."""
+        with self.lock:
+            if self.scene is None or self.scene.name != snapshot["scene"] or snapshot.get("payload") is not None:
+                self.switch_scene(snapshot["scene"], payload=snapshot.get("payload"))
+            # Twice: a control that re-applies others (a preset) must not override what followed it.
+            for _ in range(2):
+                for handle, (label, value) in zip(list(self._scene_inputs), snapshot["controls"], strict=False):
+                    if str(handle.label) == label and handle.value != value:
+                        handle.value = value  # runs the control's callback: the scene adopts it
+            assert self.scene is not None
+            self.scene.restore(snapshot["motion"])
+            self.set_speed(snapshot["speed"])
+            self._t = float(snapshot["time"])
+            self.set_playing(snapshot["playing"])
+            self._dirty = True
+
+    def close(self) -> None:
+        """Remove this simulation's scene, nodes and panel (a browser stops exploring on its own)."""
+        with self.lock:
+            self._teardown()
+            for handle in [*self._global_gui, self._grid]:
+                try:
+                    handle.remove()
+                except Exception:  # noqa: BLE001 - its browser may have gone already
+                    pass
+            self._global_gui = []
+
     # ------------------------------------------------------------------ scenes
     def switch_scene(self, name: str, payload: Any = None, client: Any = None) -> None:
         """Tear the current scene down and build ``name``; on failure go back to the previous one."""
@@ -306,6 +379,7 @@ class Simulation:
                 scene = self._build(REGISTRY[name])
                 if payload is not None:
                     scene.accept(payload)
+                self._payload = payload
             except Exception as exc:
                 traceback.print_exc()
                 self._teardown()
@@ -340,6 +414,8 @@ class Simulation:
         self._folder = self.server.gui.add_folder(cls.title)
         scene = cls(self)
         self._building = scene
+        inputs = self.server.gui._gui_input_handle_from_uuid
+        before = set(inputs)
         try:
             with self._folder:
                 if cls.caption:
@@ -347,6 +423,15 @@ class Simulation:
                 scene.build()
         finally:
             self._building = None
+        # The scene's own adjustable controls (not buttons, not read-only readouts), for snapshot().
+        self._scene_inputs = [
+            h
+            for uuid, h in list(inputs.items())
+            if uuid not in before
+            and not isinstance(h, (viser.GuiButtonHandle, viser.GuiUploadButtonHandle))
+            and hasattr(h._impl.props, "label")  # a control, not a progress bar
+            and not getattr(h._impl.props, "disabled", False)
+        ]
         self.scene = scene
         return scene
 
@@ -369,7 +454,7 @@ class Simulation:
         """Advance the clock by ``wall_dt`` × speed (if playing) and redraw; True if a frame was drawn."""
         with self.lock:
             scene = self.scene
-            if scene is None:
+            if scene is None or self._gone():
                 return False
             if self._playing:
                 advance = min(max(wall_dt, 0.0), MAX_FRAME_DT) * self._speed
@@ -419,10 +504,12 @@ class Simulation:
 class App(Simulation):
     """The app: the viser server, its simulations and the real-time loop that drives them.
 
-    Two ways to serve. By default every browser sees and drives one shared simulation (the app is that
-    simulation: ``app.scene``, ``app.frame(dt)``, ...). With ``private=True`` every browser gets its own
-    :class:`Simulation` when it connects (``app.sessions``, by client id), freed when it leaves; the
-    app itself then has no scene.
+    Three ways to serve. By default every browser sees and drives one shared simulation (the app is that
+    simulation: ``app.scene``, ``app.frame(dt)``, ...). In presenter mode (the default on a non-loopback
+    host) the app is the lecture: every browser follows it read-only until it enters the PIN, and may
+    explore a copy of its own (:mod:`app.presenter`; the copies are in ``app.sessions``). With
+    ``private=True`` every browser gets its own :class:`Simulation` when it connects (``app.sessions``,
+    by client id), freed when it leaves; the app itself then has no scene.
 
     Parameters
     ----------
@@ -440,6 +527,10 @@ class App(Simulation):
         Show viser's share button, which can publish the server on a public tunnel (off by default).
     private : bool
         One simulation per browser instead of one for all.
+    presenter : bool, optional
+        Presenter mode; default: on when ``host`` is not a loopback address and ``private`` is off.
+    pin : str, optional
+        The presenter PIN (4 to 32 letters or digits); default: six random digits, in ``app.pin``.
     """
 
     def __init__(
@@ -453,15 +544,28 @@ class App(Simulation):
         fps: float = FPS,
         share: bool = False,
         private: bool = False,
+        presenter: bool | None = None,
+        pin: str | None = None,
     ) -> None:
         first, _ = _first_scene(scene)
+        if presenter is None:
+            presenter = not private and not is_loopback(host)
+        if presenter and private:
+            raise ValueError("choose presenter mode or private sessions, not both")
+        self.pin = check_pin(pin) if pin is not None else new_pin()
         server = viser.ViserServer(host=host, port=port, verbose=verbose)
+        confine_events(server)
         self.host, self.port = host, server.get_port()
         self.private = bool(private)
         self.sessions: dict[Any, Simulation] = {}
         self._sessions_lock = threading.Lock()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
+        self.classroom: Classroom | None = None
+        if presenter:
+            self.server = server
+            self._share = share
+            self.classroom = Classroom(self, self.pin, self._copy_for)
         if self.private:
             self.server = server
             self.fps, self._first, self._share = float(fps), first, share
@@ -474,6 +578,28 @@ class App(Simulation):
             super().__init__(server, first, fps=fps, share=share)
         if start_loop:
             self.start()
+
+    # ------------------------------------------------------------------ presenter mode
+    @property
+    def mode(self) -> str:
+        """ "shared", "presenter" or "private"."""
+        return "private" if self.private else ("presenter" if self.classroom is not None else "shared")
+
+    def refusal(self, client_id: Any) -> str | None:
+        return self.classroom.refusal(client_id) if self.classroom is not None else None
+
+    def _clients(self) -> list[Any]:
+        clients = super()._clients()
+        if self.classroom is None:
+            return clients
+        return [c for c in clients if not self.classroom.exploring(c.client_id)]  # explorers see their copy
+
+    def _copy_for(self, client: viser.ClientHandle) -> Simulation:
+        """A browser's own copy of the lecture, at the lecture's current state (presenter mode)."""
+        snapshot = self.snapshot()
+        copy = Simulation(client, snapshot["scene"], fps=self.fps, share=self._share)
+        copy.restore(snapshot)
+        return copy
 
     # ------------------------------------------------------------------ private sessions
     def _open_session(self, client: viser.ClientHandle) -> None:
@@ -488,10 +614,9 @@ class App(Simulation):
 
     def simulations(self) -> list[Simulation]:
         """The simulations the loop drives: the shared one, or one per connected browser."""
-        if not self.private:
-            return [self]
         with self._sessions_lock:
-            return list(self.sessions.values())
+            own = list(self.sessions.values())
+        return own if self.private else [self, *own]
 
     # ------------------------------------------------------------------ the loop
     def start(self) -> None:

@@ -34,6 +34,7 @@ import msgspec
 import numpy as np
 import pytest
 import viser
+import zstandard
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
@@ -57,11 +58,27 @@ def free_port() -> int:
 
 
 @contextlib.contextmanager
-def running_app(scene: str | None = None, *, start_loop: bool = True, private: bool = False) -> Iterator[Any]:
-    """An App on a free port (``private``: one simulation per browser); stopped on exit."""
+def running_app(
+    scene: str | None = None,
+    *,
+    start_loop: bool = True,
+    private: bool = False,
+    presenter: bool = False,
+    pin: str | None = None,
+) -> Iterator[Any]:
+    """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
+    127.0.0.1); stopped on exit."""
     from app.server import App
 
-    app = App(host="127.0.0.1", port=free_port(), scene=scene, start_loop=start_loop, private=private)
+    app = App(
+        host="127.0.0.1",
+        port=free_port(),
+        scene=scene,
+        start_loop=start_loop,
+        private=private,
+        presenter=presenter,
+        pin=pin,
+    )
     try:
         yield app
     finally:
@@ -214,7 +231,11 @@ def raw_client(app: Any) -> Iterator[Any]:
     """A websocket client speaking viser's protocol, as the page's script does."""
     before = set(app.server.get_clients())
     ws = connect(
-        f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"], max_size=None, open_timeout=30
+        f"ws://127.0.0.1:{app.port}",
+        subprotocols=[f"viser-v{viser.__version__}"],
+        max_size=None,
+        open_timeout=30,
+        close_timeout=1,  # unread frames delay the server's close frame; a browser closing does not wait
     )
     try:
         # viser counts a client as connected once it reports its camera, as the page does at once.
@@ -249,6 +270,30 @@ def drain(ws: Any) -> int:
         except TimeoutError:
             return count
         count += 1
+
+
+def received(ws: Any, seconds: float = 0.0) -> list[dict[str, Any]]:
+    """Decode what the server sends this client for ``seconds`` (at least what is already there): viser's
+    wire format is two lengths, zstd-compressed msgpack of ``{"messages": [...]}``, then raw buffers."""
+    out: list[dict[str, Any]] = []
+    deadline = time.monotonic() + seconds
+    for _ in range(100_000):  # a running simulation never stops sending: the deadline ends the read
+        try:
+            raw = ws.recv(timeout=max(0.0, deadline - time.monotonic()))
+        except TimeoutError:
+            return out
+        inner_size = int.from_bytes(raw[:8], "little")
+        compressed = int.from_bytes(raw[8:16], "little")
+        inner = zstandard.ZstdDecompressor().decompress(raw[16 : 16 + compressed], max_output_size=inner_size)
+        out.extend(msgspec.msgpack.decode(inner)["messages"])
+        if time.monotonic() > deadline:
+            return out
+    return out
+
+
+def click_button(ws: Any, uuid: str) -> None:
+    """Press a button as the page does (a value update of True)."""
+    send_value(ws, uuid, True)
 
 
 def send_value(ws: Any, uuid: str, value: Any) -> None:

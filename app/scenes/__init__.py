@@ -162,6 +162,14 @@ class Scene:
     def teardown(self) -> None:
         """Release what is not a node under ``ctx.root`` or GUI in the scene folder (default: nothing)."""
 
+    def snapshot(self) -> dict[str, Any]:
+        """The motion state that the time and the controls do not give (a stepping model's state), to copy
+        the scene into another simulation (default: nothing; closed-form models need only the time)."""
+        return {}
+
+    def restore(self, motion: dict[str, Any]) -> None:
+        """Adopt a state :meth:`snapshot` gave (default: nothing to adopt)."""
+
     def accept(self, payload: Any) -> None:
         """Take a body handed over by another scene (default: refuse)."""
         raise ValueError(f"the scene {self.title!r} cannot take a body from another scene")

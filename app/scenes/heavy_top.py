@@ -168,6 +168,13 @@ class HeavyTopScene(Scene):
         self._curve_key = None
         self._y_range = None
 
+    def snapshot(self) -> dict[str, Any]:
+        return {"R": self.R.copy(), "L_body": self.L_body.copy()}  # the friction top's stepped state
+
+    def restore(self, motion: dict[str, Any]) -> None:
+        if motion:
+            self.R, self.L_body = np.array(motion["R"], dtype=float), np.array(motion["L_body"], dtype=float)
+
     # -- the state
     def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
         from physics.heavy_top import simulate_heavy_body

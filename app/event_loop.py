@@ -1,0 +1,86 @@
+"""Keep viser's asyncio events on viser's event loop.
+
+viser 1.1.1 wakes a connection's sender by calling ``asyncio.Event.set()`` on its message buffer's event
+*directly from whichever thread queued the message* (our frame loop, viser's callback pool), besides
+scheduling the same call with ``loop.call_soon_threadsafe``. ``asyncio.Event`` is not thread-safe: ``set``
+iterates the event's waiters while the loop may be adding one, and once this raised "deque mutated during
+iteration" inside a frame and paused the simulation.
+
+:func:`confine_events` replaces the event of every message buffer (the broadcast one, and each browser's
+when it connects, before its sender starts) with a :class:`LoopEvent`, whose ``set()`` from another thread
+only schedules the set on the event's own loop. That is enough: viser already schedules every wake-up
+through ``call_soon_threadsafe`` (after each message, or when an ``atomic()`` block ends), so the direct
+call is a duplicate, and no asyncio object is touched off its loop any more. Our own code holds no asyncio
+objects.
+
+This wraps one private piece of viser 1.1.1 (its buffers' ``message_event``); viser is pinned, and
+``tests/app/test_event_loop.py`` checks the replacement is in place for the server and for a browser.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+from typing import Any
+
+import viser
+
+__all__ = ["LoopEvent", "confine_events"]
+
+
+class LoopEvent(asyncio.Event):
+    """An ``asyncio.Event`` that is only ever changed on its loop's thread.
+
+    ``set()`` called from any other thread is handed to the loop with ``call_soon_threadsafe``.
+    """
+
+    def __init__(self, loop: asyncio.AbstractEventLoop, loop_thread: threading.Thread | None) -> None:
+        super().__init__()
+        self._owner = loop
+        self._owner_thread = loop_thread
+        self.foreign_sets = 0  # how many set() calls came from another thread (tests read it)
+
+    def set(self) -> None:  # noqa: A003 - asyncio's name
+        if self._owner_thread is None or threading.current_thread() is self._owner_thread:
+            super().set()
+            return
+        self.foreign_sets += 1
+        try:
+            self._owner.call_soon_threadsafe(super().set)
+        except RuntimeError:  # the loop is closed: the server stopped, nobody waits any more
+            pass
+
+
+def _loop_thread(loop: asyncio.AbstractEventLoop) -> threading.Thread | None:
+    """The thread running ``loop`` (asked on the loop itself; None if it does not answer)."""
+    found: list[threading.Thread] = []
+    done = threading.Event()
+
+    def ask() -> None:
+        found.append(threading.current_thread())
+        done.set()
+
+    loop.call_soon_threadsafe(ask)
+    done.wait(5.0)
+    return found[0] if found else None
+
+
+def _confine(buffer: Any, thread: threading.Thread | None) -> None:
+    if not isinstance(buffer.message_event, LoopEvent):
+        buffer.message_event = LoopEvent(buffer.event_loop, thread)
+
+
+def confine_events(server: viser.ViserServer) -> None:
+    """Make every message buffer of ``server`` use a :class:`LoopEvent` (call before any browser connects)."""
+    websock = server._websock_server
+    broadcast = websock._broadcast_buffer
+    thread = _loop_thread(broadcast.event_loop)
+    _confine(broadcast, thread)
+
+    def on_connection(connection: Any) -> None:
+        # Runs on the event loop when a websocket opens, before its senders start waiting on the event.
+        _confine(connection.get_message_buffer(), thread)
+
+    # The infra-level hook (not ViserServer.on_client_connect, which fires only after the browser's
+    # first camera message, when the sender already waits on the old event).
+    websock._client_connect_cb.insert(0, on_connection)

@@ -1,0 +1,215 @@
+"""Presenter mode: one lecture on the projector, followed by every browser, driven only with the PIN.
+
+``rigid-body-lab --host 0.0.0.0`` (any address other than loopback) serves the lecture: one shared
+simulation drawn for everyone. Each browser has its own small panel on top of the lecture's:
+
+* **Following** (every browser at first): the lecture's controls arrive disabled and anything it sends
+  to them is refused on the server; its camera is its own.
+* **Presenter PIN**: the PIN printed in the terminal (random at each start, or ``--pin``) makes that
+  browser a presenter: it drives the lecture for everyone. Wrong PINs are limited (:data:`ATTEMPTS` per
+  browser, then :data:`LOCKOUT` seconds; at most :data:`CLASS_ATTEMPTS` a minute for the whole room).
+* **Explore on my own**: the browser gets its own copy of the lecture, starting from its current state
+  (a :class:`app.server.Simulation` drawn for that browser only), and stops receiving the lecture
+  (:class:`app.broadcast.BroadcastView`). **Follow the lecturer** drops the copy and brings the lecture
+  back as it is now.
+
+What it protects: the projector from a student's clicks, typing and uploads; one student's experiments
+from the others. What it does not: the PIN travels in clear over the LAN's HTTP (anyone who can sniff
+the network can read it), and anyone who can reach the port can watch.
+"""
+
+from __future__ import annotations
+
+import secrets
+import string
+import threading
+import time
+import traceback
+from collections.abc import Callable
+from typing import Any
+
+import viser
+
+from app.broadcast import BroadcastView
+from app.inputs import guard_inputs
+
+__all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "Classroom", "new_pin", "check_pin"]
+
+ATTEMPTS = 5
+"""Wrong PINs one browser may try before it must wait :data:`LOCKOUT` seconds."""
+
+LOCKOUT = 60.0
+"""Seconds a browser waits after :data:`ATTEMPTS` wrong PINs (and the room after :data:`CLASS_ATTEMPTS`)."""
+
+CLASS_ATTEMPTS = 30
+"""Wrong PINs the whole room may try in a minute (a student reconnecting does not reset this one)."""
+
+FOLLOWING = "**Following the lecturer.** The panel below shows the lecture; enter the PIN to drive it."
+PRESENTING = "**Presenting.** Your changes are what the class sees."
+EXPLORING = "**Exploring on your own.** Nobody else sees this copy; the lecture goes on without you."
+
+
+def new_pin() -> str:
+    """A random six-digit PIN."""
+    return f"{secrets.randbelow(10**6):06d}"
+
+
+def check_pin(pin: str) -> str:
+    """The PIN if it is 4 to 32 letters or digits; otherwise ValueError saying what is expected."""
+    allowed = set(string.ascii_letters + string.digits)
+    if not isinstance(pin, str) or not 4 <= len(pin) <= 32 or not set(pin) <= allowed:
+        raise ValueError(f"a presenter PIN is 4 to 32 letters or digits, got {pin!r}")
+    return pin
+
+
+class _Panel:
+    """One browser's own controls: its status, the PIN box and the explore/follow button."""
+
+    def __init__(self, client: viser.ClientHandle) -> None:
+        gui = client.gui
+        self.status = gui.add_markdown(FOLLOWING, order=-30)
+        self.pin = gui.add_text("Presenter PIN", initial_value="", order=-29)
+        self.present = gui.add_button("Present", order=-28)
+        self.explore = gui.add_button("Explore on my own", order=-27)
+
+    def presenting(self) -> None:
+        self.status.content = PRESENTING
+        self.pin.remove()
+        self.present.remove()
+
+
+class Classroom:
+    """Presenter mode for an :class:`app.server.App`: followers, presenters and explorers.
+
+    Parameters
+    ----------
+    app : app.server.App
+        The lecture (the shared simulation). Its ``sessions`` dict receives the explorers' copies.
+    pin : str
+        The presenter PIN (see :func:`check_pin`).
+    copy : callable(client) -> Simulation
+        Makes a browser's own copy of the lecture, at the lecture's current state.
+    """
+
+    def __init__(self, app: Any, pin: str, copy: Callable[[viser.ClientHandle], Any]) -> None:
+        self.app = app
+        self.pin = check_pin(pin)
+        self._copy = copy
+        self.presenters: set[Any] = set()
+        self._panels: dict[Any, _Panel] = {}
+        self._wrong: dict[Any, tuple[int, float]] = {}  # client id -> (wrong PINs, locked until)
+        self._class_wrong: list[float] = []  # when each wrong PIN was tried, the last minute
+        self._lock = threading.RLock()
+        self.view = BroadcastView(app.server, read_only=lambda client_id: client_id not in self.presenters)
+        app.server.on_client_connect(self._joined)
+        app.server.on_client_disconnect(self._left)
+
+    # ------------------------------------------------------------------ who may do what
+    def refusal(self, client_id: Any) -> str | None:
+        """None for a presenter; for anyone else, why the lecture's controls do not take their changes."""
+        if client_id in self.presenters:
+            return None
+        return "You are following the lecturer: enter the presenter PIN to drive, or press “Explore on my own”."
+
+    def exploring(self, client_id: Any) -> bool:
+        """Whether this browser has a copy of its own (and so no longer follows the lecture)."""
+        with self.app._sessions_lock:
+            return client_id in self.app.sessions
+
+    # ------------------------------------------------------------------ browsers come and go
+    def _joined(self, client: viser.ClientHandle) -> None:
+        guard_inputs(client.gui, lambda _id, message: self.app.notify("Refused", message, client=client, error=True))
+        panel = _Panel(client)
+        with self._lock:
+            self._panels[client.client_id] = panel
+        panel.present.on_click(self._safely(lambda event: self.present(event.client, panel.pin.value)))
+        panel.explore.on_click(self._safely(lambda event: self.toggle(event.client)))
+
+    def _left(self, client: viser.ClientHandle) -> None:
+        with self._lock:
+            self._panels.pop(client.client_id, None)
+            self.presenters.discard(client.client_id)
+            self._wrong.pop(client.client_id, None)
+        with self.app._sessions_lock:
+            self.app.sessions.pop(client.client_id, None)
+        self.view.forget(client.client_id)
+
+    def _safely(self, fn: Callable[[Any], object]) -> Callable[[Any], None]:
+        def run(event: Any) -> None:
+            try:
+                fn(event)
+            except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
+                traceback.print_exc()
+                self.app.notify("Something went wrong", f"{type(exc).__name__}: {exc}", client=event.client, error=True)
+
+        return run
+
+    # ------------------------------------------------------------------ the three actions
+    def present(self, client: viser.ClientHandle, pin: str) -> bool:
+        """Make ``client`` a presenter if ``pin`` is right; returns whether it now presents."""
+        cid = client.client_id
+        now = time.monotonic()
+        with self._lock:
+            if cid in self.presenters:
+                return True
+            count, until = self._wrong.get(cid, (0, 0.0))
+            self._class_wrong = [t for t in self._class_wrong if now - t < 60.0]
+            if until > now or len(self._class_wrong) >= CLASS_ATTEMPTS:
+                wait = max(until - now, 60.0 - (now - self._class_wrong[0]) if self._class_wrong else 0.0)
+                self.app.notify("Too many wrong PINs", f"Try again in {wait:.0f} s.", client=client, error=True)
+                return False
+            if not (isinstance(pin, str) and secrets.compare_digest(pin.strip().encode(), self.pin.encode())):
+                count += 1
+                self._class_wrong.append(now)
+                self._wrong[cid] = (0, now + LOCKOUT) if count >= ATTEMPTS else (count, 0.0)
+                self.app.notify("Wrong PIN", "The presenter PIN is shown where the server was started.", client=client)
+                return False
+            self.presenters.add(cid)
+            self._wrong.pop(cid, None)
+            panel = self._panels.get(cid)
+        self.view.unlock(cid)
+        if panel is not None:
+            panel.presenting()
+            if self.exploring(cid):
+                panel.status.content = EXPLORING
+        return True
+
+    def toggle(self, client: viser.ClientHandle) -> None:
+        """The explore/follow button: explore if following, follow if exploring."""
+        if self.exploring(client.client_id):
+            self.follow(client)
+        else:
+            self.explore(client)
+
+    def explore(self, client: viser.ClientHandle) -> Any:
+        """Give ``client`` its own copy of the lecture, from the lecture's current state; returns it."""
+        cid = client.client_id
+        with self.app._sessions_lock:
+            existing = self.app.sessions.get(cid)
+        if existing is not None:
+            return existing
+        copy = self._copy(client)
+        with self.app._sessions_lock:
+            self.app.sessions[cid] = copy
+        self.view.detach(cid)
+        if cid not in self.app.server.get_clients():  # it left while its copy was being made
+            self._left(client)
+            return copy
+        panel = self._panels.get(cid)
+        if panel is not None:
+            panel.explore.label = "Follow the lecturer"
+            panel.status.content = EXPLORING
+        return copy
+
+    def follow(self, client: viser.ClientHandle) -> None:
+        """Drop ``client``'s own copy and show it the lecture as it is now."""
+        cid = client.client_id
+        with self.app._sessions_lock:
+            copy = self.app.sessions.pop(cid, None)
+        if copy is not None:
+            copy.close()
+        self.view.attach(cid)
+        panel = self._panels.get(cid)
+        if panel is not None:
+            panel.explore.label = "Explore on my own"
+            panel.status.content = PRESENTING if cid in self.presenters else FOLLOWING

@@ -1,0 +1,199 @@
+"""Presenter mode: followers read-only, presenters with the PIN, explorers with a copy of their own.
+
+Real websocket clients on 127.0.0.1 stand in for browsers (tests/harness.py's raw_client); what they
+receive is decoded from viser's wire format (``received``), so these tests see what a page would draw.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from app import presenter
+from app.presenter import Classroom, check_pin, new_pin
+from app.server import Simulation
+from tests.harness import click_button, raw_client, received, running_app, send_value, still_connected, wait_for
+
+PIN = "4321"
+
+
+@pytest.fixture()
+def lecture():
+    with running_app("heavy_top", presenter=True, pin=PIN) as app:
+        yield app
+
+
+def _cid(app, before):
+    new = set(app.server.get_clients()) - before
+    assert len(new) == 1
+    return new.pop()
+
+
+def _join(app, stack):
+    """A browser joins; returns (websocket, client id, its panel)."""
+    before = set(app.server.get_clients())
+    ws = stack.enter_context(raw_client(app))
+    cid = _cid(app, before)
+    wait_for(lambda: cid in app.classroom._panels, what="the browser's own panel")
+    return ws, cid, app.classroom._panels[cid]
+
+
+def _present(app, ws, panel, pin):
+    send_value(ws, panel.pin._impl.uuid, pin)
+    wait_for(lambda: panel.pin.value == pin, what="the PIN to arrive")
+    click_button(ws, panel.present._impl.uuid)
+
+
+def _shown_value(messages, uuid):
+    """The value a page shows for a control after these messages (its creation, then its updates)."""
+    value = None
+    for m in messages:
+        if m.get("uuid") == uuid:
+            if "props" in m:
+                value = m["value"]
+            elif "value" in m.get("updates", {}):
+                value = m["updates"]["value"]
+    return value
+
+
+def _uuids(messages, key="uuid"):
+    return {m.get(key) for m in messages if key in m}
+
+
+def test_pin_is_six_random_digits_or_checked():
+    pins = {new_pin() for _ in range(50)}
+    assert all(len(p) == 6 and p.isdigit() for p in pins) and len(pins) > 40
+    assert check_pin("Lecture7") == "Lecture7"
+    for bad in ("123", "x" * 33, "12 34", "12;4", ""):
+        with pytest.raises(ValueError, match="4 to 32 letters or digits"):
+            check_pin(bad)
+
+
+def test_a_non_loopback_host_means_presenter_mode_and_private_is_exclusive():
+    from app.server import App
+
+    with pytest.raises(ValueError, match="not both"):
+        App(port=0, private=True, presenter=True, start_loop=False)
+    with pytest.raises(ValueError, match="PIN"):
+        App(port=0, presenter=True, pin="no", start_loop=False)
+
+
+def test_a_follower_sees_the_lecture_disabled_and_cannot_change_it(lecture):
+    import contextlib
+
+    app = lecture
+    with contextlib.ExitStack() as stack:
+        ws, cid, panel = _join(app, stack)
+        messages = received(ws, 1.0)
+        spin = app.scene.params.sliders["spin"]
+        created = [m for m in messages if m.get("uuid") == spin._impl.uuid and "props" in m]
+        assert created and created[-1]["props"]["disabled"] is True  # read-only in the follower's page
+        assert spin._impl.props.disabled is False  # ... but not on the server: a presenter can use it
+        before = app.scene.params.values["spin"]
+        send_value(ws, spin._impl.uuid, before + 1.0)
+        wait_for(lambda: any("following the lecturer" in b for _, b in app.messages), what="the refusal")
+        assert app.scene.params.values["spin"] == before and spin.value == before
+        # Uploads and clicks are refused too (the clock's Pause is a button).
+        playing = app.playing
+        click_button(ws, app.play_button._impl.uuid)
+        assert still_connected(ws, app=app)
+        assert app.playing == playing
+        # The refusal went to that browser only: the lecture's status line stays clean.
+        assert "following" not in app.status.content
+
+
+def test_the_pin_makes_a_presenter_wrong_pins_are_limited(lecture, monkeypatch):
+    import contextlib
+
+    app = lecture
+    with contextlib.ExitStack() as stack:
+        ws, cid, panel = _join(app, stack)
+        other, other_id, other_panel = _join(app, stack)
+        _present(app, ws, panel, "9999")
+        wait_for(lambda: any(t == "Wrong PIN" for t, _ in app.messages), what="the wrong PIN to be refused")
+        assert cid not in app.classroom.presenters
+        received(ws, 0.5)
+        _present(app, ws, panel, PIN)
+        wait_for(lambda: cid in app.classroom.presenters, what="the browser to become a presenter")
+        # Its controls arrive enabled again, and its changes are the lecture's.
+        spin = app.scene.params.sliders["spin"]
+        unlocked = [m for m in received(ws, 1.0) if m.get("uuid") == spin._impl.uuid and "updates" in m]
+        assert any(m["updates"].get("disabled") is False for m in unlocked)
+        before = app.scene.params.values["spin"]
+        send_value(ws, spin._impl.uuid, before + 1.0)
+        wait_for(lambda: app.scene.params.values["spin"] == before + 1.0, what="the presenter's change")
+        # The follower still cannot, and still sees the controls disabled.
+        send_value(other, spin._impl.uuid, before + 2.0)
+        assert still_connected(other, app=app)
+        assert app.scene.params.values["spin"] == before + 1.0
+        # Wrong PINs: after ATTEMPTS, even the right one waits.
+        for _ in range(presenter.ATTEMPTS):
+            assert not app.classroom.present(app.server.get_clients()[other_id], "0000")
+        assert not app.classroom.present(app.server.get_clients()[other_id], PIN)
+        assert other_id not in app.classroom.presenters
+        assert any(t == "Too many wrong PINs" for t, _ in app.messages)
+
+
+def test_exploring_gives_a_copy_from_the_current_state_and_following_brings_the_lecture_back(lecture):
+    import contextlib
+
+    app = lecture
+    with contextlib.ExitStack() as stack:
+        lecturer, lecturer_id, lecturer_panel = _join(app, stack)
+        _present(app, lecturer, lecturer_panel, PIN)
+        wait_for(lambda: lecturer_id in app.classroom.presenters, what="a presenter")
+        spin = app.scene.params.sliders["spin"]
+        changed = spin.value + 1.5
+        send_value(lecturer, spin._impl.uuid, changed)
+        wait_for(lambda: app.scene.params.values["spin"] == changed, what="the lecture to change")
+        wait_for(lambda: app.time > 0.3, what="the lecture's clock to run")
+
+        student, student_id, student_panel = _join(app, stack)
+        received(student, 0.5)
+        click_button(student, student_panel.explore._impl.uuid)
+        wait_for(lambda: student_id in app.sessions, what="the student's own copy")
+        copy = app.sessions[student_id]
+        assert isinstance(copy, Simulation) and copy is not app
+        assert copy.scene.name == app.scene.name and copy.scene.params.values["spin"] == changed
+        assert copy.time > 0.3  # it starts where the lecture was, not at t = 0
+        assert app.classroom.exploring(student_id) and student_panel.explore.label == "Follow the lecturer"
+        # The student's page removes the lecture's panel and nodes, then hears nothing more of it.
+        removal = received(student, 1.0)
+        removed = {m["uuid"] for m in removal if m.get("type") == "GuiRemoveMessage"}
+        assert spin._impl.uuid in removed and app.scene_picker._impl.uuid in removed
+        assert any(m.get("type") == "RemoveSceneNodeMessage" and m["name"] == "/scene" for m in removal)
+        send_value(lecturer, spin._impl.uuid, changed + 1.0)
+        wait_for(lambda: app.scene.params.values["spin"] == changed + 1.0, what="the lecturer's next change")
+        later = received(student, 1.0)
+        lecture_ids = set(app.server.gui._gui_input_handle_from_uuid)
+        assert not (_uuids(later) & lecture_ids), "an explorer must not receive the lecture"
+        assert not any(m.get("name", "").startswith("/scene") and m.get("owner") == "" for m in later)
+        # The copy is the student's: it changes it, the lecture does not move.
+        own = copy.scene.params.sliders["spin"]
+        send_value(student, own._impl.uuid, own.value - 2.0)
+        wait_for(lambda: copy.scene.params.values["spin"] == changed - 2.0, what="the student's change")
+        assert app.scene.params.values["spin"] == changed + 1.0
+        assert copy.frames > 0
+
+        # Follow the lecturer: the copy is dropped and the lecture arrives as it is now, read-only.
+        click_button(student, student_panel.explore._impl.uuid)
+        wait_for(lambda: student_id not in app.sessions, what="the copy to be dropped")
+        back = received(student, 1.5)
+        replayed = [m for m in back if m.get("uuid") == spin._impl.uuid and "props" in m]
+        assert replayed and replayed[-1]["props"]["disabled"] is True
+        assert _shown_value(back, spin._impl.uuid) == changed + 1.0
+        assert student_panel.explore.label == "Explore on my own"
+        assert still_connected(lecturer, app=app) and still_connected(student, app=app)
+
+
+def test_explorers_are_freed_when_they_leave(lecture):
+    import contextlib
+
+    app = lecture
+    for _ in range(5):
+        with contextlib.ExitStack() as stack:
+            ws, cid, panel = _join(app, stack)
+            click_button(ws, panel.explore._impl.uuid)
+            wait_for(lambda cid=cid: cid in app.sessions, what="a copy")
+        wait_for(lambda: not app.sessions and not app.classroom._panels, what="the copy and panel to be freed")
+    assert app.scene is not None and app.scene.name == "heavy_top"  # the lecture goes on
+    assert isinstance(app.classroom, Classroom) and not app.classroom.presenters
