@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import trimesh
@@ -184,7 +185,22 @@ def cylinder_mesh(radius: float, length: float, sections: int = 40) -> trimesh.T
     return trimesh.creation.cylinder(radius=radius, height=length, sections=sections)
 
 
-class BodyMesh:
+class _Posed:
+    """A node placed by an attitude and a position; only what changed is sent."""
+
+    handle: Any
+    _position: NDArray[np.float64] = np.zeros(3)  # viser's default: a new node sits at the origin
+
+    def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Place the body: ``attitude`` (3, 3) body-to-space or scipy quaternion (4,); position (3,), m."""
+        self.handle.wxyz = wxyz(attitude)
+        position = np.asarray(position, dtype=float)
+        if not np.array_equal(position, self._position):  # most bodies turn about a fixed point
+            self._position = position
+            self.handle.position = position
+
+
+class BodyMesh(_Posed):
     """A body drawn from any ``trimesh.Trimesh`` (rod, cylinder, sphere, box, asset, upload).
 
     The mesh is given in body coordinates (principal frame, origin at the body's reference point);
@@ -209,11 +225,6 @@ class BodyMesh:
             opacity=opacity,
             flat_shading=flat_shading,
         )
-
-    def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
-        """Place the body: ``attitude`` (3, 3) body-to-space or scipy quaternion (4,); position (3,), m."""
-        self.handle.wxyz = wxyz(attitude)
-        self.handle.position = np.asarray(position, dtype=float)
 
     def set_mesh(self, mesh: trimesh.Trimesh) -> None:
         """Replace the geometry in place (a parameter change, not every frame)."""
@@ -258,6 +269,7 @@ class Arrow:
         self._head = -1.0
         self._visible = True
         self._origin = np.zeros(3)
+        self._label_visible = True
 
     def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         """Draw ``vector`` (the quantity, its own units) from ``origin`` (m)."""
@@ -280,12 +292,13 @@ class Arrow:
         if visible != self._visible:
             self._visible = self.handle.visible = visible
         if self.label is not None:
-            self.label.visible = visible
+            if self._label_visible != visible:
+                self._label_visible = self.label.visible = visible
             if visible:
                 self.label.position = self.tip
 
 
-class PrincipalFrame:
+class PrincipalFrame(_Posed):
     """The principal axes e1, e2, e3 of the body as black lines (e3, the symmetry axis, drawn longest).
 
     Not viser's RGB frame: red and green already mean ω and the body cone in every scene.
@@ -301,10 +314,6 @@ class PrincipalFrame:
             thickness=thickness,
             thickness_units="screen",
         )
-
-    def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
-        self.handle.wxyz = wxyz(attitude)
-        self.handle.position = np.asarray(position, dtype=float)
 
 
 TRACE_CHUNK = 32

@@ -2,18 +2,20 @@
 
 viser 1.1.1 wakes a connection's sender by calling ``asyncio.Event.set()`` on its message buffer's event
 *directly from whichever thread queued the message* (our frame loop, viser's callback pool), besides
-scheduling the same call with ``loop.call_soon_threadsafe``. ``asyncio.Event`` is not thread-safe: ``set``
+scheduling the same call with ``loop.call_soon_threadsafe`` (at once, or when an ``atomic()`` block ends). ``asyncio.Event`` is not thread-safe: ``set``
 iterates the event's waiters while the loop may be adding one, and once this raised "deque mutated during
 iteration" inside a frame and paused the simulation.
 
 :func:`confine_events` replaces the event of every message buffer (the broadcast one, and each browser's
 when it connects, before its sender starts) with a :class:`LoopEvent`, whose ``set()`` from another thread
-only schedules the set on the event's own loop. That is enough: viser already schedules every wake-up
-through ``call_soon_threadsafe`` (after each message, or when an ``atomic()`` block ends), so the direct
-call is a duplicate, and no asyncio object is touched off its loop any more. Our own code holds no asyncio
+does nothing. That is enough: viser already schedules every wake-up through ``call_soon_threadsafe``, so
+the direct call is a duplicate, and no asyncio object is touched off its loop any more. Our own code holds no asyncio
 objects.
 
-This wraps one private piece of viser 1.1.1 (its buffers' ``message_event``); viser is pinned, and
+The same hook sets each buffer's window (:data:`WINDOW_SECONDS`), so every frame reaches a page as its
+own message.
+
+This wraps private pieces of viser 1.1.1 (its buffers' ``message_event`` and ``window_duration_sec``); viser is pinned, and
 ``tests/app/test_event_loop.py`` checks the replacement is in place for the server and for a browser.
 """
 
@@ -25,13 +27,14 @@ from typing import Any
 
 import viser
 
-__all__ = ["LoopEvent", "confine_events"]
+__all__ = ["LoopEvent", "WINDOW_SECONDS", "confine_events"]
 
 
 class LoopEvent(asyncio.Event):
     """An ``asyncio.Event`` that is only ever changed on its loop's thread.
 
-    ``set()`` called from any other thread is handed to the loop with ``call_soon_threadsafe``.
+    ``set()`` called from any other thread does nothing: it is only ever called there by viser's buffer,
+    which also schedules the same call on the loop (see the module docstring).
     """
 
     def __init__(self, loop: asyncio.AbstractEventLoop, loop_thread: threading.Thread | None) -> None:
@@ -44,11 +47,10 @@ class LoopEvent(asyncio.Event):
         if self._owner_thread is None or threading.current_thread() is self._owner_thread:
             super().set()
             return
+        # viser schedules the same set() on the loop itself (after a message, or when an atomic block
+        # ends): the direct call from this thread is a duplicate, dropped here rather than scheduled
+        # again (each scheduling writes to the loop's self-pipe, ten times a frame).
         self.foreign_sets += 1
-        try:
-            self._owner.call_soon_threadsafe(super().set)
-        except RuntimeError:  # the loop is closed: the server stopped, nobody waits any more
-            pass
 
 
 def _loop_thread(loop: asyncio.AbstractEventLoop) -> threading.Thread | None:
@@ -65,9 +67,18 @@ def _loop_thread(loop: asyncio.AbstractEventLoop) -> threading.Thread | None:
     return found[0] if found else None
 
 
+WINDOW_SECONDS = 1.0 / 240.0
+"""How long viser's sender waits to gather more messages after sending a window (viser: 1/60 s).
+
+Our loop sends each frame as one ``atomic()`` block, which viser never splits; waiting a whole frame
+period after each window made the next two frames share a window about one time in four, so a page
+showed about 44 of the 60 frames drawn. A quarter period keeps one window per frame."""
+
+
 def _confine(buffer: Any, thread: threading.Thread | None) -> None:
     if not isinstance(buffer.message_event, LoopEvent):
         buffer.message_event = LoopEvent(buffer.event_loop, thread)
+    buffer.window_duration_sec = WINDOW_SECONDS
 
 
 def confine_events(server: viser.ViserServer) -> None:

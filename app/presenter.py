@@ -99,6 +99,7 @@ class Classroom:
         self._panels: dict[Any, _Panel] = {}
         self._wrong: dict[Any, tuple[int, float]] = {}  # client id -> (wrong PINs, locked until)
         self._class_wrong: list[float] = []  # when each wrong PIN was tried, the last minute
+        self._toggling: dict[Any, threading.Lock] = {}  # one explore/follow at a time per browser
         self._lock = threading.RLock()
         self.view = BroadcastView(app.server, read_only=lambda client_id: client_id not in self.presenters)
         app.server.on_client_connect(self._joined)
@@ -130,6 +131,7 @@ class Classroom:
             self._panels.pop(client.client_id, None)
             self.presenters.discard(client.client_id)
             self._wrong.pop(client.client_id, None)
+            self._toggling.pop(client.client_id, None)
         with self.app._sessions_lock:
             self.app.sessions.pop(client.client_id, None)
         self.view.forget(client.client_id)
@@ -139,6 +141,9 @@ class Classroom:
             try:
                 fn(event)
             except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
+                if event.client._websock_connection.get_message_buffer().done:
+                    self._left(event.client)  # it left while we worked for it: drop what was made
+                    return
                 traceback.print_exc()
                 self.app.notify("Something went wrong", f"{type(exc).__name__}: {exc}", client=event.client, error=True)
 
@@ -176,10 +181,15 @@ class Classroom:
 
     def toggle(self, client: viser.ClientHandle) -> None:
         """The explore/follow button: explore if following, follow if exploring."""
-        if self.exploring(client.client_id):
-            self.follow(client)
-        else:
-            self.explore(client)
+        with self._client_lock(client.client_id):  # two quick presses must not make two copies
+            if self.exploring(client.client_id):
+                self.follow(client)
+            else:
+                self.explore(client)
+
+    def _client_lock(self, client_id: Any) -> threading.Lock:
+        with self._lock:
+            return self._toggling.setdefault(client_id, threading.Lock())
 
     def explore(self, client: viser.ClientHandle) -> Any:
         """Give ``client`` its own copy of the lecture, from the lecture's current state; returns it."""

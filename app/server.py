@@ -5,7 +5,12 @@ Each :class:`Simulation` has one re-entrant lock (:attr:`Simulation.lock`) guard
 only change parameters (through :meth:`Simulation.guarded`), and the loop is the only place that asks
 the scene's model for the state and moves the kept handles (inside ``atomic()``, so a browser applies a
 frame's updates together). Values from browsers are checked on viser's event loop before any of this
-(:mod:`app.inputs`).
+(:mod:`app.inputs`). viser's own asyncio objects are changed only on its event loop (:mod:`app.event_loop`);
+we hold none.
+
+Presenter mode (:mod:`app.presenter`): the App is the lecture; browsers follow it read-only
+(:meth:`Simulation.refusal`), and an explorer gets a :class:`Simulation` of its own, copied with
+:meth:`Simulation.snapshot` / :meth:`Simulation.restore`.
 
 Robustness. An exception in a callback is shown to the user who caused it (a notification), not
 swallowed. An exception or a non-finite number in a frame pauses the clock with a message to everyone;
@@ -63,6 +68,11 @@ def check_finite(state: dict[str, Any], where: str = "") -> None:
             check_finite({str(i): v for i, v in enumerate(value)}, name + "[")
 
 
+def _departed(client: viser.ClientHandle) -> bool:
+    """The browser has disconnected (viser closed its message buffer and removes its handles)."""
+    return bool(client._websock_connection.get_message_buffer().done)
+
+
 def _first_scene(scene: str | None) -> tuple[str, list[str]]:
     """The scene to open first and the picker's list; refuses an unknown name."""
     load_all()
@@ -92,6 +102,7 @@ class Simulation:
     """
 
     root = "/scene"
+    _closed = False  # close() was called: callbacks still queued are dropped
 
     def __init__(
         self,
@@ -142,9 +153,7 @@ class Simulation:
 
     def _gone(self) -> bool:
         """True once the browser of a per-browser simulation has disconnected (nothing to draw for)."""
-        if isinstance(self.server, viser.ClientHandle):
-            return bool(self.server._websock_connection.get_message_buffer().done)
-        return False
+        return isinstance(self.server, viser.ClientHandle) and _departed(self.server)
 
     def _client(self, client_id: Any) -> Any:
         return next((c for c in self._clients() if c.client_id == client_id), None)
@@ -224,6 +233,8 @@ class Simulation:
                 return None
             try:
                 with self.lock:
+                    if self._closed or self._gone():
+                        return None  # it arrived after its simulation was closed or its browser left
                     if owner is not None and owner is not self.scene:
                         return None
                     out = fn(*args, **kwargs)
@@ -359,6 +370,7 @@ class Simulation:
     def close(self) -> None:
         """Remove this simulation's scene, nodes and panel (a browser stops exploring on its own)."""
         with self.lock:
+            self._closed = True
             self._teardown()
             for handle in [*self._global_gui, self._grid]:
                 try:
@@ -454,7 +466,7 @@ class Simulation:
         """Advance the clock by ``wall_dt`` × speed (if playing) and redraw; True if a frame was drawn."""
         with self.lock:
             scene = self.scene
-            if scene is None or self._gone():
+            if scene is None or self._closed or self._gone():
                 return False
             if self._playing:
                 advance = min(max(wall_dt, 0.0), MAX_FRAME_DT) * self._speed
@@ -488,6 +500,8 @@ class Simulation:
             return True
 
     def _failed(self, exc: Exception) -> None:
+        if self._gone():
+            return  # its browser left during the frame (viser removed the handles): nothing to report
         traceback.print_exc()
         self._dirty = False
         what = (
@@ -603,9 +617,16 @@ class App(Simulation):
 
     # ------------------------------------------------------------------ private sessions
     def _open_session(self, client: viser.ClientHandle) -> None:
-        session = Simulation(client, self._first, fps=self.fps, share=self._share)
+        try:
+            session = Simulation(client, self._first, fps=self.fps, share=self._share)
+        except Exception:
+            if _departed(client):
+                return  # it left while its session was being built
+            raise
         with self._sessions_lock:
             self.sessions[client.client_id] = session
+        if _departed(client):  # it left just now: its disconnect may have come before the line above
+            self._close_session(client)
 
     def _close_session(self, client: viser.ClientHandle) -> None:
         # The browser has gone: its panel and nodes went with its connection; drop the simulation.

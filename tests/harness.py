@@ -227,9 +227,10 @@ def matrix(handle: Any) -> np.ndarray:
 # Raw websocket clients: what a page's script (or a hostile one) can send, without a browser.
 # --------------------------------------------------------------------------------------------------
 @contextlib.contextmanager
-def raw_client(app: Any) -> Iterator[Any]:
-    """A websocket client speaking viser's protocol, as the page's script does."""
-    before = set(app.server.get_clients())
+def raw_client(app: Any, wait: bool = True) -> Iterator[Any]:
+    """A websocket client speaking viser's protocol, as the page's script does (``wait``: until the
+    server has registered it; ``app`` then needs ``.server``, otherwise only ``.port``)."""
+    before = set(app.server.get_clients()) if wait else set()
     ws = connect(
         f"ws://127.0.0.1:{app.port}",
         subprotocols=[f"viser-v{viser.__version__}"],
@@ -255,7 +256,8 @@ def raw_client(app: Any) -> Iterator[Any]:
                 }
             )
         )
-        wait_for(lambda: set(app.server.get_clients()) - before, what="the client to be registered")
+        if wait:
+            wait_for(lambda: set(app.server.get_clients()) - before, what="the client to be registered")
         yield ws
     finally:
         ws.close()

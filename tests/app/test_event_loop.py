@@ -17,8 +17,9 @@ def test_set_from_another_thread_is_handed_to_the_loop():
     ready.wait(5)
     try:
         event = LoopEvent(loop, thread)
-        event.set()  # from this (foreign) thread
-        assert event.foreign_sets == 1
+        event.set()  # from this (foreign) thread: nothing changes here
+        assert event.foreign_sets == 1 and not event.is_set()
+        loop.call_soon_threadsafe(event.set)  # what viser also does for the same message
         wait_for(event.is_set, timeout=5, what="the loop to set the event")
 
         async def on_the_loop() -> tuple[int, bool]:

@@ -7,6 +7,9 @@ switches through the picker and presets. Afterwards: the server logged no uncaug
 client still connected hears the server, no scene was paused by a numerical failure, and the loop still
 draws finite frames.
 
+In presenter mode the browsers also press their own panel's buttons (explore, follow, present) and type
+PINs, right and wrong, and send values to the lecture's controls and to the explorers' copies.
+
 Not covered here: uploads (a separate message stream; tests/app/test_upload.py and the browser tests
 send broken and oversized files).
 """
@@ -69,7 +72,11 @@ def random_value(rng: random.Random, handle: Any) -> Any:
     return rng.uniform(-1e3, 1e3)
 
 
-def test_random_gui_events_never_break_the_server(capfd):
+EVENTS = {"shared": MAX_EVENTS, "presenter": MAX_EVENTS // 2}
+
+
+@pytest.mark.parametrize("mode", ["shared", "presenter"])
+def test_random_gui_events_never_break_the_server(capfd, mode):
     rng = random.Random(SEED)
     errors: list[str] = []
 
@@ -82,10 +89,10 @@ def test_random_gui_events_never_break_the_server(capfd):
     server_loggers = ("asyncio", "websockets.server", "viser")  # the server's, not our test clients'
     for name in server_loggers:
         logging.getLogger(name).addHandler(handler)
-    counts = {"values": 0, "scene switches": 0, "joins": 0, "leaves": 0}
+    counts = {"values": 0, "scene switches": 0, "joins": 0, "leaves": 0, "explore/follow": 0, "PINs": 0}
     summary = ""
     try:
-        with running_app("heavy_top") as app:
+        with running_app("heavy_top", presenter=mode == "presenter", pin="5555") as app:
             loop = app.server._websock_server._background_event_loop
             loop.set_exception_handler(lambda _loop, context: errors.append(str(context.get("exception"))))
             picker_uuid = app.scene_picker._impl.uuid
@@ -93,7 +100,7 @@ def test_random_gui_events_never_break_the_server(capfd):
             clients: list[tuple[Any, Any]] = []
             start = time.monotonic()
             events = 0
-            while events < MAX_EVENTS and time.monotonic() - start < MAX_SECONDS:
+            while events < EVENTS[mode] and time.monotonic() - start < MAX_SECONDS:
                 events += 1
                 roll = rng.random()
                 if not clients or (roll < 0.01 and len(clients) < 4):
@@ -107,12 +114,29 @@ def test_random_gui_events_never_break_the_server(capfd):
                     counts["leaves"] += 1
                     continue
                 _, ws = rng.choice(clients)
-                if roll < 0.05:
+                if mode == "presenter" and roll < 0.05:
+                    # A browser's own panel: explore/follow, or a PIN (right one time in five).
+                    panels = list(app.classroom._panels.values())
+                    if panels:
+                        panel = rng.choice(panels)
+                        if rng.random() < 0.5:
+                            send_value(ws, panel.explore._impl.uuid, True)
+                            counts["explore/follow"] += 1
+                        elif not panel.pin._impl.removed:
+                            pin = "5555" if rng.random() < 0.2 else random_value(rng, panel.pin)
+                            send_value(ws, panel.pin._impl.uuid, pin)
+                            send_value(ws, panel.present._impl.uuid, True)
+                            counts["PINs"] += 1
+                    continue
+                if roll < 0.05 or (mode == "presenter" and roll < 0.08):
                     send_value(ws, picker_uuid, rng.choice(titles))
                     counts["scene switches"] += 1
                     continue
                 with app.lock:
                     handles = [h for h in app.server.gui._gui_input_handle_from_uuid.values() if not h._impl.removed]
+                    for session in list(app.sessions.values()):  # explorers' own copies (presenter mode)
+                        handles += [h for h in session.server.gui._gui_input_handle_from_uuid.values()]
+                    handles = [h for h in handles if not h._impl.removed]
                 handle = rng.choice(handles)
                 send_value(ws, handle._impl.uuid, random_value(rng, handle))
                 counts["values"] += 1
@@ -121,7 +145,7 @@ def test_random_gui_events_never_break_the_server(capfd):
                         drain(other)  # a page reads what the server sends all the time
                     time.sleep(0.05)  # about 200 changes a second from all browsers together
 
-            summary = f"fuzz: {events} events {counts} in {time.monotonic() - start:.1f} s (seed {SEED})"
+            summary = f"fuzz ({mode}): {events} events {counts} in {time.monotonic() - start:.1f} s (seed {SEED})"
             # The clock may have been paused by a fuzzed button: run it, so the server has news to send.
             app.set_playing(True)
             # Every client still connected hears the server, and the server counts them all.
@@ -148,7 +172,10 @@ def test_random_gui_events_never_break_the_server(capfd):
     print(summary)  # after the capture is read, so `pytest -s` shows it
     assert not errors, errors[:3]
     assert "Traceback" not in err, err[-3000:]
-    assert counts["values"] > 1000 and counts["scene switches"] > 20 and counts["joins"] >= 3
+    floor = EVENTS[mode] // 3
+    assert counts["values"] > floor and counts["scene switches"] > 10 and counts["joins"] >= 3
+    if mode == "presenter":
+        assert counts["explore/follow"] > 10 and counts["PINs"] > 10
 
 
 if __name__ == "__main__":

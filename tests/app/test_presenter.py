@@ -197,3 +197,6 @@ def test_explorers_are_freed_when_they_leave(lecture):
         wait_for(lambda: not app.sessions and not app.classroom._panels, what="the copy and panel to be freed")
     assert app.scene is not None and app.scene.name == "heavy_top"  # the lecture goes on
     assert isinstance(app.classroom, Classroom) and not app.classroom.presenters
+    # Nothing kept per departed browser: no stream state, no lock, no connection in viser.
+    wait_for(lambda: not app.classroom.view._clients, what="the stream state of departed browsers to go")
+    assert not app.classroom._toggling and not app.server.get_clients()
