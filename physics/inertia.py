@@ -425,6 +425,40 @@ def point_masses(masses: ArrayLike, positions: ArrayLike) -> MassProperties:
     return MassProperties(total, com, tensor)
 
 
+def _winding_number(mesh: trimesh.Trimesh, point: NDArray[np.float64]) -> float:
+    """How many times a closed mesh winds around ``point`` (1 inside, 0 outside an outward-wound solid).
+
+    The sum of the triangles' signed solid angles over 4π (Van Oosterom & Strackee, IEEE Trans. Biomed.
+    Eng. 30, 125 (1983)); numpy only (trimesh's ``contains`` needs rtree).
+    """
+    a, b, c = (np.asarray(mesh.triangles[:, k], dtype=float) - point for k in range(3))
+    la, lb, lc = (np.linalg.norm(x, axis=1) for x in (a, b, c))
+    numerator = np.einsum("ij,ij->i", a, np.cross(b, c))
+    denominator = la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", b, c) * la
+    denominator += np.einsum("ij,ij->i", c, a) * lb
+    return float(np.sum(2.0 * np.arctan2(numerator, denominator)) / (4.0 * np.pi))
+
+
+def _check_parts_wound_alike(mesh: trimesh.Trimesh) -> None:
+    """Refuse a mesh with a separate part wound inside out (negative volume) that is not a cavity.
+
+    A part with negative signed volume is a void only if it lies inside a part of positive volume (a
+    hollow shell); anywhere else it would subtract its volume from the body's mass.
+    """
+    parts = mesh.split(only_watertight=False)
+    if len(parts) < 2:
+        return
+    volumes = [float(p.volume) for p in parts]
+    solids = [p for p, v in zip(parts, volumes, strict=True) if v > 0]
+    for part, volume in zip(parts, volumes, strict=True):
+        if volume < 0 and not any(_winding_number(s, part.vertices[0]) > 0.5 for s in solids):
+            raise ValueError(
+                f"a separate part of the mesh ({len(part.faces)} triangles) is wound inside out (its normals "
+                "face inward) and is not a cavity inside another part, so the mass would be wrong; fix its "
+                "winding and try again"
+            )
+
+
 def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: float | None = None) -> MassProperties:
     """Mass properties of a closed triangle mesh of uniform density.
 
@@ -441,7 +475,8 @@ def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: floa
     Raises
     ------
     ValueError
-        For an empty mesh, one that is not watertight, one of zero volume, or non-finite vertices.
+        For an empty mesh, one that is not watertight, one whose triangles are wound inconsistently (or
+        with a separate part inside out that is not a cavity), one of zero volume, or non-finite vertices.
     """
     import trimesh  # imported here so the rest of the module has no trimesh import cost
 
@@ -458,14 +493,20 @@ def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: floa
             "the mesh is not watertight (it has holes or open edges), so it encloses no volume and has no "
             "defined mass distribution; close it or use its convex hull"
         )
+    if not mesh.is_winding_consistent:
+        raise ValueError(
+            "the mesh's triangles are wound inconsistently (some face inward, some outward), so its "
+            "volume and mass would be wrong; fix the winding (e.g. trimesh.repair.fix_winding) and try again"
+        )
     work = mesh.copy()
     volume = float(work.volume)
-    scale = float(np.max(np.ptp(work.vertices, axis=0))) ** 3
-    if not np.isfinite(volume) or abs(volume) <= 1e-12 * max(scale, np.finfo(float).tiny):
-        raise ValueError("the mesh encloses zero volume (it is flat or degenerate)")
     if volume < 0:
         work.invert()  # inward-facing normals: the same solid, wound the other way
         volume = -volume
+    _check_parts_wound_alike(work)
+    scale = float(np.max(np.ptp(work.vertices, axis=0))) ** 3
+    if not np.isfinite(volume) or volume <= 1e-12 * max(scale, np.finfo(float).tiny):
+        raise ValueError("the mesh encloses zero volume (it is flat or degenerate)")
     if mass is not None:
         rho = _positive(mass, "mass") / volume
     else:

@@ -235,3 +235,39 @@ def test_bad_meshes_are_refused_with_a_reason():
         from_mesh(trimesh.creation.box((1, 1, 1)), mass=1.0, density=1.0)
     with pytest.raises(ValueError, match="trimesh.Trimesh"):
         from_mesh("not a mesh", mass=1.0)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Winding (issue 15, item 4): never a wrong mass from a mesh wound inconsistently.
+# ---------------------------------------------------------------------------------------------------
+def _box_faces():
+    box = trimesh.creation.box((1.0, 2.0, 3.0))  # 6 m³: 6000 kg at 1000 kg/m³
+    return box.vertices, box.faces
+
+
+def test_one_flipped_triangle_is_refused_naming_the_winding():
+    vertices, faces = _box_faces()
+    for flipped in ([0], list(range(0, 12, 2)), list(range(6))):
+        wound = faces.copy()
+        wound[flipped] = wound[flipped, ::-1]
+        with pytest.raises(ValueError, match="wound inconsistently"):
+            from_mesh(trimesh.Trimesh(vertices, wound, process=False))
+
+
+def test_a_separate_part_inside_out_is_refused_a_cavity_is_subtracted():
+    vertices, faces = _box_faces()
+    both = np.vstack([vertices, vertices + [2.0, 0.0, 0.0]])
+    outward = np.vstack([faces, faces + 8])
+    assert from_mesh(trimesh.Trimesh(both, outward, process=False)).mass == pytest.approx(12000.0, rel=1e-12)
+    inside_out = np.vstack([faces, (faces + 8)[:, ::-1]])  # the repro: was "zero volume" (or 24000 kg)
+    with pytest.raises(ValueError, match="inside out"):
+        from_mesh(trimesh.Trimesh(both, inside_out, process=False))
+    # A hollow box: the inner surface faces inward on purpose; 6 − 0.75 m³ of material.
+    inner = trimesh.creation.box((0.5, 1.0, 1.5))
+    hollow = trimesh.Trimesh(np.vstack([vertices, inner.vertices]), np.vstack([faces, (inner.faces + 8)[:, ::-1]]))
+    props = from_mesh(hollow)
+    assert props.mass == pytest.approx(5250.0, rel=1e-12)
+    # Its inertia is the outer box's minus the cavity's (both centred): an independent closed form.
+    origin = np.zeros(3)
+    expected = box(6000.0, (1.0, 2.0, 3.0)).tensor_about(origin) - box(750.0, (0.5, 1.0, 1.5)).tensor_about(origin)
+    np.testing.assert_allclose(props.tensor_about(origin), expected, rtol=1e-12, atol=1e-9)
