@@ -64,12 +64,16 @@ def main(argv: list[str] | None = None) -> None:
                 )
                 print(row, flush=True)
                 rows.append(row)
+                _write(args, rows, (time.monotonic() - start) / 60.0)  # kept after every sample
+
+
+def _write(args: argparse.Namespace, rows: list[str], minutes: float) -> None:
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     first, last = rows[0].split("|")[3], rows[-1].split("|")[3]
     RESULTS.write_text(
         "\n".join(
             [
-                f"# Soak: {args.minutes:g} minutes of joins and leaves ({args.mode} mode)",
+                f"# Soak: {minutes:.0f} of {args.minutes:g} minutes of joins and leaves ({args.mode} mode)",
                 "",
                 f"`python -m benchmarks.soak --minutes {args.minutes:g} --mode {args.mode}`: 1 to 4 websocket "
                 "clients at a time join, read for 0.5 to 2 s"
