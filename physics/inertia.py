@@ -448,7 +448,8 @@ def _check_parts_wound_alike(mesh: trimesh.Trimesh) -> None:
     parts = mesh.split(only_watertight=False)
     if len(parts) < 2:
         return
-    volumes = [float(p.volume) for p in parts]
+    with np.errstate(divide="ignore", invalid="ignore"):  # trimesh also divides by each part's volume
+        volumes = [float(p.volume) for p in parts]
     solids = [p for p, v in zip(parts, volumes, strict=True) if v > 0]
     for part, volume in zip(parts, volumes, strict=True):
         if volume < 0 and not any(_winding_number(s, part.vertices[0]) > 0.5 for s in solids):
@@ -499,7 +500,8 @@ def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: floa
             "volume and mass would be wrong; fix the winding (e.g. trimesh.repair.fix_winding) and try again"
         )
     work = mesh.copy()
-    volume = float(work.volume)
+    with np.errstate(divide="ignore", invalid="ignore"):  # trimesh divides by the volume, which may be 0
+        volume = float(work.volume)
     if volume < 0:
         work.invert()  # inward-facing normals: the same solid, wound the other way
         volume = -volume
