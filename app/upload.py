@@ -209,10 +209,12 @@ def _open_edge_count(mesh: trimesh.Trimesh) -> int:
 
 
 def _convex_hull_or_none(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
-    try:
-        hull = mesh.convex_hull
-    except Exception:  # noqa: BLE001 - qhull fails on coplanar points
-        return None
-    if not isinstance(hull, trimesh.Trimesh) or len(hull.faces) < 4 or not hull.is_watertight or hull.volume <= 0:
-        return None
+    # A flat mesh's hull has zero volume: trimesh divides by it (centre of mass) on the way to refusing it.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        try:
+            hull = mesh.convex_hull
+        except Exception:  # noqa: BLE001 - qhull fails on coplanar points
+            return None
+        if not isinstance(hull, trimesh.Trimesh) or len(hull.faces) < 4 or not hull.is_watertight or hull.volume <= 0:
+            return None
     return hull

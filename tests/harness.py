@@ -183,6 +183,24 @@ def slider_by_label(page: Any, label: str) -> Any:
     return page.locator(f"[id='{control_id(page, label)}'] [role=slider]")
 
 
+def slider_disabled(page: Any, label: str) -> bool | None:
+    """Whether the slider labelled ``label`` is disabled (``aria-disabled``); None while there is none.
+
+    One read in the page: a slider that is replaced between finding its id and reading it (a copy
+    giving way to the lecture) cannot leave the caller waiting on a node that is gone.
+    """
+    state = page.evaluate(
+        """(text) => { for (const el of document.querySelectorAll('label[for]')) {
+               if (el.textContent.trim() !== text) continue;
+               const box = document.getElementById(el.getAttribute('for'));
+               const thumb = box && box.querySelector('[role=slider]');
+               if (thumb) return thumb.getAttribute('aria-disabled') === 'true'; }
+             return null; }""",
+        label,
+    )
+    return None if state is None else bool(state)
+
+
 def nudge_slider(page: Any, label: str, key: str = "ArrowRight", times: int = 1) -> None:
     """Focus a slider in the page and press a key (one step per press), like a user with a keyboard."""
     thumb = slider_by_label(page, label)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.harness import click, nudge_slider, open_page, running_app, slider_by_label, wait_for
+from tests.harness import click, nudge_slider, open_page, running_app, slider_disabled, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -14,7 +14,11 @@ SPIN = "spin ω₃ (rad/s)"
 
 
 def _disabled(page) -> bool:
-    return slider_by_label(page, SPIN).first.get_attribute("aria-disabled") == "true"
+    return slider_disabled(page, SPIN) is True
+
+
+def _enabled(page) -> bool:
+    return slider_disabled(page, SPIN) is False
 
 
 def test_a_follower_drives_only_with_the_pin_and_an_explorer_only_their_copy(chromium):
@@ -35,7 +39,7 @@ def test_a_follower_drives_only_with_the_pin_and_an_explorer_only_their_copy(chr
             )
             click(lecturer.get_by_role("button", name="Present"))
             wait_for(lambda: lecturer_client.client_id in app.classroom.presenters, what="the page to present")
-            wait_for(lambda: not _disabled(lecturer), what="the slider to be enabled with the PIN")
+            wait_for(lambda: _enabled(lecturer), what="the slider to be enabled with the PIN")
             nudge_slider(lecturer, SPIN, times=3)
             wait_for(lambda: app.scene.params.values["spin"] > spin, what="the presenter's change")
             lecturer.get_by_text("Presenting.").first.wait_for(timeout=30_000)
@@ -47,7 +51,7 @@ def test_a_follower_drives_only_with_the_pin_and_an_explorer_only_their_copy(chr
                 click(student.get_by_role("button", name="Explore on my own"))
                 wait_for(lambda: student_client.client_id in app.sessions, what="the student's copy")
                 copy = app.sessions[student_client.client_id]
-                wait_for(lambda: not _disabled(student), what="the copy's own slider, enabled")
+                wait_for(lambda: _enabled(student), what="the copy's own slider, enabled")
                 lecture_spin = app.scene.params.values["spin"]
                 assert copy.scene.params.values["spin"] == lecture_spin
                 nudge_slider(student, SPIN, key="ArrowLeft", times=2)
