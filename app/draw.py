@@ -21,6 +21,8 @@ import viser
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from app.wire import send_orientation, send_points, send_position
+
 __all__ = [
     "COLOURS",
     "LABELS",
@@ -189,15 +191,11 @@ class _Posed:
     """A node placed by an attitude and a position; only what changed is sent."""
 
     handle: Any
-    _position: NDArray[np.float64] = np.zeros(3)  # viser's default: a new node sits at the origin
 
     def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         """Place the body: ``attitude`` (3, 3) body-to-space or scipy quaternion (4,); position (3,), m."""
-        self.handle.wxyz = wxyz(attitude)
-        position = np.asarray(position, dtype=float)
-        if not np.array_equal(position, self._position):  # most bodies turn about a fixed point
-            self._position = position
-            self.handle.position = position
+        send_orientation(self.handle, wxyz(attitude))
+        send_position(self.handle, np.asarray(position, dtype=float))  # sent only when it changed
 
 
 class BodyMesh(_Posed):
@@ -268,7 +266,6 @@ class Arrow:
         self.tip = np.zeros(3)
         self._head = -1.0
         self._visible = True
-        self._origin = np.zeros(3)
         self._label_visible = True
 
     def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0)) -> None:
@@ -281,10 +278,8 @@ class Arrow:
             self.tip = o + v
             # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
             # (the web client does not follow a change of the start point alone).
-            self.handle.points = np.array([[np.zeros(3), v]])
-            if not np.array_equal(o, self._origin):
-                self._origin = o
-                self.handle.position = o
+            send_points(self.handle, np.array([[np.zeros(3), v]]))
+            send_position(self.handle, o)  # sent only when it changed
             # Keep the head in proportion for short arrows.
             head = min(6.0 * self.shaft_radius, 0.45 * length)
             if head != self._head:
@@ -295,7 +290,7 @@ class Arrow:
             if self._label_visible != visible:
                 self._label_visible = self.label.visible = visible
             if visible:
-                self.label.position = self.tip
+                send_position(self.label, self.tip)
 
 
 class PrincipalFrame(_Posed):
@@ -430,7 +425,7 @@ class Trace:
         self._segments[k, f + 1 :] = p  # unused segments collapse onto the newest point (invisible)
         self._fill[k] = f + 1
         chunk = self._chunks[k]
-        chunk.points = self._segments[k]
+        send_points(chunk, self._segments[k])
         if not chunk.visible:
             chunk.visible = True
 
@@ -485,12 +480,12 @@ class Cone:
         resized = self._scale != (r, r, h)
         self._apex, self._scale = apex, (r, r, h)
         for hd in (self.handle, self.rim):
-            hd.wxyz = q
+            send_orientation(hd, q)
             # Assign only what changed: each assignment is a message to every browser.
             if resized:
                 hd.scale = (r, r, h)
             if moved:
-                hd.position = apex
+                send_position(hd, apex)
 
 
 @dataclass

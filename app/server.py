@@ -47,6 +47,11 @@ FOV = math.radians(50.0)  # vertical field of view (viser's default 75° makes t
 MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
 
 
+NETWORK_SHARE = 0.3
+"""Under load, the loop rests this fraction of its busy time between ticks: viser's event loop thread
+serializes and sends the frames meanwhile (one GIL between them). Measured by benchmarks/serve.py."""
+
+
 class NumericalFailure(ValueError):
     """A scene produced NaN or inf."""
 
@@ -659,7 +664,11 @@ class App(Simulation):
                     simulation.frame(dt)
                 except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
                     traceback.print_exc()
-            self._stop.wait(max(0.0, period - (time.perf_counter() - now)))
+            busy = time.perf_counter() - now
+            # Under load (many private sessions) a tick takes longer than a frame: each session then
+            # advances by the real elapsed time (the physics is exact at any step), and the loop leaves
+            # the GIL to the network thread for a share of its own time, so that what was drawn is sent.
+            self._stop.wait(max(period - busy, NETWORK_SHARE * busy))
 
     def stop(self) -> None:
         """Stop the loop and the server."""

@@ -11,7 +11,21 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["ROTATION_TOLERANCE", "finite_array", "finite_scalar", "rotation_array", "vector_array"]
+__all__ = [
+    "MAX_RATE",
+    "MAX_STEPS",
+    "ROTATION_TOLERANCE",
+    "finite_array",
+    "finite_scalar",
+    "rotation_array",
+    "vector_array",
+]
+
+MAX_RATE = 1e100
+"""Largest angular rate accepted, rad/s: far beyond any body, well inside the float range of its square."""
+
+MAX_STEPS = 100_000_000
+"""Most steps a step-by-step simulation will take (t_final / dt)."""
 
 ROTATION_TOLERANCE = 1e-9
 """Largest ``|RᵀR − I|`` entry accepted for an attitude (rounding of a stored matrix is far below it)."""

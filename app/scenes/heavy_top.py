@@ -148,8 +148,9 @@ class HeavyTopScene(Scene):
                 from physics import integrators  # noqa: F401 - the stepping model needs it
             except ImportError:
                 raise ValueError("friction needs physics.integrators, which is not installed yet") from None
-        sol = top.solve(*start, [0.0])
-        self.top, self.values, self.start, self.exact = top, dict(values), start, sol
+        motion = top.trajectory(*start)  # solved once: a frame only evaluates it
+        sol = motion.at(np.zeros(1))
+        self.top, self.values, self.start, self.exact, self.motion = top, dict(values), start, sol, motion
         L0 = sol.attitude[0] @ (np.array([top.I1, top.I1, top.I3]) * sol.omega_body[0])
         self.L_scale = 1.6 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
         self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
@@ -205,8 +206,8 @@ class HeavyTopScene(Scene):
         if self.values["friction"] > 0.0:
             R, L_body = self._step_friction(dt)
         else:
-            sol = top.solve(*self.start, [t])
-            R, L_body = sol.attitude[0], moments * sol.omega_body[0]
+            now = self.motion.at(t)
+            R, L_body = now.attitude, moments * now.omega_body
         axis = R[:, 2]
         return {
             "R": R,

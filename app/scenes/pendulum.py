@@ -17,6 +17,7 @@ import trimesh
 
 from app import controls, draw
 from app.scenes import Scene, register
+from app.wire import send_position
 from assets import load_mesh, mass_properties
 from physics.inertia import MassProperties, rod
 from physics.pendulum import PhysicalPendulum
@@ -185,12 +186,12 @@ class Pendulum(Scene):
         self.body.set_pose(R, self.pivot - R @ self.pivot)  # x ↦ pivot + R (x − pivot)
         cm = self.model.center_of_mass_at(theta)
         cop = self.model.center_of_percussion(theta)
-        self.cm_marker.position = cm
-        self.cm_label.position = cm + np.array([0.0, 0.05, 0.0])
-        self.cop_marker.position = cop
-        self.cop_label.position = cop + np.array([0.0, 0.05, 0.0])
+        send_position(self.cm_marker, cm)
+        send_position(self.cm_label, cm + np.array([0.0, 0.05, 0.0]))
+        send_position(self.cop_marker, cop)
+        send_position(self.cop_label, cop + np.array([0.0, 0.05, 0.0]))
         down = R @ np.array([0.0, 0.0, -1.0])
-        self.hit_marker.position = self.pivot + self.params.values["strike"] * down
+        send_position(self.hit_marker, self.pivot + self.params.values["strike"] * down)
         self.trace.append(self.pivot + self.length * 0.98 * down)
         s = self.last_strike
         if s is not None and 0.0 <= state["t"] - s["t"] <= ARROW_SHOW:

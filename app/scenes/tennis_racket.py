@@ -22,6 +22,7 @@ import viser
 
 from app import controls, draw
 from app.scenes import Scene, register
+from app.wire import send_position
 from assets import ASSETS, load_mesh, mass_properties
 from physics.free_body import FreeBody
 from physics.inertia import MassProperties, validate_moments
@@ -342,7 +343,7 @@ class TennisRacket(Scene):
         self.L_arrow.set(self.L_space * self.L_scale, c)
         self.omega_arrow.set(R @ w * self.omega_scale, c)
         l_hat = self.moments * w / self.L_norm
-        self.L_dot.position = self.sphere_centre + 1.02 * self.sphere_radius * l_hat
+        send_position(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
         # The tip of the spin axis traces its flips in space.
         self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
         t = state["t"]

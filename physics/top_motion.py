@@ -1,0 +1,264 @@
+"""Constants of one motion of the heavy top, computed once per initial condition.
+
+With ``u = cos θ``, ``u̇² = f(u) = 2 (ℰ − a u)(1 − u²) − (α − β u)²`` (``a = Mgℓ/I1``, ``α = Lz/I1``,
+``β = L3/I1``; lecture, "the heavy symmetric top"), a cubic with roots ``−1 ≤ u1 ≤ u2 ≤ 1 ≤ u3``, and
+``u = u1 + (u2 − u1) sn²(λ t + c | m)``, ``m = (u2 − u1)/(u3 − u1)``, ``λ = sqrt(a (u3 − u1)/2)``. This
+module finds the roots (:mod:`physics.nutation_cubic`), the modulus, rate and phase, and the two pole
+terms of φ (:class:`physics.top_elliptic._PoleTerm`); :mod:`physics.top_trajectory` evaluates them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from scipy.special import ellipkm1
+
+from physics.nutation_cubic import NutationCubic, _diff, _polish, _quadratic_roots, _Root
+from physics.top_elliptic import _complete_third_kind, _incomplete_first_kind, _PoleTerm
+from physics.validation import MAX_RATE, finite_scalar
+
+if TYPE_CHECKING:
+    from physics.heavy_top import HeavyTop
+
+
+@dataclass
+class _Motion:
+    """Everything the closed form needs, computed once per initial condition."""
+
+    kind: str  # "vertical", "steady" or "nutating"
+    theta0: float
+    phi0: float
+    psi0: float
+    phidot0: float
+    psidot0: float
+    L3: float
+    Lz: float
+    energy: float
+    cubic: NutationCubic | None = None
+    m: float = 0.0
+    lam: float = 0.0
+    K: float = 0.0
+    one_m: float = 1.0
+    c: float = 0.0
+    spin_rate: float = 0.0  # L3/I3 − L3/I1: the constant part of ψ̇
+    terms: list[_PoleTerm] = field(default_factory=list)  # two of them
+    period: float = math.inf
+    precession_rate: float = 0.0
+
+
+def motion_constants(
+    top: HeavyTop,
+    theta0: float,
+    thetadot0: float,
+    phidot0: float,
+    psidot0: float,
+    phi0: float = 0.0,
+    psi0: float = 0.0,
+) -> _Motion:
+    """The constants of one motion from its initial Euler angles and rates (roots of the cubic, phase,
+    pole terms): everything the closed form needs that does not depend on t."""
+    th0 = finite_scalar(theta0, "theta0")
+    thd0 = finite_scalar(thetadot0, "thetadot0")
+    phd0 = finite_scalar(phidot0, "phidot0")
+    psd0 = finite_scalar(psidot0, "psidot0")
+    phi0 = finite_scalar(phi0, "phi0")
+    psi0 = finite_scalar(psi0, "psi0")
+    if not 0.0 <= th0 <= math.pi:
+        raise ValueError(f"theta0 is the angle of the axis from +z and must lie in [0, pi], got {th0}")
+    if max(abs(thd0), abs(phd0), abs(psd0)) > MAX_RATE:
+        raise ValueError(
+            f"angular rates must be at most {MAX_RATE:g} rad/s (their squares would overflow); got "
+            f"thetadot0 = {thd0:g}, phidot0 = {phd0:g}, psidot0 = {psd0:g}"
+        )
+    # Squares of these would underflow: to every digit the cubic can see they are 0 (a pole, no rate).
+    th0 = 0.0 if th0 < 1e-150 else th0
+    thd0, phd0, psd0 = (0.0 if abs(x) < 1e-150 else x for x in (thd0, phd0, psd0))
+    # At a pole θ̇ < 0 means leaving towards the opposite azimuth: same state, θ̇ > 0.
+    if th0 == 0.0 and thd0 < 0.0:
+        thd0, phi0, psi0 = -thd0, phi0 + math.pi, psi0 - math.pi
+    if th0 == math.pi and thd0 > 0.0:
+        thd0, phi0, psi0 = -thd0, phi0 + math.pi, psi0 + math.pi
+    at_pole = th0 == 0.0 or th0 == math.pi
+    s0 = 0.0 if at_pole else math.sin(th0)
+    u0 = 1.0 if th0 == 0.0 else (-1.0 if th0 == math.pi else math.cos(th0))
+    w0 = 2.0 * math.sin(0.5 * th0) ** 2 if th0 != math.pi else 2.0  # 1 − u0
+    z0 = 2.0 * math.cos(0.5 * th0) ** 2 if th0 != math.pi else 0.0  # 1 + u0
+    I1, I3 = top.I1, top.I3
+    L3 = I3 * (psd0 + phd0 * u0)
+    Lz = I1 * s0 * s0 * phd0 + L3 * u0
+    K0 = 0.5 * thd0 * thd0 + 0.5 * s0 * s0 * phd0 * phd0  # ℰ − a u0
+    energy = I1 * K0 + L3 * L3 / (2.0 * I3) + top.mgl * u0
+    base: dict[str, Any] = dict(
+        theta0=th0, phi0=phi0, psi0=psi0, phidot0=phd0, psidot0=psd0, L3=L3, Lz=Lz, energy=energy
+    )
+    if at_pole and thd0 == 0.0:
+        # Sleeping (or hanging) top exactly vertical: an equilibrium of θ, stable or not.
+        mo = _Motion(kind="vertical", **base)
+        mo.precession_rate = phd0
+        mo.period = _vertical_period(top, L3, u0)
+        return mo
+
+    a = top.mgl / I1
+    beta = L3 / I1
+    dm = (I1 * s0 * s0 * phd0 - L3 * w0) / I1  # α − β = (Lz − L3)/I1 without cancellation
+    dp = (I1 * s0 * s0 * phd0 + L3 * z0) / I1  # α + β
+    c3 = 2.0 * a
+    loc0 = [
+        s0 * s0 * thd0 * thd0,
+        -4.0 * u0 * K0 - 2.0 * a * s0 * s0 + 2.0 * beta * s0 * s0 * phd0,
+        -2.0 * K0 + 4.0 * a * u0 - beta * beta,
+        c3,
+    ]
+    k1 = K0 - a * w0  # ℰ − a
+    loc_p = [-dm * dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + 4.0 * a - beta * beta, c3]
+    k2 = K0 + a * z0  # ℰ + a
+    loc_m = [-dp * dp, 4.0 * k2 + 2.0 * beta * dp, -2.0 * k2 - 4.0 * a - beta * beta, c3]
+
+    if loc0[0] == 0.0:  # start at a turning point: v = 0 is an exact root, deflate it
+        vs = [0.0] + _quadratic_roots(c3, loc0[2], loc0[1])
+    else:
+        r = np.roots([loc0[3], loc0[2], loc0[1], loc0[0]])
+        vs = sorted(float(x.real) for x in r)
+    vs = sorted(vs)
+    # Snap exactly known roots, polish the others in the expansion about the nearest anchor.
+    roots = []
+    near = {
+        "1": int(np.argmin([abs(v - w0) for v in vs])),
+        "-1": int(np.argmin([abs(v + z0) for v in vs])),
+        "0": int(np.argmin([abs(v) for v in vs])),
+    }
+    for i, v in enumerate(vs):
+        if loc0[0] == 0.0 and i == near["0"]:
+            roots.append(_Root(0.0, w0, z0))
+        elif dm == 0.0 and i == near["1"]:
+            roots.append(_Root(w0, 0.0, 2.0))
+        elif dp == 0.0 and i == near["-1"]:
+            roots.append(_Root(-z0, 2.0, 0.0))
+        else:
+            # Polish in the expansion about the nearest anchor; a root that lands closer to another
+            # anchor (e.g. 1e-64 from a pole, 1e-31 from u0) is polished again there.
+            anchor = ""
+            for _ in range(3):
+                offs = {"0": abs(v), "1": abs(v - w0), "-1": abs(v + z0)}
+                best = min(offs, key=lambda name: offs[name])
+                if best == anchor:
+                    break
+                anchor = best
+                if best == "0":
+                    v = _polish(loc0, v)
+                    root = _Root(v, w0 - v, z0 + v)
+                elif best == "1":
+                    x = _polish(loc_p, v - w0)
+                    root = _Root(w0 + x, -x, 2.0 + x)
+                else:
+                    y = _polish(loc_m, v + z0)
+                    root = _Root(y - z0, 2.0 - y, y)
+                v = root.v
+            roots.append(root)
+    roots.sort(key=lambda r_: r_.u)
+    r1, r2, r3 = roots
+    # Rounding may push a root across u0 or a pole by an ulp; the motion lies in [u1, u2] ∋ u0.
+    if r1.v > 0.0:
+        r1 = _Root(0.0, w0, z0)
+    if r2.v < 0.0:
+        r2 = _Root(0.0, w0, z0)
+    if r2.p < 0.0:
+        r2 = _Root(w0, 0.0, 2.0)
+    if r1.q < 0.0:
+        r1 = _Root(-z0, 2.0, 0.0)
+    u21, u31, u32 = _diff(r2, r1), _diff(r3, r1), _diff(r3, r2)
+    r0 = _Root(0.0, w0, z0)
+    cubic = NutationCubic(
+        u0=u0,
+        u1=r1.u,
+        u2=r2.u,
+        u3=r3.u,
+        one_minus_u1=r1.p,
+        one_minus_u2=r2.p,
+        one_plus_u1=r1.q,
+        one_plus_u2=r2.q,
+        u2_minus_u1=u21,
+        u3_minus_u1=u31,
+        u3_minus_u2=u32,
+        u0_minus_u1=_diff(r0, r1),
+        u2_minus_u0=_diff(r2, r0),
+    )
+    if u21 <= 0.0:
+        mo = _Motion(kind="steady", cubic=cubic, **base)
+        mo.precession_rate = phd0
+        mo.lam = math.sqrt(a * u31 / 2.0)
+        mo.period = math.pi / mo.lam if mo.lam > 0 else math.inf
+        return mo
+
+    mo = _Motion(kind="nutating", cubic=cubic, **base)
+    m = u21 / u31
+    # Exactly on a separatrix (u2 = u3: the axis creeps up to an unstable position for ever) K = inf;
+    # with 1 − m = 1e-300 instead the approach takes ~350/λ and differs by e^-350: invisible.
+    one_m = max(u32 / u31, 1e-300)
+    mo.one_m = one_m
+    mo.m = m
+    mo.lam = lam = math.sqrt(a * u31 / 2.0)
+    mo.K = K = float(ellipkm1(one_m))  # accurate even as m → 1 (near a separatrix)
+    # Phase: sn²(c) = (u0 − u1)/(u2 − u1), cn²(c) = (u2 − u0)/(u2 − u1), sign from u̇0 = −sin θ0 θ̇0.
+    sn2 = cubic.u0_minus_u1 / u21
+    cn2 = cubic.u2_minus_u0 / u21
+    if cn2 <= 0.0:
+        c = K
+    elif sn2 <= 0.0:
+        c = 0.0
+    else:
+        c = _incomplete_first_kind(sn2, cn2, m)
+    udot0 = -s0 * thd0
+    mo.c = -c if udot0 < 0.0 else c
+    mo.spin_rate = L3 / I3 - beta
+    mo.period = 2.0 * K / lam
+    # The two pole terms of φ̇: (α ∓ β) / (2 (1 ∓ u)); their time integrals are elliptic integrals of
+    # the third kind (Carlson R_J). See _PoleTerm.
+    terms = []
+    for pole, d in ((+1, dm), (-1, dp)):
+        half_d = 0.5 * d
+        if pole == +1:
+            # 1 − u = (1 − u1)(1 − n sn²τ), n = (u2 − u1)/(1 − u1) ≤ 1.
+            d1, d2 = r1.p, r2.p
+            n, one_n, shift = u21 / d1, d2 / d1, 0.0
+            a0, a1 = 0.0, half_d / (lam * d1)
+        elif u21 <= r1.q:
+            # 1 + u = (1 + u1)(1 − n sn²τ), n = −(u2 − u1)/(1 + u1) ∈ [−1, 0].
+            n = -u21 / r1.q
+            one_n, shift = 1.0 - n, 0.0
+            a0, a1 = 0.0, half_d / (lam * r1.q)
+        else:
+            # Near the bottom pole n → −∞ and Π(n) cancels; instead 1 + u = (1 + u2)(1 − n' cn²τ) and with
+            # x = τ − K, ∫ dτ/(1 − n' cn²) = (m/N) x + (1 − m/N) Π(N; x), N = m + n'(1 − m) ∈ [m, 1]:
+            # the same well-conditioned form as the top pole.
+            npr = u21 / r2.q
+            n = m + npr * (1.0 - m)
+            one_n = one_m * r1.q / r2.q
+            shift = K
+            scale = half_d / (lam * r2.q)
+            a0, a1 = scale * m / n, scale * npr * one_m / n
+        through = one_n == 0.0  # the axis passes exactly through this pole
+        jump = (math.copysign(1.0, d) if d != 0.0 else 1.0) if through else 0.0
+        pic = 0.0 if through else _complete_third_kind(n, one_n, m, one_m, K)
+        terms.append(_PoleTerm(pole, half_d, jump, shift, a0, a1, n, one_n, pic))
+    mo.terms = terms
+    # Mean φ̇ over one period: each pole term advances by 2K a0 + 2 a1 Π(n|m), or by ±π per passage.
+    adv = sum(tm.jump * math.pi if tm.jump else 2.0 * K * tm.a0 + 2.0 * tm.a1 * tm.pic for tm in terms)
+    mo.precession_rate = adv / mo.period
+    return mo
+
+
+def _vertical_period(top: HeavyTop, L3: float, u0: float) -> float:
+    # Limit of the nutation period of motions with Lz = ±L3 close to the vertical: π/λ with the
+    # remaining root of the cubic; infinite when the vertical is unstable (separatrix).
+    a, beta = top.mgl / top.I1, L3 / top.I1
+    if u0 > 0:  # sleeping top: roots 1, 1, β²/(2a) − 1
+        u31 = beta * beta / (2.0 * a) - 2.0
+    else:  # hanging: roots −1, −1, 1 + ... always stable
+        u31 = beta * beta / (2.0 * a) + 2.0
+    if u31 <= 0.0:
+        return math.inf
+    return math.pi / math.sqrt(a * u31 / 2.0)

@@ -1,0 +1,308 @@
+"""The heavy top's exact motion from one initial condition, evaluated at any times.
+
+Solve once, evaluate often: :class:`HeavyTopTrajectory` holds the constants of the motion
+(:func:`physics.top_motion.motion_constants`); :meth:`HeavyTopTrajectory.at` only evaluates
+``u = cos θ = u1 + (u2 − u1) sn²(λ t + c | m)`` and the pole terms of φ and ψ. An array of times is
+evaluated vectorised; one time (a frame of an animation) on Python floats, the same expressions in the
+same order, so both give the same numbers.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from physics.euler_angles import _attitude_from_trig, _theta_from
+from physics.top_elliptic import _jacobi, _jacobi_one, _reduce
+from physics.top_motion import _Motion
+
+if TYPE_CHECKING:
+    from physics.heavy_top import HeavyTop
+
+Floats = NDArray[np.float64]
+
+__all__ = ["HeavyTopSolution", "HeavyTopTrajectory"]
+
+
+@dataclass(frozen=True)
+class HeavyTopSolution:
+    """Exact motion of the heavy symmetric top sampled at times ``t``.
+
+    Attributes
+    ----------
+    t : ndarray (n,)
+        Times, s.
+    theta, phi, psi : ndarray (n,)
+        Euler angles, rad (φ, ψ unwrapped; jumps of ±π only where the axis passes exactly through a pole).
+    thetadot, phidot, psidot : ndarray (n,)
+        Their rates, rad/s.
+    axis : ndarray (n, 3)
+        Unit symmetry axis in space.
+    attitude : ndarray (n, 3, 3)
+        Body-to-space rotation ``R = Rz(φ) Rx(θ) Rz(ψ)``.
+    omega_body : ndarray (n, 3)
+        Body-frame angular velocity, rad/s (``Ṙ = R hat(ω_body)``).
+    L3, Lz : float
+        Conserved angular momenta about the symmetry axis and about +z, kg m²/s.
+    energy : float
+        Conserved total energy from the initial data, J.
+    nutation_period : float
+        Period of θ, s (``inf`` for a vertical top that cannot leave the vertical in finite time).
+    precession_rate : float
+        Mean φ̇ over a nutation period, rad/s.
+    theta_min, theta_max : float
+        Turning points of θ, rad.
+    """
+
+    t: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    phi: NDArray[np.float64]
+    psi: NDArray[np.float64]
+    thetadot: NDArray[np.float64]
+    phidot: NDArray[np.float64]
+    psidot: NDArray[np.float64]
+    axis: NDArray[np.float64]
+    attitude: NDArray[np.float64]
+    omega_body: NDArray[np.float64]
+    L3: float
+    Lz: float
+    energy: float
+    nutation_period: float
+    precession_rate: float
+    theta_min: float
+    theta_max: float
+
+    def energy_along(self, top: HeavyTop) -> NDArray[np.float64]:
+        """Total energy evaluated from the sampled state (a check of the solution), J, shape (n,)."""
+        return top.energy_of(self.theta, self.thetadot, self.phidot, self.psidot)
+
+    def angular_momenta_along(self, top: HeavyTop) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(L3, Lz)`` evaluated from the sampled state, kg m²/s, each shape (n,)."""
+        return top.angular_momenta(self.theta, self.phidot, self.psidot)
+
+
+def _times(t: ArrayLike) -> NDArray[np.float64]:
+    tt = np.atleast_1d(np.asarray(t, dtype=float))
+    if tt.ndim != 1:
+        raise ValueError(f"t must be a scalar or a 1-D array of times, got shape {tt.shape}")
+    if not np.all(np.isfinite(tt)):
+        raise ValueError("t must contain only finite times (no NaN or inf)")
+    return tt
+
+
+_STATE_FIELDS = ("t", "theta", "phi", "psi", "thetadot", "phidot", "psidot", "axis", "attitude", "omega_body")
+
+
+class HeavyTopTrajectory:
+    """One motion of a :class:`physics.heavy_top.HeavyTop`, ready to be evaluated at any time.
+
+    Made by :meth:`physics.heavy_top.HeavyTop.trajectory`; everything that does not depend on t (the
+    roots of the nutation cubic, the modulus, the phase, the pole terms) is computed once here.
+
+    Attributes
+    ----------
+    top : HeavyTop
+    L3, Lz : float
+        Conserved angular momenta, kg m²/s.
+    energy : float
+        Conserved total energy, J.
+    nutation_period : float
+        Period of θ, s (see :meth:`physics.heavy_top.HeavyTop.nutation_period`).
+    precession_rate : float
+        Mean φ̇ over a nutation period, rad/s.
+    theta_min, theta_max : float
+        Turning points of θ, rad.
+    """
+
+    def __init__(self, top: HeavyTop, motion: _Motion) -> None:
+        self.top = top
+        self._mo = mo = motion
+        self.L3, self.Lz, self.energy = mo.L3, mo.Lz, mo.energy
+        self.nutation_period, self.precession_rate = mo.period, mo.precession_rate
+        self._omega3 = mo.L3 / top.I3
+        if mo.kind == "nutating":
+            cu = mo.cubic
+            assert cu is not None  # a nutating motion has its cubic
+            self.theta_min = float(_theta_from(cu.one_minus_u2, cu.one_plus_u2))
+            self.theta_max = float(_theta_from(cu.one_minus_u1, cu.one_plus_u1))
+            # Each pole term's value at t = 0 (φ and ψ start at φ0, ψ0).
+            self._offsets = [float(tm.integral(np.array([mo.c]), mo.K, mo.m, mo.one_m)[0]) for tm in mo.terms]
+        else:
+            self.theta_min = self.theta_max = mo.theta0
+            self._offsets = []
+        self._constants = {
+            "L3": self.L3,
+            "Lz": self.Lz,
+            "energy": self.energy,
+            "nutation_period": self.nutation_period,
+            "precession_rate": self.precession_rate,
+            "theta_min": self.theta_min,
+            "theta_max": self.theta_max,
+        }
+        th0 = mo.theta0
+        # cos θ, sin θ of a motion at fixed θ: exact at the poles.
+        self._cs0 = (1.0, 0.0) if th0 == 0.0 else (-1.0, 0.0) if th0 == math.pi else (math.cos(th0), math.sin(th0))
+
+    def __repr__(self) -> str:
+        return f"HeavyTopTrajectory({self.top!r}, kind={self._mo.kind!r}, L3={self.L3!r}, Lz={self.Lz!r})"
+
+    @property
+    def kind(self) -> str:
+        """``"vertical"`` (exactly upright or hanging, θ never moves), ``"steady"`` (steady precession)
+        or ``"nutating"``."""
+        return self._mo.kind
+
+    def at(self, t: ArrayLike) -> HeavyTopSolution:
+        """The state at the times ``t``.
+
+        Parameters
+        ----------
+        t : float or array_like (n,)
+            Times, s (any sign, any order).
+
+        Returns
+        -------
+        HeavyTopSolution
+            Arrays of length n for an array of times; for a scalar t, floats (``theta``, ``phi``, ...)
+            with ``axis`` (3,), ``attitude`` (3, 3) and ``omega_body`` (3,).
+        """
+        if isinstance(t, (float, int)) and not isinstance(t, bool):
+            tf = float(t)
+            if not math.isfinite(tf):
+                raise ValueError(f"t must be a finite time, got {tf}")
+            return self._one(tf)
+        if np.ndim(t) == 0:  # a numpy scalar or 0-d array
+            return self.at(float(np.asarray(t, dtype=float)))
+        return self._many(_times(t))
+
+    # ------------------------------------------------------------------ many times (vectorised)
+    def _many(self, tt: Floats) -> HeavyTopSolution:
+        mo = self._mo
+        n = tt.size
+        if mo.kind in ("vertical", "steady"):
+            th = np.full(n, mo.theta0)
+            phi = mo.phi0 + mo.phidot0 * tt
+            psi = mo.psi0 + mo.psidot0 * tt
+            thd = np.zeros(n)
+            fd = np.full(n, mo.phidot0)
+            pd = np.full(n, mo.psidot0)
+            ct, st = np.full(n, self._cs0[0]), np.full(n, self._cs0[1])
+        else:
+            th, phi, psi, thd, fd, pd, ct, st = self._nutating(tt)
+        cf, sf, cp, sp = np.cos(phi), np.sin(phi), np.cos(psi), np.sin(psi)
+        attitude = _attitude_from_trig(cf, sf, ct, st, cp, sp)
+        axis = attitude[:, :, 2].copy()
+        omega = np.stack([fd * st * sp + thd * cp, fd * st * cp - thd * sp, np.full(n, self._omega3)], axis=-1)
+        return self._solution(tt, th, phi, psi, thd, fd, pd, axis, attitude, omega)
+
+    def _solution(self, *values: Any) -> HeavyTopSolution:
+        # A frame asks for one time 60 times a second: fill the frozen dataclass's fields directly
+        # (its __init__ sets 17 fields one by one through object.__setattr__).
+        solution = object.__new__(HeavyTopSolution)
+        fields = solution.__dict__
+        fields.update(zip(_STATE_FIELDS, values))
+        fields.update(self._constants)
+        return solution
+
+    def _nutating(self, t: Floats) -> tuple[Floats, ...]:
+        mo = self._mo
+        cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
+        assert cu is not None  # only nutating motions are evaluated here
+        tau = lam * t + mo.c
+        k, r = _reduce(tau, K)
+        sn, cn, dn = _jacobi(r, m, mo.one_m, K)
+        sn2, cn2 = sn * sn, cn * cn
+        u21 = cu.u2_minus_u1
+        # 1 ∓ u as sums of non-negative terms: no cancellation near the poles.
+        one_mu = cu.one_minus_u2 + u21 * cn2
+        one_pu = cu.one_plus_u1 + u21 * sn2
+        u = np.where(one_mu < one_pu, 1.0 - one_mu, one_pu - 1.0)
+        st = np.sqrt(one_mu * one_pu)
+        th = _theta_from(one_mu, one_pu)
+        udot = 2.0 * u21 * lam * sn * cn * dn
+        with np.errstate(divide="ignore", invalid="ignore"):
+            thd = np.where(st > 0.0, -udot / st, 0.0)
+        # Exactly at a pole (only when the axis passes through it): the one-sided limit, leaving the pole.
+        top, bot = one_mu == 0.0, one_pu == 0.0
+        if np.any(top):
+            thd[top] = 2.0 * math.sqrt(u21) * lam * np.abs(sn[top]) * dn[top] / np.sqrt(one_pu[top])
+        if np.any(bot):
+            thd[bot] = -2.0 * math.sqrt(u21) * lam * np.abs(cn[bot]) * dn[bot] / np.sqrt(one_mu[bot])
+        fd = np.zeros_like(t)
+        phi = np.full_like(t, mo.phi0)
+        psi = mo.psi0 + mo.spin_rate * t
+        pdd = np.full_like(t, mo.spin_rate)
+        one_m = mo.one_m
+        for tm, offset in zip(mo.terms, self._offsets):
+            dphi = tm.integral(tau, K, m, one_m, (k, r, sn, cn2, dn * dn)) - offset
+            phi = phi + dphi
+            psi = psi - tm.pole * dphi
+            if tm.half_d != 0.0:
+                dist = one_mu if tm.pole == +1 else one_pu
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rate = np.where(dist > 0.0, tm.half_d / dist, 0.0)
+                fd = fd + rate
+                pdd = pdd - tm.pole * rate
+        return th, phi, psi, thd, fd, pdd, u, st
+
+    # ------------------------------------------------------------------ one time (floats)
+    def _one(self, t: float) -> HeavyTopSolution:
+        mo = self._mo
+        if mo.kind != "nutating":
+            th, phi, psi = mo.theta0, mo.phi0 + mo.phidot0 * t, mo.psi0 + mo.psidot0 * t
+            thd, fd, pdd = 0.0, mo.phidot0, mo.psidot0
+            ct, st = self._cs0
+        else:
+            th, phi, psi, thd, fd, pdd, ct, st = self._nutating_one(t)
+        cf, sf, cp, sp = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+        attitude = np.array(
+            [
+                [cf * cp - sf * ct * sp, -cf * sp - sf * ct * cp, sf * st],
+                [sf * cp + cf * ct * sp, -sf * sp + cf * ct * cp, -cf * st],
+                [st * sp, st * cp, ct],
+            ]
+        )
+        omega = np.array([fd * st * sp + thd * cp, fd * st * cp - thd * sp, self._omega3])
+        return self._solution(t, th, phi, psi, thd, fd, pdd, attitude[:, 2].copy(), attitude, omega)
+
+    def _nutating_one(self, t: float) -> tuple[float, ...]:
+        """:meth:`_nutating` for one time, on floats (same expressions, same order)."""
+        mo = self._mo
+        cu, m, K, lam, one_m = mo.cubic, mo.m, mo.K, mo.lam, mo.one_m
+        assert cu is not None  # only nutating motions are evaluated here
+        tau = lam * t + mo.c
+        k = math.floor((tau + K) / (2.0 * K))
+        r = tau - 2.0 * K * k
+        sn, cn, dn = _jacobi_one(r, m, one_m, K)
+        sn2, cn2 = sn * sn, cn * cn
+        u21 = cu.u2_minus_u1
+        one_mu = cu.one_minus_u2 + u21 * cn2
+        one_pu = cu.one_plus_u1 + u21 * sn2
+        u = 1.0 - one_mu if one_mu < one_pu else one_pu - 1.0
+        st = math.sqrt(one_mu * one_pu)
+        th = 2.0 * math.atan2(math.sqrt(max(one_mu, 0.0)), math.sqrt(max(one_pu, 0.0)))
+        if one_mu == 0.0:
+            thd = 2.0 * math.sqrt(u21) * lam * abs(sn) * dn / math.sqrt(one_pu)
+        elif one_pu == 0.0:
+            thd = -2.0 * math.sqrt(u21) * lam * abs(cn) * dn / math.sqrt(one_mu)
+        else:
+            thd = -(2.0 * u21 * lam * sn * cn * dn) / st if st > 0.0 else 0.0
+        fd = 0.0
+        phi = mo.phi0
+        psi = mo.psi0 + mo.spin_rate * t
+        pdd = mo.spin_rate
+        dn2 = dn * dn
+        for tm, offset in zip(mo.terms, self._offsets):
+            dphi = tm.integral_one(tau, K, m, one_m, k, r, sn, cn2, dn2) - offset
+            phi = phi + dphi
+            psi = psi - tm.pole * dphi
+            if tm.half_d != 0.0:
+                dist = one_mu if tm.pole == +1 else one_pu
+                rate = tm.half_d / dist if dist > 0.0 else 0.0
+                fd = fd + rate
+                pdd = pdd - tm.pole * rate
+        return th, phi, psi, thd, fd, pdd, u, st
