@@ -600,10 +600,8 @@ class FreeBody:
         attitude : ndarray, shape (n, 3, 3)
             Body-to-space rotations ``R(t)``.
         """
-        w = self._omega0(omega0)
-        r0 = self._attitude0(attitude0)
-        tt = self._times(t)
-        return self._evaluate(w[None, :], tt, r0[None], np.zeros(tt.shape, dtype=int), want_attitude=True)
+        state = self.trajectory(omega0, attitude0).at(self._times(t))
+        return state.omega, state.attitude
 
     def omega(self, omega0: ArrayLike, t: ArrayLike) -> NDArray[np.float64]:
         """Body-frame angular velocity ``ω(t)`` solving Euler's equations exactly.
@@ -620,9 +618,7 @@ class FreeBody:
         ndarray, shape (n, 3)
             ``ω(t)``, rad/s.
         """
-        w = self._omega0(omega0)
-        tt = self._times(t)
-        return self._evaluate(w[None, :], tt, None, np.zeros(tt.shape, dtype=int), want_attitude=False)[0]
+        return self.trajectory(omega0)._omega(self._times(t))
 
     def attitude(self, omega0: ArrayLike, t: ArrayLike, attitude0: ArrayLike | None = None) -> NDArray[np.float64]:
         """Body-to-space rotations ``R(t)`` with ``Ṙ = R hat(ω)`` and ``R(0) = attitude0``.
@@ -641,6 +637,11 @@ class FreeBody:
         ndarray, shape (n, 3, 3)
         """
         return self.motion(omega0, t, attitude0)[1]
+
+    def trajectory(self, omega0: ArrayLike, attitude0: ArrayLike | None = None) -> FreeBodyTrajectory:
+        """The motion from ``ω(0) = omega0`` (rad/s, body axes, shape (3,)) and ``R(0) = attitude0``
+        ((3, 3), default identity), solved once: evaluate it with :meth:`FreeBodyTrajectory.at`."""
+        return FreeBodyTrajectory(self, omega0, attitude0)
 
     def flow(
         self, attitude: ArrayLike, L_body: ArrayLike, dt: ArrayLike
@@ -681,22 +682,31 @@ class FreeBody:
         om, rr = self._evaluate(w, step, r, np.arange(k), want_attitude=True)
         return rr, om * self.moments
 
+    def _setup_of(self, w: Floats) -> dict[str, Any]:
+        """:meth:`_setup`, remembered for the last single initial state (repeated calls of the
+        wrappers with the same ω0 do not redo it)."""
+        if w.shape[0] != 1:
+            return self._setup(w)
+        key = w.tobytes()
+        cached = self._cache
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        p = self._setup(w)
+        self._cache = (key, p)
+        return p
+
     def _evaluate(
-        self, w: Floats, t: Floats, r0: Floats | None, which: NDArray[np.intp], want_attitude: bool
+        self,
+        w: Floats,
+        t: Floats,
+        r0: Floats | None,
+        which: NDArray[np.intp],
+        want_attitude: bool,
+        setup: dict[str, Any] | None = None,
     ) -> tuple[Floats, Floats]:
         """Evaluate the motion of initial states ``w`` (k, 3), ``r0`` (k, 3, 3) at times ``t`` (n,);
-        ``which`` (n,) says which state each time belongs to."""
-        if w.shape[0] == 1:
-            # One initial state, often queried again (an animation asks every frame): keep its setup.
-            key = w.tobytes()
-            cached = self._cache
-            if cached is not None and cached[0] == key:
-                p = cached[1]
-            else:
-                p = self._setup(w)
-                self._cache = (key, p)
-        else:
-            p = self._setup(w)
+        ``which`` (n,) says which state each time belongs to; ``setup`` is their :meth:`_setup`."""
+        p = self._setup_of(w) if setup is None else setup
         n = t.shape[0]
         out_w = np.empty((n, 3))
         # Without attitudes, out_r stays empty and r0 is never read.
@@ -841,6 +851,74 @@ class FreeBody:
         i_perp = self.moments[(s + 1) % 3]
         big_l = float(np.linalg.norm(self.moments * w))
         return PrecessionRates(float(w[s] * (i_perp - self.moments[s]) / i_perp), float(big_l / i_perp), s)
+
+
+@dataclass(frozen=True)
+class FreeBodyState:
+    """The free body at given times (what :meth:`FreeBodyTrajectory.at` returns).
+
+    Attributes
+    ----------
+    t : ndarray (n,), or float for one time
+        Times, s.
+    omega : ndarray (n, 3), or (3,)
+        Body-frame angular velocity, rad/s.
+    attitude : ndarray (n, 3, 3), or (3, 3)
+        Body-to-space rotations.
+    """
+
+    t: Any
+    omega: NDArray[np.float64]
+    attitude: NDArray[np.float64]
+
+
+class FreeBodyTrajectory:
+    """One motion of a :class:`FreeBody`, ready to be evaluated at any times.
+
+    Made by :meth:`FreeBody.trajectory`: the constants of the motion (modulus, rate, phase, the frame
+    of the angular momentum at t = 0) are computed once here.
+
+    Attributes
+    ----------
+    body : FreeBody
+    omega0 : ndarray (3,)
+        ``ω(0)``, rad/s.
+    attitude0 : ndarray (3, 3)
+        ``R(0)``.
+    energy : float
+        Kinetic energy, J.
+    angular_momentum : ndarray (3,)
+        ``L`` in space, kg m²/s (constant).
+    """
+
+    def __init__(self, body: FreeBody, omega0: ArrayLike, attitude0: ArrayLike | None = None) -> None:
+        self.body = body
+        self.omega0 = body._omega0(omega0)
+        self.attitude0 = body._attitude0(attitude0)
+        self.energy = float(0.5 * np.sum(body.moments * self.omega0 * self.omega0))
+        self.angular_momentum = self.attitude0 @ (body.moments * self.omega0)
+        self._w = self.omega0[None, :]
+        self._r0 = self.attitude0[None]
+        self._setup = body._setup_of(self._w)
+
+    def __repr__(self) -> str:
+        return f"FreeBodyTrajectory({self.body.moments.tolist()}, omega0={self.omega0.tolist()})"
+
+    def at(self, t: ArrayLike) -> FreeBodyState:
+        """ω and R at the times ``t`` (s, any sign): arrays (n, 3) and (n, 3, 3) for an array of times,
+        (3,) and (3, 3) for one time."""
+        tt = self.body._times(t)
+        omega, attitude = self.body._evaluate(
+            self._w, tt, self._r0, np.zeros(tt.shape, dtype=int), want_attitude=True, setup=self._setup
+        )
+        if np.ndim(t) == 0:
+            return FreeBodyState(float(tt[0]), omega[0], attitude[0])
+        return FreeBodyState(tt, omega, attitude)
+
+    def _omega(self, tt: Floats) -> Floats:
+        return self.body._evaluate(
+            self._w, tt, None, np.zeros(tt.shape, dtype=int), want_attitude=False, setup=self._setup
+        )[0]
 
 
 def _third_kind_excess(

@@ -44,6 +44,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -54,7 +55,9 @@ from scipy.special import ellipkm1, elliprf
 from physics import G
 from physics.inertia import MassProperties
 from physics.rotations import frame_from_axis, rotation_about
-from physics.validation import finite_array
+from physics.validation import finite_array, finite_scalar
+
+Floats = NDArray[np.float64]
 
 __all__ = ["PhysicalPendulum", "Swing", "Strike", "LIBRATION", "ROTATION", "SEPARATRIX", "UNIFORM"]
 
@@ -133,6 +136,25 @@ def _amplitude(u: NDArray[np.float64], m: NDArray[np.float64], m1: NDArray[np.fl
     for r, q in reversed(ratios):
         s, co = np.sin(phi), np.cos(phi)
         phi = 0.5 * (phi + np.arctan2(r * s, np.sqrt(co * co + (q * s) ** 2)))
+    return phi
+
+
+def _amplitude_one(u: float, m: float, m1: float) -> float:
+    """:func:`_amplitude` for one u (Python floats, same steps)."""
+    a, b, c = 1.0, math.sqrt(m1), math.sqrt(m)
+    ratios: list[tuple[float, float]] = []
+    for _ in range(64):
+        if c <= _EPS * a:
+            break
+        a_next = 0.5 * (a + b)
+        b = math.sqrt(a * b)
+        c = c * c / (4.0 * a_next)
+        a = a_next
+        ratios.append((c / a, b / a))
+    phi = math.ldexp(a * u, len(ratios))
+    for r, q in reversed(ratios):
+        s, co = math.sin(phi), math.cos(phi)
+        phi = 0.5 * (phi + math.atan2(r * s, math.sqrt(co * co + (q * s) ** 2)))
     return phi
 
 
@@ -331,65 +353,16 @@ class PhysicalPendulum:
         Swing
             ``theta`` (rad) and ``theta_dot`` (rad/s), each the broadcast shape (e.g. (n,)).
         """
-        th0, thd0, tt = np.broadcast_arrays(
-            finite_array(theta0, "theta0"), finite_array(thetadot0, "thetadot0"), finite_array(t, "t")
-        )
-        if np.any(np.abs(thd0) > MAX_RATE):
-            raise ValueError(f"thetadot0 must be at most {MAX_RATE:g} rad/s (its square would overflow)")
-        w = self.omega0
-        if w == 0.0:
-            return Swing(th0 + thd0 * tt, thd0.astype(float, copy=True))
-        wrapped, turns, half_sin, half_cos, x, m, excess = self._energy_parameter(th0, thd0)
-        theta = np.empty(th0.shape)
-        theta_dot = np.empty(th0.shape)
-        sign = np.where(thd0 < 0.0, -1.0, 1.0)
+        return self.trajectory(theta0, thetadot0).at(finite_array(t, "t"))
 
-        lib = excess < 0.0
-        if np.any(lib):
-            mm, m1 = m[lib], -excess[lib]
-            kappa = np.sqrt(mm)
-            safe = np.where(kappa > 0.0, kappa, 1.0)
-            sn0 = np.where(kappa > 0.0, half_sin[lib] / safe, 0.0)
-            cn0 = np.where(kappa > 0.0, x[lib] / safe, 1.0)
-            k_complete = ellipkm1(m1)
-            # am(c) has sin = sn0, cos = cn0; F on (π/2, π] by F(π − φ) = 2K − F(φ).
-            f0 = sn0 * elliprf(cn0**2, half_cos[lib] ** 2, 1.0)
-            c = np.where(cn0 < 0.0, 2.0 * k_complete - f0, f0)
-            u = w * tt[lib] + c
-            u = u - 4.0 * k_complete * np.round(u / (4.0 * k_complete))  # sn, cn have period 4K
-            phi = _amplitude(u, mm, m1)
-            sn, cn = np.sin(phi), np.cos(phi)
-            dn = np.sqrt(cn * cn + m1 * sn * sn)  # = cos(θ/2) > 0, no cancellation near the top
-            theta[lib] = 2.0 * np.arctan2(kappa * sn, dn)
-            theta_dot[lib] = 2.0 * kappa * w * cn
+    def trajectory(self, theta0: ArrayLike, thetadot0: ArrayLike) -> PendulumTrajectory:
+        """The exact swing from ``theta0`` (rad) and ``thetadot0`` (rad/s), solved once: evaluate it with
+        :meth:`PendulumTrajectory.at` at any times (see :meth:`solve` for the closed forms).
 
-        rot = excess > 0.0
-        if np.any(rot):
-            kappa = np.sqrt(m[rot])
-            q1 = excess[rot] / m[rot]  # 1 − 1/κ²
-            q = 1.0 / m[rot]
-            k_complete = ellipkm1(q1)
-            s = sign[rot]
-            psi0 = s * 0.5 * wrapped[rot]  # in [-π/2, π/2]
-            c = _incomplete_f(np.sin(psi0), np.cos(psi0), q1)
-            u = kappa * w * tt[rot] + c
-            half_turns = np.round(u / (2.0 * k_complete))  # am(u + 2K) = am(u) + π
-            r = u - 2.0 * k_complete * half_turns
-            phi = _amplitude(r, q, q1)
-            sn, cn = np.sin(phi), np.cos(phi)
-            theta[rot] = 2.0 * s * (phi + np.pi * half_turns)
-            theta_dot[rot] = 2.0 * s * kappa * w * np.sqrt(cn * cn + q1 * sn * sn)
-
-        sep = excess == 0.0
-        if np.any(sep):
-            s = sign[sep]
-            c = np.arcsinh(np.tan(s * 0.5 * wrapped[sep]))  # gd⁻¹
-            u = w * tt[sep] + c
-            theta[sep] = 2.0 * s * np.arctan(np.sinh(u))
-            theta_dot[sep] = 2.0 * s * w / np.cosh(u)
-
-        theta += 2.0 * np.pi * turns
-        return Swing(theta, theta_dot)
+        ``theta0`` and ``thetadot0`` may be arrays (several swings at once); the times given to ``at``
+        broadcast against them.
+        """
+        return PendulumTrajectory(self, theta0, thetadot0)
 
     def period(self, amplitude: ArrayLike) -> NDArray[np.float64]:
         """Period of libration with the given amplitude: ``4 K(sin²(θ_max/2)) / ω0``, s.
@@ -528,3 +501,141 @@ class PhysicalPendulum:
             )
         rot = self._pose(theta)
         return self.pivot + self.effective_length * (rot @ self.a_perp_vector) / self.a_perp
+
+
+class PendulumTrajectory:
+    """Swings of a :class:`PhysicalPendulum` from given initial states, ready to be evaluated.
+
+    Made by :meth:`PhysicalPendulum.trajectory`. Everything that does not depend on t (the regime,
+    κ, the complete integral K and the phase of each swing) is computed here, once.
+    """
+
+    def __init__(self, model: PhysicalPendulum, theta0: ArrayLike, thetadot0: ArrayLike) -> None:
+        th0, thd0 = np.broadcast_arrays(finite_array(theta0, "theta0"), finite_array(thetadot0, "thetadot0"))
+        if np.any(np.abs(thd0) > MAX_RATE):
+            raise ValueError(f"thetadot0 must be at most {MAX_RATE:g} rad/s (its square would overflow)")
+        self.model = model
+        self.theta0, self.thetadot0 = th0, thd0
+        w = self._w = model.omega0
+        if w == 0.0:
+            return
+        wrapped, turns, half_sin, half_cos, x, m, excess = model._energy_parameter(th0, thd0)
+        self._turns = turns
+        self._sign = np.where(thd0 < 0.0, -1.0, 1.0)
+        self._lib, self._rot, self._sep = excess < 0.0, excess > 0.0, excess == 0.0
+        lib, rot, sep = self._lib, self._rot, self._sep
+        # Libration: sin(θ/2) = κ sn(ω0 t + c | κ²); am(c) has sin = sn0, cos = cn0.
+        mm, m1 = m[lib], -excess[lib]
+        kappa = np.sqrt(mm)
+        safe = np.where(kappa > 0.0, kappa, 1.0)
+        sn0 = np.where(kappa > 0.0, half_sin[lib] / safe, 0.0)
+        cn0 = np.where(kappa > 0.0, x[lib] / safe, 1.0)
+        k_complete = ellipkm1(m1)
+        f0 = sn0 * elliprf(cn0**2, half_cos[lib] ** 2, 1.0)  # F on (π/2, π] by F(π − φ) = 2K − F(φ)
+        self._libration = (mm, m1, kappa, k_complete, np.where(cn0 < 0.0, 2.0 * k_complete - f0, f0))
+        # Rotation: θ/2 = am(κ ω0 t + c | 1/κ²).
+        q1 = excess[rot] / m[rot]  # 1 − 1/κ²
+        psi0 = self._sign[rot] * 0.5 * wrapped[rot]  # in [-π/2, π/2]
+        self._rotation = (
+            np.sqrt(m[rot]),
+            1.0 / m[rot],
+            q1,
+            ellipkm1(q1),
+            _incomplete_f(np.sin(psi0), np.cos(psi0), q1),
+        )
+        # Separatrix: θ/2 = gd(ω0 t + c).
+        self._separatrix = np.arcsinh(np.tan(self._sign[sep] * 0.5 * wrapped[sep]))  # gd⁻¹
+
+    def at(self, t: ArrayLike) -> Swing:
+        """The angle and rate at the times ``t`` (s), broadcast against the initial states.
+
+        Returns
+        -------
+        Swing
+            ``theta`` (rad) and ``theta_dot`` (rad/s), each the broadcast shape.
+        """
+        if isinstance(t, (float, int)) and not isinstance(t, bool) and self.theta0.ndim == 0 and self._w != 0.0:
+            return self._at_one_time(finite_scalar(t, "t"))
+        tt = finite_array(t, "t")
+        w = self._w
+        if w == 0.0:
+            th0, thd0, tt = np.broadcast_arrays(self.theta0, self.thetadot0, tt)
+            return Swing(th0 + thd0 * tt, thd0.astype(float, copy=True))
+        shape = np.broadcast_shapes(self.theta0.shape, tt.shape)
+        if shape != self.theta0.shape:
+            if self.theta0.ndim:  # several swings and times of another shape: evaluate them broadcast
+                return self.model.trajectory(*np.broadcast_arrays(self.theta0, self.thetadot0, tt)[:2]).at(tt)
+            return self._at_one_state(tt)
+        tt = np.broadcast_to(tt, shape)
+        theta = np.empty(shape)
+        theta_dot = np.empty(shape)
+        lib, rot, sep = self._lib, self._rot, self._sep
+        if np.any(lib):
+            theta[lib], theta_dot[lib] = self._librate(tt[lib], *self._libration)
+        if np.any(rot):
+            theta[rot], theta_dot[rot] = self._rotate(tt[rot], self._sign[rot], *self._rotation)
+        if np.any(sep):
+            theta[sep], theta_dot[sep] = self._creep(tt[sep], self._sign[sep], self._separatrix)
+        theta += 2.0 * np.pi * self._turns
+        return Swing(theta, theta_dot)
+
+    def _at_one_time(self, t: float) -> Swing:
+        """One state, one time (a frame of an animation): the same formulas on Python floats."""
+        w = self._w
+        s = float(self._sign)
+        if self._lib:
+            mm, m1, kappa, k_complete, c = (float(v[0]) for v in self._libration)
+            u = w * t + c
+            u = u - 4.0 * k_complete * round(u / (4.0 * k_complete))
+            phi = _amplitude_one(u, mm, m1)
+            sn, cn = math.sin(phi), math.cos(phi)
+            theta = 2.0 * math.atan2(kappa * sn, math.sqrt(cn * cn + m1 * sn * sn))
+            theta_dot = 2.0 * kappa * w * cn
+        elif self._rot:
+            kappa, q, q1, k_complete, c = (float(v[0]) for v in self._rotation)
+            u = kappa * w * t + c
+            half_turns = round(u / (2.0 * k_complete))
+            phi = _amplitude_one(u - 2.0 * k_complete * half_turns, q, q1)
+            sn, cn = math.sin(phi), math.cos(phi)
+            theta = 2.0 * s * (phi + math.pi * half_turns)
+            theta_dot = 2.0 * s * kappa * w * math.sqrt(cn * cn + q1 * sn * sn)
+        else:
+            u = w * t + float(self._separatrix[0])
+            theta, theta_dot = 2.0 * s * math.atan(math.sinh(u)), 2.0 * s * w / math.cosh(u)
+        return Swing(np.array(theta + 2.0 * math.pi * float(self._turns)), np.array(theta_dot))
+
+    def _at_one_state(self, tt: NDArray[np.float64]) -> Swing:
+        """One initial state (0-d), many times: its regime's formula over all of them."""
+        if self._lib:
+            theta, theta_dot = self._librate(tt, *self._libration)
+        elif self._rot:
+            theta, theta_dot = self._rotate(tt, self._sign, *self._rotation)
+        else:
+            theta, theta_dot = self._creep(tt, self._sign, self._separatrix)
+        return Swing(theta + 2.0 * np.pi * self._turns, theta_dot)
+
+    def _librate(
+        self, t: Floats, mm: Floats, m1: Floats, kappa: Floats, k_complete: Floats, c: Floats
+    ) -> tuple[Floats, Floats]:
+        w = self._w
+        u = w * t + c
+        u = u - 4.0 * k_complete * np.round(u / (4.0 * k_complete))  # sn, cn have period 4K
+        phi = _amplitude(u, np.broadcast_to(mm, u.shape), np.broadcast_to(m1, u.shape))
+        sn, cn = np.sin(phi), np.cos(phi)
+        dn = np.sqrt(cn * cn + m1 * sn * sn)  # = cos(θ/2) > 0, no cancellation near the top
+        return 2.0 * np.arctan2(kappa * sn, dn), 2.0 * kappa * w * cn
+
+    def _rotate(
+        self, t: Floats, s: Floats, kappa: Floats, q: Floats, q1: Floats, k_complete: Floats, c: Floats
+    ) -> tuple[Floats, Floats]:
+        w = self._w
+        u = kappa * w * t + c
+        half_turns = np.round(u / (2.0 * k_complete))  # am(u + 2K) = am(u) + π
+        r = u - 2.0 * k_complete * half_turns
+        phi = _amplitude(r, np.broadcast_to(q, r.shape), np.broadcast_to(q1, r.shape))
+        sn, cn = np.sin(phi), np.cos(phi)
+        return 2.0 * s * (phi + np.pi * half_turns), 2.0 * s * kappa * w * np.sqrt(cn * cn + q1 * sn * sn)
+
+    def _creep(self, t: Floats, s: Floats, c: Floats) -> tuple[Floats, Floats]:
+        u = self._w * t + c
+        return 2.0 * s * np.arctan(np.sinh(u)), 2.0 * s * self._w / np.cosh(u)

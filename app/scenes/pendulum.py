@@ -155,8 +155,12 @@ class Pendulum(Scene):
     # -- the strike --------------------------------------------------------------------------------
     def state_at(self, t: float) -> tuple[float, float]:
         theta0, thetadot0, t0 = self.start
-        th, thd = self.model.solve(theta0, thetadot0, [t - t0])
-        return float(th[0]), float(thd[0])
+        motion = getattr(self, "_motion", None)
+        if motion is None or motion.model is not self.model or (motion.theta0, motion.thetadot0) != (theta0, thetadot0):
+            # Solved once per swing (a new body, a release, a strike); a frame only evaluates it.
+            motion = self._motion = self.model.trajectory(theta0, thetadot0)
+        th, thd = motion.at(float(t - t0))
+        return float(th), float(thd)
 
     def strike(self) -> Any:
         """Strike now at the slider's point, perpendicular to the body and the axis; the swing continues

@@ -247,6 +247,7 @@ class TennisRacket(Scene):
         L_body = moments * omega0
         self.attitude0 = frame_from_axis(L_body).T  # L along +z in space
         self.model, self.omega0, self.moments, self.axis_index, self.eps = model, omega0, moments, axis, eps
+        self.motion = model.trajectory(omega0, self.attitude0)  # solved once: a frame only evaluates it
         self.L_space = self.attitude0 @ L_body
         self.L_norm = float(np.linalg.norm(L_body))
         scale = self.size / float(np.max(np.ptp(mesh.vertices, axis=0)))
@@ -333,8 +334,8 @@ class TennisRacket(Scene):
 
     # -- the state --------------------------------------------------------------------------------
     def compute(self, t: float, dt: float) -> dict[str, Any]:
-        omega_b, R = self.model.motion(self.omega0, [t], self.attitude0)
-        return {"R": R[0], "omega_body": omega_b[0], "t": t}
+        now = self.motion.at(t)
+        return {"R": now.attitude, "omega_body": now.omega, "t": t}
 
     def draw(self, state: dict[str, Any]) -> None:
         R, w, c = state["R"], state["omega_body"], self.centre

@@ -105,6 +105,7 @@ class Wobble(Scene):
         # Start with L along +z: R0 maps the unit L (body) to ẑ.
         self.attitude0 = frame_from_axis(L_body).T
         self.model, self.omega0, self.moments = model, omega0, moments
+        self.motion = model.trajectory(omega0, self.attitude0)  # solved once: a frame only evaluates it
         self.L_space = self.attitude0 @ L_body
         self.L_scale = 1.1 * self.size / float(np.linalg.norm(L_body))
         self.omega_scale = 1.1 * self.size / float(np.linalg.norm(omega0))
@@ -121,10 +122,10 @@ class Wobble(Scene):
         return self.centre
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
-        omega_b, R = self.model.motion(self.omega0, [t], self.attitude0)
+        now = self.motion.at(t)
         return {
-            "R": R[0],
-            "omega_space": R[0] @ omega_b[0],
+            "R": now.attitude,
+            "omega_space": now.attitude @ now.omega,
             "centre": np.asarray(self.centre_at(t), dtype=float),
             "t": t,
         }
