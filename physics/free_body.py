@@ -65,7 +65,7 @@ Cost (median, 1,000 times, one initial state; the setup of the last state is cac
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -75,13 +75,23 @@ from physics.inertia import validate_moments
 from physics.rotations import expm_so3
 from physics.validation import finite_array, rotation_array, vector_array
 
+if TYPE_CHECKING:
+    from physics.free_body_trajectory import FreeBodyTrajectory
+
 Floats = NDArray[np.float64]
 # A double-double number: (high part, low part), arrays or scalars.
 DD = tuple[Any, Any]
 # The descending Landen ladder: the √μ of each step and the total argument scale.
 Ladder = tuple[list[Floats], Floats]
 
-__all__ = ["FreeBody", "Stability", "PrecessionRates", "jacobi_sn_cn_dn"]
+__all__ = [  # noqa: F822 - the trajectory names come from __getattr__ below
+    "FreeBody",
+    "FreeBodyState",
+    "FreeBodyTrajectory",
+    "Stability",
+    "PrecessionRates",
+    "jacobi_sn_cn_dn",
+]
 
 # ---------------------------------------------------------------------------------------------------
 # Double-double helpers (Dekker / Knuth error-free transformations), vectorised over numpy arrays.
@@ -641,6 +651,8 @@ class FreeBody:
     def trajectory(self, omega0: ArrayLike, attitude0: ArrayLike | None = None) -> FreeBodyTrajectory:
         """The motion from ``ω(0) = omega0`` (rad/s, body axes, shape (3,)) and ``R(0) = attitude0``
         ((3, 3), default identity), solved once: evaluate it with :meth:`FreeBodyTrajectory.at`."""
+        from physics.free_body_trajectory import FreeBodyTrajectory
+
         return FreeBodyTrajectory(self, omega0, attitude0)
 
     def flow(
@@ -853,74 +865,6 @@ class FreeBody:
         return PrecessionRates(float(w[s] * (i_perp - self.moments[s]) / i_perp), float(big_l / i_perp), s)
 
 
-@dataclass(frozen=True)
-class FreeBodyState:
-    """The free body at given times (what :meth:`FreeBodyTrajectory.at` returns).
-
-    Attributes
-    ----------
-    t : ndarray (n,), or float for one time
-        Times, s.
-    omega : ndarray (n, 3), or (3,)
-        Body-frame angular velocity, rad/s.
-    attitude : ndarray (n, 3, 3), or (3, 3)
-        Body-to-space rotations.
-    """
-
-    t: Any
-    omega: NDArray[np.float64]
-    attitude: NDArray[np.float64]
-
-
-class FreeBodyTrajectory:
-    """One motion of a :class:`FreeBody`, ready to be evaluated at any times.
-
-    Made by :meth:`FreeBody.trajectory`: the constants of the motion (modulus, rate, phase, the frame
-    of the angular momentum at t = 0) are computed once here.
-
-    Attributes
-    ----------
-    body : FreeBody
-    omega0 : ndarray (3,)
-        ``ω(0)``, rad/s.
-    attitude0 : ndarray (3, 3)
-        ``R(0)``.
-    energy : float
-        Kinetic energy, J.
-    angular_momentum : ndarray (3,)
-        ``L`` in space, kg m²/s (constant).
-    """
-
-    def __init__(self, body: FreeBody, omega0: ArrayLike, attitude0: ArrayLike | None = None) -> None:
-        self.body = body
-        self.omega0 = body._omega0(omega0)
-        self.attitude0 = body._attitude0(attitude0)
-        self.energy = float(0.5 * np.sum(body.moments * self.omega0 * self.omega0))
-        self.angular_momentum = self.attitude0 @ (body.moments * self.omega0)
-        self._w = self.omega0[None, :]
-        self._r0 = self.attitude0[None]
-        self._setup = body._setup_of(self._w)
-
-    def __repr__(self) -> str:
-        return f"FreeBodyTrajectory({self.body.moments.tolist()}, omega0={self.omega0.tolist()})"
-
-    def at(self, t: ArrayLike) -> FreeBodyState:
-        """ω and R at the times ``t`` (s, any sign): arrays (n, 3) and (n, 3, 3) for an array of times,
-        (3,) and (3, 3) for one time."""
-        tt = self.body._times(t)
-        omega, attitude = self.body._evaluate(
-            self._w, tt, self._r0, np.zeros(tt.shape, dtype=int), want_attitude=True, setup=self._setup
-        )
-        if np.ndim(t) == 0:
-            return FreeBodyState(float(tt[0]), omega[0], attitude[0])
-        return FreeBodyState(tt, omega, attitude)
-
-    def _omega(self, tt: Floats) -> Floats:
-        return self.body._evaluate(
-            self._w, tt, None, np.zeros(tt.shape, dtype=int), want_attitude=False, setup=self._setup
-        )[0]
-
-
 def _third_kind_excess(
     p: dict[str, Any], e: NDArray[np.intp], u: Floats, reduced: tuple[Floats, ...] | None = None
 ) -> Floats:
@@ -969,3 +913,13 @@ def _frame_from_momentum(wc: Floats, ia: Floats, ib: Floats, ic: Floats, pole_c:
     frame[:, :, 1] = np.where(pole, b2_c, b2_a)
     frame[:, :, 2] = lv
     return frame
+
+
+def __getattr__(name: str) -> Any:
+    # The trajectory lives in its own module (it evaluates one time on floats with this module's
+    # pieces); its names are public here too, imported on first use to keep the import one-way.
+    if name in ("FreeBodyState", "FreeBodyTrajectory"):
+        from physics import free_body_trajectory
+
+        return getattr(free_body_trajectory, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

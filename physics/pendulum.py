@@ -601,7 +601,8 @@ class PendulumTrajectory:
             theta_dot = 2.0 * s * kappa * w * math.sqrt(cn * cn + q1 * sn * sn)
         else:
             u = w * t + float(self._separatrix[0])
-            theta, theta_dot = 2.0 * s * math.atan(math.sinh(u)), 2.0 * s * w / math.cosh(u)
+            e = math.exp(-abs(u))
+            theta, theta_dot = 4.0 * s * math.atan(math.tanh(0.5 * u)), 2.0 * s * w * (2.0 * e / (1.0 + e * e))
         return Swing(np.array(theta + 2.0 * math.pi * float(self._turns)), np.array(theta_dot))
 
     def _at_one_state(self, tt: NDArray[np.float64]) -> Swing:
@@ -638,4 +639,7 @@ class PendulumTrajectory:
 
     def _creep(self, t: Floats, s: Floats, c: Floats) -> tuple[Floats, Floats]:
         u = self._w * t + c
-        return 2.0 * s * np.arctan(np.sinh(u)), 2.0 * s * self._w / np.cosh(u)
+        # gd(u) = 2 atan(tanh(u/2)) and sech u = 2 e^-|u| / (1 + e^-2|u|): no overflow however long the
+        # creep towards the top lasts.
+        e = np.exp(-np.abs(u))
+        return 4.0 * s * np.arctan(np.tanh(0.5 * u)), 2.0 * s * self._w * (2.0 * e / (1.0 + e * e))

@@ -135,6 +135,5 @@ def _incomplete_third_kind_one(r: float, sn: float, cn2: float, dn2: float, n: f
     if sn == 0.0:
         return r
     p = one_n + n * cn2 if n > 0.0 else 1.0 - n * sn * sn
-    with np.errstate(invalid="ignore"):
-        rj = float(elliprj(cn2, dn2, 1.0, p))
+    rj = float(elliprj(cn2, dn2, 1.0, p))  # scipy.special reports domain errors by value, not by warning
     return r + n / 3.0 * sn**3 * rj
