@@ -94,7 +94,8 @@ class HeavyTop:
     I3 : float
         Moment of inertia about the symmetry axis, kg m².
     mgl : float
-        ``M g ℓ``, weight times pivot-to-centre-of-mass distance, J (> 0: the centre of mass is up the axis).
+        ``M g ℓ``, weight times pivot-to-centre-of-mass distance, J (≥ 0: the centre of mass is up the axis;
+        0 is the symmetric free body turning about the fixed tip).
 
     Raises
     ------
@@ -112,9 +113,13 @@ class HeavyTop:
                 "I3 = 0 is a thin rod on a pivot (a spherical pendulum), not a top: its spin carries no "
                 "angular momentum, so the Lagrange top's solution does not apply; use simulate_heavy_body"
             )
-        for name, v in (("I1", self.I1), ("I3", self.I3), ("mgl", self.mgl)):
+        for name, v in (("I1", self.I1), ("I3", self.I3)):
             if v <= 0.0:
                 raise ValueError(f"{name} must be positive, got {v}")
+        if self.mgl < 0.0:
+            raise ValueError(
+                f"mgl must be zero or positive (the centre of mass up the axis from the tip), got {self.mgl}"
+            )
         if self.I3 > 2.0 * self.I1 * (1.0 + 4.0 * _EPS):
             raise ValueError(
                 f"no rigid body has these moments: I3 = {self.I3} > 2 I1 = {2 * self.I1} "
@@ -182,6 +187,8 @@ class HeavyTop:
         if c < 0.0:
             raise ValueError(f"spin_friction must be >= 0 (it removes energy), got {c}")
         thr = self.sleeping_threshold()
+        if thr == 0.0:  # mgl = 0: no gravity, the vertical is never unstable
+            return math.inf
         if L3 <= thr:
             return 0.0
         return math.inf if c == 0.0 else self.I3 / c * math.log(L3 / thr)

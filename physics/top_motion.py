@@ -47,6 +47,7 @@ class _Motion:
     terms: list[_PoleTerm] = field(default_factory=list)  # two of them
     period: float = math.inf
     precession_rate: float = 0.0
+    free: _FreeTerms | None = None  # mgl = 0: the symmetric free body (elementary closed form)
 
 
 def motion_constants(
@@ -105,6 +106,8 @@ def motion_constants(
     beta = L3 / I1
     dm = (I1 * s0 * s0 * phd0 - L3 * w0) / I1  # α − β = (Lz − L3)/I1 without cancellation
     dp = (I1 * s0 * s0 * phd0 + L3 * z0) / I1  # α + β
+    if a == 0.0:
+        return _free_motion(base, u0, w0, z0, s0, thd0, K0, beta, dm, dp, L3 / I3)
     c3 = 2.0 * a
     loc0 = [
         s0 * s0 * thd0 * thd0,
@@ -255,6 +258,8 @@ def _vertical_period(top: HeavyTop, L3: float, u0: float) -> float:
     # Limit of the nutation period of motions with Lz = ±L3 close to the vertical: π/λ with the
     # remaining root of the cubic; infinite when the vertical is unstable (separatrix).
     a, beta = top.mgl / top.I1, L3 / top.I1
+    if a == 0.0:  # no gravity: the free body's nutation about L at L / I1
+        return 2.0 * math.pi / abs(beta) if beta != 0.0 else math.inf
     if u0 > 0:  # sleeping top: roots 1, 1, β²/(2a) − 1
         u31 = beta * beta / (2.0 * a) - 2.0
     else:  # hanging: roots −1, −1, 1 + ... always stable
@@ -262,3 +267,99 @@ def _vertical_period(top: HeavyTop, L3: float, u0: float) -> float:
     if u31 <= 0.0:
         return math.inf
     return math.pi / math.sqrt(a * u31 / 2.0)
+
+
+@dataclass
+class _FreeTerms:
+    """mgl = 0 (lecture: the symmetric free body about the pivot): ``u = ū + A cos x``, ``x = ν t + c``,
+    ``ν = L / I1``, and each pole term of φ is elementary (see :func:`_free_motion`)."""
+
+    nu: float
+    c: float
+    amplitude: float  # A = (u2 − u1)/2
+    gap_top: float  # 1 − u2 ≥ 0
+    gap_bottom: float  # 1 + u1 ≥ 0
+    # Per pole (+1 top, −1 bottom): coefficient of ∫ dx/(p ∓ A cos x) in φ, its ρ, and s = √(p² − A²).
+    coefficients: tuple[float, float]
+    rhos: tuple[float, float]
+    jumps: tuple[float, float]
+    half_d: tuple[float, float]  # (α ∓ β)/2, formed without cancellation: φ̇ = Σ half_d / (1 ∓ u)
+
+
+def _free_motion(
+    base: dict[str, Any],
+    u0: float,
+    w0: float,
+    z0: float,
+    s0: float,
+    thd0: float,
+    K0: float,
+    beta: float,
+    dm: float,
+    dp: float,
+    omega3: float,
+) -> _Motion:
+    """Constants of the motion without gravity (mgl = 0): the symmetric free body seen in Euler angles.
+
+    With a = 0 the nutation cubic is the parabola ``f(u) = −ν² (u − u1)(u − u2)``, ``ν² = 2ℰ + β² = L²/I1²``,
+    so ``u = ū + A cos(ν t + c)``. φ̇'s pole terms ``(α ∓ β)/(2 (1 ∓ u))`` integrate in elementary form,
+    ``∫ dx / (p − A cos x) = [x + 2 atan(ρ sin x / (1 − ρ cos x))] / s`` with ``p = 1 − ū``,
+    ``s = √(p² − A²) = √((1 − u1)(1 − u2))``, ``ρ = A / (p + s)`` (and A → −A for the bottom pole): continuous
+    in x, no branch to track. ψ̇ = L3/I3 − β ∓ (the same terms), as with gravity.
+    """
+    nu2 = 2.0 * K0 + beta * beta
+    mo = _Motion(kind="steady", **base)
+    mo.precession_rate = base["phidot0"]
+    if nu2 == 0.0:  # at rest
+        return mo
+    nu = math.sqrt(nu2)
+    # In v = u − u0: −ν² v² + c1 v + c0 with c0 = sin²θ0 θ̇0² ≥ 0, c1 = f'(u0) (the loc0 expansion at a = 0).
+    c1 = -4.0 * u0 * K0 + 2.0 * beta * s0 * s0 * base["phidot0"]
+    c0 = s0 * s0 * thd0 * thd0
+    v1, v2 = sorted(_quadratic_roots(nu2, -c1, -c0))
+    v1, v2 = min(v1, 0.0), max(v2, 0.0)  # u0 lies between the roots
+    # f(±1) = −(α ∓ β)²: a pole is an exact root when α ∓ β = 0 (the axis passes through it).
+    if dm == 0.0:
+        v2 = w0
+    if dp == 0.0:
+        v1 = -z0
+    amplitude = 0.5 * (v2 - v1)
+    mo.period = 2.0 * math.pi / nu
+    if amplitude <= 0.0:  # θ constant: uniform precession about z (L along z, or the axis along L)
+        return mo
+    # The pole distances 1 − u2 and 1 + u1 from f written about each pole (no difference of nearby
+    # numbers): f(1 − g) = −ν² g² + (4ℰ − 2β(α − β)) g − (α − β)², f(h − 1) likewise with α + β.
+    gap_top = 0.0 if dm == 0.0 else min(_quadratic_roots(nu2, -(4.0 * K0 - 2.0 * beta * dm), dm * dm))
+    gap_bottom = 0.0 if dp == 0.0 else min(_quadratic_roots(nu2, -(4.0 * K0 + 2.0 * beta * dp), dp * dp))
+    gap_top, gap_bottom = max(gap_top, 0.0), max(gap_bottom, 0.0)
+    # Phase: u − ū = A cos c, u̇0 = −A ν sin c = −sin θ0 θ̇0.
+    c = math.atan2(s0 * thd0 / nu, -0.5 * (v1 + v2))
+    coefficients, rhos, jumps = [], [], []
+    for half_d, gap in ((0.5 * dm, gap_top), (0.5 * dp, gap_bottom)):
+        if gap == 0.0:  # the axis passes exactly through this pole: ±π at each passage
+            coefficients.append(0.0)
+            rhos.append(0.0)
+            jumps.append(1.0 if half_d == 0.0 else math.copysign(1.0, half_d))
+            continue
+        p = gap + amplitude  # 1 − ū (top) or 1 + ū (bottom), a sum: no cancellation
+        root = math.sqrt(gap * (gap + 2.0 * amplitude))  # √((1 − u2)(1 − u1)) or √((1 + u1)(1 + u2))
+        coefficients.append(half_d / (nu * root))
+        rhos.append(amplitude / (p + root))
+        jumps.append(0.0)
+    mo.kind = "free"
+    mo.c = c
+    mo.free = _FreeTerms(
+        nu,
+        c,
+        amplitude,
+        gap_top,
+        gap_bottom,
+        (coefficients[0], coefficients[1]),
+        (rhos[0], rhos[1]),
+        (jumps[0], jumps[1]),
+        (0.5 * dm, 0.5 * dp),
+    )
+    mo.spin_rate = omega3 - beta
+    # Mean φ̇: each term advances 2π coefficient ν per period 2π/ν, a jump π per period.
+    mo.precession_rate = nu * (coefficients[0] + coefficients[1]) + 0.5 * nu * (jumps[0] + jumps[1])
+    return mo

@@ -124,7 +124,13 @@ class HeavyTopTrajectory:
         self.L3, self.Lz, self.energy = mo.L3, mo.Lz, mo.energy
         self.nutation_period, self.precession_rate = mo.period, mo.precession_rate
         self._omega3 = mo.L3 / top.I3
-        if mo.kind == "nutating":
+        if mo.kind == "free":
+            fr = mo.free
+            assert fr is not None  # a free motion has its terms
+            self.theta_min = float(_theta_from(fr.gap_top, fr.gap_bottom + 2.0 * fr.amplitude))
+            self.theta_max = float(_theta_from(fr.gap_top + 2.0 * fr.amplitude, fr.gap_bottom))
+            self._offsets = [float(v[0]) for v in self._free_terms(np.array([mo.c]))]
+        elif mo.kind == "nutating":
             cu = mo.cubic
             assert cu is not None  # a nutating motion has its cubic
             self.theta_min = float(_theta_from(cu.one_minus_u2, cu.one_plus_u2))
@@ -191,6 +197,8 @@ class HeavyTopTrajectory:
             fd = np.full(n, mo.phidot0)
             pd = np.full(n, mo.psidot0)
             ct, st = np.full(n, self._cs0[0]), np.full(n, self._cs0[1])
+        elif mo.kind == "free":
+            th, phi, psi, thd, fd, pd, ct, st = self._free(tt)
         else:
             th, phi, psi, thd, fd, pd, ct, st = self._nutating(tt)
         cf, sf, cp, sp = np.cos(phi), np.sin(phi), np.cos(psi), np.sin(psi)
@@ -207,6 +215,60 @@ class HeavyTopTrajectory:
         fields.update(zip(_STATE_FIELDS, values))
         fields.update(self._constants)
         return solution
+
+    def _free_terms(self, x: Floats) -> list[Floats]:
+        """The two pole terms of φ − φ0 (before their value at t = 0 is taken off) at phases x = ν t + c."""
+        fr = self._mo.free
+        assert fr is not None  # only free motions are evaluated here
+        terms = []
+        for sign, coefficient, rho, jump in zip((1.0, -1.0), fr.coefficients, fr.rhos, fr.jumps):
+            if jump:  # through the pole: ±π at each passage (cos x = 1 at the top pole, −1 at the bottom)
+                shift = 0.0 if sign > 0 else math.pi
+                terms.append(jump * math.pi * np.floor((x - shift) / (2.0 * math.pi)))
+                continue
+            sx, cx = np.sin(x), np.cos(x)
+            # 1 ∓ ρ cos x = (1 − ρ) + ρ (1 ∓ cos x) ≥ 1 − ρ > 0: the atan is continuous in x.
+            den = (1.0 - rho) + rho * (1.0 - sign * cx)
+            terms.append(coefficient * (x + 2.0 * np.arctan(sign * rho * sx / den)))
+        return terms
+
+    def _free(self, t: Floats) -> tuple[Floats, ...]:
+        """mgl = 0: ``u = ū + A cos(ν t + c)``, φ and ψ from the elementary pole terms (top_motion._free_motion)."""
+        mo = self._mo
+        fr = mo.free
+        assert fr is not None  # only free motions are evaluated here
+        x = fr.nu * t + fr.c
+        half = 0.5 * x
+        # 1 − u = (1 − u2) + 2A sin²(x/2), 1 + u = (1 + u1) + 2A cos²(x/2): sums, exact at the poles.
+        one_mu = fr.gap_top + 2.0 * fr.amplitude * np.sin(half) ** 2
+        one_pu = fr.gap_bottom + 2.0 * fr.amplitude * np.cos(half) ** 2
+        u = np.where(one_mu < one_pu, 1.0 - one_mu, one_pu - 1.0)
+        st = np.sqrt(one_mu * one_pu)
+        th = _theta_from(one_mu, one_pu)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            thd = np.where(st > 0.0, fr.amplitude * fr.nu * np.sin(x) / st, 0.0)
+        # Exactly at a pole: the one-sided limit, leaving it (as for the nutating top).
+        top, bot = one_mu == 0.0, one_pu == 0.0
+        root = math.sqrt(2.0 * fr.amplitude) * fr.nu
+        if np.any(top):
+            thd[top] = root * np.abs(np.cos(half[top])) / np.sqrt(one_pu[top])
+        if np.any(bot):
+            thd[bot] = -root * np.abs(np.sin(half[bot])) / np.sqrt(one_mu[bot])
+        phi = np.full_like(t, mo.phi0)
+        psi = mo.psi0 + mo.spin_rate * t
+        fd = np.zeros_like(t)
+        pdd = np.full_like(t, mo.spin_rate)
+        for pole, term, offset, hd, dist in zip(
+            (1, -1), self._free_terms(x), self._offsets, fr.half_d, (one_mu, one_pu)
+        ):
+            dphi = term - offset
+            phi = phi + dphi
+            psi = psi - pole * dphi
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rate = np.where(dist > 0.0, hd / dist, 0.0)
+            fd = fd + rate
+            pdd = pdd - pole * rate
+        return th, phi, psi, thd, fd, pdd, u, st
 
     def _nutating(self, t: Floats) -> tuple[Floats, ...]:
         mo = self._mo
@@ -252,6 +314,10 @@ class HeavyTopTrajectory:
     # ------------------------------------------------------------------ one time (floats)
     def _one(self, t: float) -> HeavyTopSolution:
         mo = self._mo
+        if mo.kind == "free":  # no gravity (rare in a frame loop): the vectorised form for one time
+            many = self._many(np.array([t]))
+            values = [getattr(many, name) for name in _STATE_FIELDS[1:]]
+            return self._solution(t, *(float(v[0]) for v in values[:6]), *(v[0] for v in values[6:]))
         if mo.kind != "nutating":
             th, phi, psi = mo.theta0, mo.phi0 + mo.phidot0 * t, mo.psi0 + mo.psidot0 * t
             thd, fd, pdd = 0.0, mo.phidot0, mo.psidot0
