@@ -12,6 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from physics.validation import finite_array
+
 Floats = NDArray[np.float64]
 
 __all__ = ["euler_attitude", "symmetry_axis", "omega_body_from_euler"]
@@ -29,7 +31,7 @@ def euler_attitude(phi: ArrayLike, theta: ArrayLike, psi: ArrayLike) -> NDArray[
     -------
     ndarray, shape (n, 3, 3) (or (3, 3) for scalars)
     """
-    phi, theta, psi = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi, theta, psi)))
+    phi, theta, psi = _angles(("phi", phi), ("theta", theta), ("psi", psi))
     cf, sf = np.cos(phi), np.sin(phi)
     ct, st = np.cos(theta), np.sin(theta)
     cp, sp = np.cos(psi), np.sin(psi)
@@ -52,7 +54,7 @@ def _attitude_from_trig(cf: Floats, sf: Floats, ct: Floats, st: Floats, cp: Floa
 
 def symmetry_axis(phi: ArrayLike, theta: ArrayLike) -> NDArray[np.float64]:
     """Unit symmetry axis in space ``(sin θ sin φ, −sin θ cos φ, cos θ)``, shape (n, 3)."""
-    phi, theta = np.broadcast_arrays(np.asarray(phi, dtype=float), np.asarray(theta, dtype=float))
+    phi, theta = _angles(("phi", phi), ("theta", theta))
     st = np.sin(theta)
     return np.stack([st * np.sin(phi), -st * np.cos(phi), np.cos(theta)], axis=-1)
 
@@ -65,11 +67,21 @@ def omega_body_from_euler(
     ``ω_body = (φ̇ sin θ sin ψ + θ̇ cos ψ, φ̇ sin θ cos ψ − θ̇ sin ψ, φ̇ cos θ + ψ̇)``, so that
     ``Ṙ = R hat(ω_body)``.
     """
-    theta, psi, td, fd, pd = np.broadcast_arrays(
-        *(np.asarray(x, dtype=float) for x in (theta, psi, thetadot, phidot, psidot))
+    theta, psi, td, fd, pd = _angles(
+        ("theta", theta), ("psi", psi), ("thetadot", thetadot), ("phidot", phidot), ("psidot", psidot)
     )
     st, ct, sp, cp = np.sin(theta), np.cos(theta), np.sin(psi), np.cos(psi)
     return np.stack([fd * st * sp + td * cp, fd * st * cp - td * sp, fd * ct + pd], axis=-1)
+
+
+def _angles(*named: tuple[str, ArrayLike]) -> list[Floats]:
+    """Finite float arrays broadcast together; ValueError names the argument that is not."""
+    arrays = [finite_array(value, name) for name, value in named]
+    try:
+        return list(np.broadcast_arrays(*arrays))
+    except ValueError:
+        shapes = ", ".join(f"{name} {a.shape}" for (name, _), a in zip(named, arrays))
+        raise ValueError(f"the angles must broadcast together, got shapes {shapes}") from None
 
 
 def _theta_from(one_mu: ArrayLike, one_pu: ArrayLike) -> Any:

@@ -64,6 +64,7 @@ Cost (median, 1,000 times, one initial state; the setup of the last state is cac
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -73,7 +74,15 @@ from scipy.special import ellipkm1, elliprc, elliprf, elliprj
 
 from physics.inertia import validate_moments
 from physics.rotations import expm_so3
-from physics.validation import finite_array, rotation_array, vector_array
+from physics.validation import (
+    MAX_RATE,
+    bounded_scalar,
+    finite_array,
+    finite_phase,
+    finite_scalar,
+    rotation_array,
+    vector_array,
+)
 
 if TYPE_CHECKING:
     from physics.free_body_trajectory import FreeBodyTrajectory
@@ -262,9 +271,9 @@ def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[Fl
     -------
     sn, cn, dn : ndarray, shape (n,)
     """
-    uu = np.asarray(u, dtype=float)
-    mm = np.asarray(float(m))
-    mmc = np.asarray(1.0 - float(m) if mc is None else float(mc))
+    uu = finite_array(u, "u")
+    mm = np.asarray(finite_scalar(m, "m"))
+    mmc = np.asarray(1.0 - float(mm) if mc is None else finite_scalar(mc, "mc"))
     if not (0.0 <= mm <= 1.0 and 0.0 <= mmc <= 1.0):
         raise ValueError(f"the elliptic parameter must lie in [0, 1], got m = {float(mm)}, 1 - m = {float(mmc)}")
     kk = ellipkm1(mmc) if mmc > 0 else np.inf
@@ -683,7 +692,7 @@ class FreeBody:
         k = max(r.shape[0], lb.shape[0])
         r = np.broadcast_to(r, (k, 3, 3))
         lb = np.broadcast_to(lb, (k, 3))
-        step = np.broadcast_to(np.asarray(dt, dtype=float), (k,))
+        step = np.broadcast_to(finite_array(dt, "dt"), (k,))
         if not (np.all(np.isfinite(r)) and np.all(np.isfinite(lb)) and np.all(np.isfinite(step))):
             raise ValueError("flow needs finite attitudes, angular momenta and time steps")
         zero = self.moments == 0.0
@@ -719,6 +728,10 @@ class FreeBody:
         """Evaluate the motion of initial states ``w`` (k, 3), ``r0`` (k, 3, 3) at times ``t`` (n,);
         ``which`` (n,) says which state each time belongs to; ``setup`` is their :meth:`_setup`."""
         p = self._setup_of(w) if setup is None else setup
+        # Every phase (λ t, Ω t, L t / I, |ω| t) is below |ω| t times the spread of the moments.
+        spread = float(np.max(self.moments) / np.min(self.moments[self.moments > 0.0]))
+        with np.errstate(over="ignore"):
+            finite_phase(4.0 * spread * float(np.max(np.abs(w), initial=0.0)) * float(np.max(np.abs(t), initial=0.0)))
         n = t.shape[0]
         out_w = np.empty((n, 3))
         # Without attitudes, out_r stays empty and r0 is never read.
@@ -824,7 +837,7 @@ class FreeBody:
         """
         if isinstance(axis_index, bool) or not isinstance(axis_index, (int, np.integer)) or not 0 <= axis_index <= 2:
             raise ValueError(f"axis_index must be 0, 1 or 2 (a principal axis), got {axis_index!r}")
-        omega = float(finite_array(spin_rate, "spin_rate"))
+        omega = bounded_scalar(spin_rate, "spin_rate", MAX_RATE)
         i = self.moments[axis_index]
         ij, ik = self.moments[(axis_index + 1) % 3], self.moments[(axis_index + 2) % 3]
         numerator = (i - ij) * (i - ik)
@@ -833,8 +846,9 @@ class FreeBody:
             return Stability("neutral", 0.0)
         # ij * ik > 0 here: a zero moment belongs to a rod, whose two other moments are equal.
         # The kind depends on the moments only; the rate scales with |Ω| (0 when not spinning).
-        bracket = omega * omega * numerator / (ij * ik)
-        return Stability("stable" if numerator > 0 else "unstable", float(np.sqrt(abs(bracket))))
+        # |Ω| sqrt(|(I − Ij)(I − Ik)| / (Ij Ik)): the square root taken before the rate multiplies it (no overflow).
+        rate = abs(omega) * math.sqrt(abs(numerator) / (ij * ik))
+        return Stability("stable" if numerator > 0 else "unstable", rate)
 
     def precession_rates(self, omega0: ArrayLike) -> PrecessionRates:
         """Body- and space-frame precession rates of a symmetric body (two equal moments).

@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import elliprj
 
 from physics.free_body import _MC_NEAR_ONE, _elliprj
+from physics.validation import finite_phase, finite_scalar
 
 if TYPE_CHECKING:
     from physics.free_body import FreeBody
@@ -74,6 +75,9 @@ class FreeBodyTrajectory:
         self._r0 = self.attitude0[None]
         self._setup = body._setup_of(self._w)
         self._kind = int(self._setup["kind"][0])
+        moments = body.moments
+        # A bound on every phase per second of t (see FreeBody._evaluate), to refuse overflowing times.
+        self._reach = 4.0 * float(np.max(moments) / np.min(moments[moments > 0.0])) * float(np.max(np.abs(self.omega0)))
         if self._kind == 2:
             self._prepare_elliptic()
 
@@ -102,9 +106,9 @@ class FreeBodyTrajectory:
         """ω and R at the times ``t`` (s, any sign): arrays (n, 3) and (n, 3, 3) for an array of times,
         (3,) and (3, 3) for one time."""
         if isinstance(t, (float, int)) and not isinstance(t, bool):
-            tf = float(t)
-            if not math.isfinite(tf):
-                raise ValueError(f"the time t must be finite, got {tf}")
+            tf = finite_scalar(t, "t")
+            with np.errstate(over="ignore"):
+                finite_phase(self._reach * abs(tf))
             return self._one(tf)
         tt = self.body._times(t)
         omega, attitude = self.body._evaluate(

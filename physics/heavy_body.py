@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from physics import G
 from physics.euler_angles import euler_attitude, omega_body_from_euler
-from physics.validation import MAX_RATE, MAX_STEPS, finite_scalar, rotation_array, vector_array
+from physics.validation import MAX_RATE, MAX_STEPS, bounded_scalar, finite_scalar, rotation_array, vector_array
 
 if TYPE_CHECKING:
     from physics.heavy_top import HeavyTop
@@ -159,7 +159,7 @@ def simulate_heavy_body(
     from physics.inertia import validate_moments
 
     I = validate_moments(moments)
-    mass = finite_scalar(mass, "mass")
+    mass = bounded_scalar(mass, "mass")
     if mass <= 0.0:
         raise ValueError(f"mass must be positive, got {mass}")
     com = vector_array(center_of_mass_body, "center_of_mass_body", batched=False)

@@ -59,7 +59,7 @@ from physics.heavy_body import FrictionRun, TransverseAirDrag, _simulate_symmetr
 from physics.nutation_cubic import NutationCubic
 from physics.top_motion import _Motion, motion_constants
 from physics.top_trajectory import HeavyTopSolution, HeavyTopTrajectory, _times
-from physics.validation import MAX_RATE, MAX_STEPS, finite_array, finite_scalar
+from physics.validation import MAX_RATE, MAX_STEPS, bounded_scalar, finite_array, finite_scalar
 
 if TYPE_CHECKING:
     from physics.inertia import MassProperties
@@ -181,7 +181,8 @@ class HeavyTop:
     def threshold_crossing_time(self, L3: float, spin_friction: float) -> float:
         """When spin friction ``−c ω3`` (see :meth:`simulate`) takes ``L3`` down to :meth:`sleeping_threshold`,
         s: ``L3(t) = L3 exp(−c t / I3)`` gives ``t* = (I3 / c) ln(L3 / L3_threshold)``
-        (0 if already below, inf without friction)."""
+        (0 if already below; inf without friction, or when so little friction takes longer than the float
+        range, 1.8e308 s)."""
         L3 = abs(finite_scalar(L3, "L3"))
         c = finite_scalar(spin_friction, "spin_friction")
         if c < 0.0:
@@ -191,7 +192,10 @@ class HeavyTop:
             return math.inf
         if L3 <= thr:
             return 0.0
-        return math.inf if c == 0.0 else self.I3 / c * math.log(L3 / thr)
+        if c == 0.0:
+            return math.inf
+        with np.errstate(over="ignore"):
+            return float(np.float64(self.I3) / c * math.log(L3 / thr))
 
     # ------------------------------------------------------------------ conserved quantities
     def angular_momenta(
@@ -227,7 +231,7 @@ class HeavyTop:
         theta = finite_array(theta, "theta")
         if np.any((theta < 0.0) | (theta > math.pi)):
             raise ValueError("theta is the angle of the axis from +z and must lie in [0, pi]")
-        return theta, finite_scalar(Lz, "Lz"), finite_scalar(L3, "L3")
+        return theta, bounded_scalar(Lz, "Lz"), bounded_scalar(L3, "L3")
 
     def effective_potential(self, theta: ArrayLike, Lz: float, L3: float) -> NDArray[np.float64]:
         """The lecture's effective potential per I1,
@@ -294,7 +298,7 @@ class HeavyTop:
             If the spin is too slow: ``L3² < 4 I1 M g ℓ cos θ`` (no steady precession at that θ).
         """
         theta = finite_scalar(theta, "theta")
-        L3 = finite_scalar(L3, "L3")
+        L3 = bounded_scalar(L3, "L3")
         if not 0.0 < theta < math.pi:
             raise ValueError(f"steady precession needs 0 < theta < pi, got theta = {theta}")
         ct = math.cos(theta)

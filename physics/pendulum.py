@@ -55,7 +55,7 @@ from scipy.special import ellipkm1, elliprf
 from physics import G
 from physics.inertia import MassProperties
 from physics.rotations import frame_from_axis, rotation_about
-from physics.validation import finite_array, finite_scalar
+from physics.validation import finite_array, finite_phase, finite_scalar
 
 Floats = NDArray[np.float64]
 
@@ -517,6 +517,8 @@ class PendulumTrajectory:
         self.model = model
         self.theta0, self.thetadot0 = th0, thd0
         w = self._w = model.omega0
+        # A bound on every phase per second of t (ω0 t, κ ω0 t with κ ω0 ≤ |θ̇0|/2 + ω0; θ̇0 t without gravity).
+        self._reach = 2.0 * (w + float(np.max(np.abs(thd0), initial=0.0)))
         if w == 0.0:
             return
         wrapped, turns, half_sin, half_cos, x, m, excess = model._energy_parameter(th0, thd0)
@@ -555,8 +557,13 @@ class PendulumTrajectory:
             ``theta`` (rad) and ``theta_dot`` (rad/s), each the broadcast shape.
         """
         if isinstance(t, (float, int)) and not isinstance(t, bool) and self.theta0.ndim == 0 and self._w != 0.0:
-            return self._at_one_time(finite_scalar(t, "t"))
+            tf = finite_scalar(t, "t")
+            with np.errstate(over="ignore"):
+                finite_phase(self._reach * abs(tf))
+            return self._at_one_time(tf)
         tt = finite_array(t, "t")
+        with np.errstate(over="ignore"):
+            finite_phase(self._reach * float(np.max(np.abs(tt), initial=0.0)))
         w = self._w
         if w == 0.0:
             th0, thd0, tt = np.broadcast_arrays(self.theta0, self.thetadot0, tt)

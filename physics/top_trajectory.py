@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from physics.euler_angles import _attitude_from_trig, _theta_from
 from physics.top_elliptic import _jacobi, _jacobi_one, _reduce
 from physics.top_motion import _Motion
+from physics.validation import finite_array, finite_phase, finite_scalar
 
 if TYPE_CHECKING:
     from physics.heavy_top import HeavyTop
@@ -86,11 +87,9 @@ class HeavyTopSolution:
 
 
 def _times(t: ArrayLike) -> NDArray[np.float64]:
-    tt = np.atleast_1d(np.asarray(t, dtype=float))
+    tt = np.atleast_1d(finite_array(t, "t"))
     if tt.ndim != 1:
         raise ValueError(f"t must be a scalar or a 1-D array of times, got shape {tt.shape}")
-    if not np.all(np.isfinite(tt)):
-        raise ValueError("t must contain only finite times (no NaN or inf)")
     return tt
 
 
@@ -177,12 +176,10 @@ class HeavyTopTrajectory:
             with ``axis`` (3,), ``attitude`` (3, 3) and ``omega_body`` (3,).
         """
         if isinstance(t, (float, int)) and not isinstance(t, bool):
-            tf = float(t)
-            if not math.isfinite(tf):
-                raise ValueError(f"t must be a finite time, got {tf}")
+            tf = finite_scalar(t, "t")
             return self._one(tf)
         if np.ndim(t) == 0:  # a numpy scalar or 0-d array
-            return self.at(float(np.asarray(t, dtype=float)))
+            return self.at(finite_scalar(t, "t"))
         return self._many(_times(t))
 
     # ------------------------------------------------------------------ many times (vectorised)
@@ -191,8 +188,11 @@ class HeavyTopTrajectory:
         n = tt.size
         if mo.kind in ("vertical", "steady"):
             th = np.full(n, mo.theta0)
-            phi = mo.phi0 + mo.phidot0 * tt
-            psi = mo.psi0 + mo.psidot0 * tt
+            with np.errstate(over="ignore", invalid="ignore"):  # refused just below
+                phi = mo.phi0 + mo.phidot0 * tt
+                psi = mo.psi0 + mo.psidot0 * tt
+            finite_phase(phi)
+            finite_phase(psi)
             thd = np.zeros(n)
             fd = np.full(n, mo.phidot0)
             pd = np.full(n, mo.psidot0)
@@ -237,7 +237,9 @@ class HeavyTopTrajectory:
         mo = self._mo
         fr = mo.free
         assert fr is not None  # only free motions are evaluated here
-        x = fr.nu * t + fr.c
+        with np.errstate(over="ignore", invalid="ignore"):  # refused just below
+            x = fr.nu * t + fr.c
+        finite_phase(x)
         half = 0.5 * x
         # 1 − u = (1 − u2) + 2A sin²(x/2), 1 + u = (1 + u1) + 2A cos²(x/2): sums, exact at the poles.
         one_mu = fr.gap_top + 2.0 * fr.amplitude * np.sin(half) ** 2
@@ -274,7 +276,9 @@ class HeavyTopTrajectory:
         mo = self._mo
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
         assert cu is not None  # only nutating motions are evaluated here
-        tau = lam * t + mo.c
+        with np.errstate(over="ignore", invalid="ignore"):  # refused just below
+            tau = lam * t + mo.c
+        finite_phase(tau)
         k, r = _reduce(tau, K)
         sn, cn, dn = _jacobi(r, m, mo.one_m, K)
         sn2, cn2 = sn * sn, cn * cn
@@ -320,6 +324,7 @@ class HeavyTopTrajectory:
             return self._solution(t, *(float(v[0]) for v in values[:6]), *(v[0] for v in values[6:]))
         if mo.kind != "nutating":
             th, phi, psi = mo.theta0, mo.phi0 + mo.phidot0 * t, mo.psi0 + mo.psidot0 * t
+            finite_phase([phi, psi])
             thd, fd, pdd = 0.0, mo.phidot0, mo.psidot0
             ct, st = self._cs0
         else:
@@ -341,6 +346,7 @@ class HeavyTopTrajectory:
         cu, m, K, lam, one_m = mo.cubic, mo.m, mo.K, mo.lam, mo.one_m
         assert cu is not None  # only nutating motions are evaluated here
         tau = lam * t + mo.c
+        finite_phase(tau)
         k = math.floor((tau + K) / (2.0 * K))
         r = tau - 2.0 * K * k
         sn, cn, dn = _jacobi_one(r, m, one_m, K)

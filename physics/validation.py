@@ -7,6 +7,7 @@ app's notification) sees which input was wrong and why.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -15,7 +16,9 @@ __all__ = [
     "MAX_RATE",
     "MAX_STEPS",
     "ROTATION_TOLERANCE",
+    "bounded_scalar",
     "finite_array",
+    "finite_phase",
     "finite_scalar",
     "rotation_array",
     "vector_array",
@@ -49,8 +52,10 @@ def finite_array(value: ArrayLike, name: str, shape: tuple[int, ...] | None = No
     """
     try:
         arr = np.asarray(value, dtype=float)
+    except OverflowError:  # an integer beyond the float range (e.g. 10**400)
+        raise ValueError(f"{name} must be within the float range (|x| < 1.8e308), got {_short(value)}") from None
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numeric, got {value!r}") from exc
+        raise ValueError(f"{name} must be numeric, got {_short(value)}") from exc
     if shape is not None and arr.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
@@ -58,15 +63,41 @@ def finite_array(value: ArrayLike, name: str, shape: tuple[int, ...] | None = No
     return arr
 
 
-def finite_scalar(value: float, name: str) -> float:
+def finite_scalar(value: Any, name: str) -> float:
     """``value`` as a Python float, refusing non-numbers, NaN and inf (same messages as above)."""
+    if isinstance(value, np.ndarray) and value.ndim:
+        raise ValueError(f"{name} must be a single number, got an array of shape {value.shape}")
     try:
         v = float(value)
+    except OverflowError:
+        raise ValueError(f"{name} must be within the float range (|x| < 1.8e308), got {_short(value)}") from None
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+        raise ValueError(f"{name} must be a real number, got {_short(value)}") from None
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite (no NaN or inf), got {v}")
     return v
+
+
+def bounded_scalar(value: Any, name: str, limit: float = 1e150) -> float:
+    """:func:`finite_scalar` that also refuses ``|value| > limit`` (default 1e150: its square and its
+    products with any other accepted number stay inside the float range)."""
+    v = finite_scalar(value, name)
+    if abs(v) > limit:
+        raise ValueError(f"{name} must be at most {limit:g} in magnitude (its square would overflow), got {v:g}")
+    return v
+
+
+def finite_phase(phase: ArrayLike, name: str = "t") -> None:
+    """Refuse times so large that the phase of the motion (rate × time) is no longer a finite number."""
+    if not np.all(np.isfinite(phase)):
+        raise ValueError(
+            f"{name} is too far from 0: the phase of the motion (its rate times {name}) overflows the float range"
+        )
+
+
+def _short(value: object) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def rotation_array(value: ArrayLike, name: str, *, batched: bool = True) -> NDArray[np.float64]:

@@ -509,7 +509,7 @@ def test_bad_input_raises():
         HeavyTop(1.0, 2.5, 1.0)
     with pytest.raises(ValueError, match=r"\[0, pi\]"):
         TOP.solve(-0.1, 0.0, 0.0, 1.0, [0.0])
-    with pytest.raises(ValueError, match="finite times"):
+    with pytest.raises(ValueError, match="t must be finite"):
         TOP.solve(0.5, 0.0, 0.0, 1.0, [0.0, np.nan])
     with pytest.raises(ValueError, match="psidot0 must be finite"):
         TOP.solve(0.5, 0.0, 0.0, np.inf, [0.0])
