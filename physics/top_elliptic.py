@@ -137,3 +137,26 @@ def _incomplete_third_kind_one(r: float, sn: float, cn2: float, dn2: float, n: f
     p = one_n + n * cn2 if n > 0.0 else 1.0 - n * sn * sn
     rj = float(elliprj(cn2, dn2, 1.0, p))  # scipy.special reports domain errors by value, not by warning
     return r + n / 3.0 * sn**3 * rj
+
+
+def _complete_q(one_n: float, one_m: float) -> float:
+    """``Q(n|m) = ∫₀^K sn²/(1 − n sn²) dτ = (Π(n|m) − K)/n = R_J(0, 1 − m, 1, 1 − n)/3`` (DLMF 19.25.2):
+    no division by n, so it stays accurate as n → 0."""
+    return float(elliprj(0.0, one_m, 1.0, one_n)) / 3.0
+
+
+def _q_integral(k: Floats, sn: Floats, cn2: Floats, dn2: Floats, n: float, one_n: float, qc: float) -> Floats:
+    """``Q(n; τ) = ∫₀^τ sn²/(1 − n sn²)`` for ``τ = 2K k + r``, given sn, cn², dn² at r:
+    ``2 k Q(n|m) + sn³ R_J(cn², dn², 1, 1 − n sn²)/3`` (DLMF 19.25.14 without the factor n)."""
+    p = one_n + n * cn2 if n > 0.0 else 1.0 - n * sn * sn
+    with np.errstate(invalid="ignore"):
+        rj = elliprj(cn2, dn2, 1.0, p)
+    return 2.0 * k * qc + np.where(sn == 0.0, 0.0, sn**3 * rj / 3.0)
+
+
+def _q_integral_one(k: float, sn: float, cn2: float, dn2: float, n: float, one_n: float, qc: float) -> float:
+    """:func:`_q_integral` for one τ (floats)."""
+    if sn == 0.0:
+        return 2.0 * k * qc
+    p = one_n + n * cn2 if n > 0.0 else 1.0 - n * sn * sn
+    return 2.0 * k * qc + sn**3 * float(elliprj(cn2, dn2, 1.0, p)) / 3.0

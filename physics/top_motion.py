@@ -17,7 +17,7 @@ import numpy as np
 from scipy.special import ellipkm1
 
 from physics.nutation_cubic import NutationCubic, _diff, _polish, _quadratic_roots, _Root
-from physics.top_elliptic import _complete_third_kind, _incomplete_first_kind, _PoleTerm
+from physics.top_elliptic import _complete_q, _complete_third_kind, _incomplete_first_kind, _PoleTerm
 from physics.validation import MAX_RATE, finite_scalar
 
 if TYPE_CHECKING:
@@ -48,6 +48,7 @@ class _Motion:
     period: float = math.inf
     precession_rate: float = 0.0
     free: _FreeTerms | None = None  # mgl = 0: the symmetric free body (elementary closed form)
+    smooth: _SmoothPhi | None = None  # the pole terms summed without cancellation (see _SmoothPhi)
 
 
 def motion_constants(
@@ -250,8 +251,44 @@ def motion_constants(
     mo.terms = terms
     # Mean φ̇ over one period: each pole term advances by 2K a0 + 2 a1 Π(n|m), or by ±π per passage.
     adv = sum(tm.jump * math.pi if tm.jump else 2.0 * K * tm.a0 + 2.0 * tm.a1 * tm.pic for tm in terms)
+    if all(tm.jump == 0.0 and tm.shift == 0.0 for tm in terms):
+        # The two pole terms a1± Π(n±; τ) are each ~β/λ τ and cancel down to the slow precession of a fast
+        # top (their sum is 1e-17 of each at 1e9 rad/s). Summed before integrating they need no cancellation:
+        # Π(n; τ) = τ + n Q(n; τ), Q = ∫ sn²/(1 − n sn²) dτ, and a1+ + a1− = (α − β u1) / ((1 − u1²) λ), with
+        # α − β u1 = sin²θ0 φ̇0 + β (u0 − u1) from the data. The b± = a1± n± terms have one sign: no cancellation.
+        C = s0 * s0 * phd0 + beta * cubic.u0_minus_u1
+        rate = C / (r1.p * r1.q * lam)
+        qc = tuple(_complete_q(tm.one_n, one_m) for tm in terms)
+        mo.smooth = _SmoothPhi(
+            rate=rate,
+            C=C,
+            D=beta * u21,
+            b=(terms[0].a1 * terms[0].n, terms[1].a1 * terms[1].n),
+            n=(terms[0].n, terms[1].n),
+            one_n=(terms[0].one_n, terms[1].one_n),
+            qc=(qc[0], qc[1]),
+            u1=r1.u,
+        )
+        adv = rate * 2.0 * K + sum(2.0 * b * q for b, q in zip(mo.smooth.b, qc))
     mo.precession_rate = adv / mo.period
     return mo
+
+
+@dataclass(frozen=True)
+class _SmoothPhi:
+    """φ and ψ of a nutating top whose axis passes through neither pole, in a form without cancellation:
+    ``φ − φ0 = rate (τ − c) + Σ b± [Q(n±; τ) − Q(n±; c)]``, ``ψ − ψ0 = (L3/I3) t − u1 rate (τ − c)
+    − b+ ΔQ(n+) + b− ΔQ(n−)``, and the rates ``φ̇ = (C − D sn²) / ((1 − u)(1 + u))``, ``ψ̇ = ω3 − u φ̇``.
+    ``qc`` is ``Q`` over a quarter period (τ from 0 to K)."""
+
+    rate: float
+    C: float
+    D: float
+    b: tuple[float, float]
+    n: tuple[float, float]
+    one_n: tuple[float, float]
+    qc: tuple[float, float]
+    u1: float
 
 
 def _vertical_period(top: HeavyTop, L3: float, u0: float) -> float:

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from physics.euler_angles import _attitude_from_trig, _theta_from
-from physics.top_elliptic import _jacobi, _jacobi_one, _reduce
+from physics.top_elliptic import _jacobi, _jacobi_one, _q_integral, _q_integral_one, _reduce
 from physics.top_motion import _Motion
 from physics.validation import finite_array, finite_phase, finite_scalar
 
@@ -134,7 +134,15 @@ class HeavyTopTrajectory:
             assert cu is not None  # a nutating motion has its cubic
             self.theta_min = float(_theta_from(cu.one_minus_u2, cu.one_plus_u2))
             self.theta_max = float(_theta_from(cu.one_minus_u1, cu.one_plus_u1))
-            # Each pole term's value at t = 0 (φ and ψ start at φ0, ψ0).
+            # Each pole term's value at t = 0 (φ and ψ start at φ0, ψ0), and Q(n±; c) for the smooth form.
+            sm = mo.smooth
+            if sm is not None:
+                k0, r0 = _reduce(np.array([mo.c]), mo.K)
+                sn0, cn0, dn0 = _jacobi(r0, mo.m, mo.one_m, mo.K)
+                self._q_offsets = [
+                    float(_q_integral(k0, sn0, cn0 * cn0, dn0 * dn0, n, one_n, qc)[0])
+                    for n, one_n, qc in zip(sm.n, sm.one_n, sm.qc)
+                ]
             self._offsets = [float(tm.integral(np.array([mo.c]), mo.K, mo.m, mo.one_m)[0]) for tm in mo.terms]
         else:
             self.theta_min = self.theta_max = mo.theta0
@@ -272,6 +280,29 @@ class HeavyTopTrajectory:
             pdd = pdd - pole * rate
         return th, phi, psi, thd, fd, pdd, u, st
 
+    def _phidot(self, sm: Any, sn2: Floats, one_mu: Floats, one_pu: Floats) -> Floats:
+        """φ̇ = (α − β u)/(1 − u²) from whichever form rounds least: the pole form Σ half_d/(1 ∓ u) (exact
+        next to a pole, whose term carries it) or (C − D sn²)/((1 − u)(1 + u)) (no cancellation between
+        the poles' large terms for a fast top)."""
+        half_top, half_bottom = self._mo.terms[0].half_d, self._mo.terms[1].half_d
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            top = np.where(one_mu > 0.0, half_top / one_mu, 0.0)
+            bottom = np.where(one_pu > 0.0, half_bottom / one_pu, 0.0)
+            product = one_mu * one_pu
+            smooth = np.where(product > 0.0, (sm.C - sm.D * sn2) / product, 0.0)
+            error_smooth = np.where(product > 0.0, (abs(sm.C) + abs(sm.D) * sn2) / product, np.inf)
+        pole: Floats = top + bottom
+        return np.where(np.abs(top) + np.abs(bottom) <= error_smooth, pole, smooth)
+
+    def _phidot_one(self, sm: Any, sn2: float, one_mu: float, one_pu: float) -> float:
+        """:meth:`_phidot` for one time (floats)."""
+        top = self._mo.terms[0].half_d / one_mu if one_mu > 0.0 else 0.0
+        bottom = self._mo.terms[1].half_d / one_pu if one_pu > 0.0 else 0.0
+        product = one_mu * one_pu
+        if product > 0.0 and abs(top) + abs(bottom) > (abs(sm.C) + abs(sm.D) * sn2) / product:
+            return float((sm.C - sm.D * sn2) / product)
+        return top + bottom
+
     def _nutating(self, t: Floats) -> tuple[Floats, ...]:
         mo = self._mo
         cu, m, K, lam = mo.cubic, mo.m, mo.K, mo.lam
@@ -298,6 +329,18 @@ class HeavyTopTrajectory:
             thd[top] = 2.0 * math.sqrt(u21) * lam * np.abs(sn[top]) * dn[top] / np.sqrt(one_pu[top])
         if np.any(bot):
             thd[bot] = -2.0 * math.sqrt(u21) * lam * np.abs(cn[bot]) * dn[bot] / np.sqrt(one_mu[bot])
+        sm = mo.smooth
+        if sm is not None:  # the pole terms summed without cancellation (top_motion._SmoothPhi)
+            dn2 = dn * dn
+            dq = [
+                _q_integral(k, sn, cn2, dn2, n, one_n, qc) - q0
+                for n, one_n, qc, q0 in zip(sm.n, sm.one_n, sm.qc, self._q_offsets)
+            ]
+            dtau = tau - mo.c
+            phi = mo.phi0 + (sm.rate * dtau + (sm.b[0] * dq[0] + sm.b[1] * dq[1]))
+            psi = mo.psi0 + (self._omega3 * t - sm.u1 * sm.rate * dtau - sm.b[0] * dq[0] + sm.b[1] * dq[1])
+            fd = self._phidot(sm, sn2, one_mu, one_pu)
+            return th, phi, psi, thd, fd, self._omega3 - u * fd, u, st
         fd = np.zeros_like(t)
         phi = np.full_like(t, mo.phi0)
         psi = mo.psi0 + mo.spin_rate * t
@@ -363,11 +406,20 @@ class HeavyTopTrajectory:
             thd = -2.0 * math.sqrt(u21) * lam * abs(cn) * dn / math.sqrt(one_mu)
         else:
             thd = -(2.0 * u21 * lam * sn * cn * dn) / st if st > 0.0 else 0.0
+        dn2 = dn * dn
+        sm = mo.smooth
+        if sm is not None:  # as in _nutating
+            dq0 = _q_integral_one(k, sn, cn2, dn2, sm.n[0], sm.one_n[0], sm.qc[0]) - self._q_offsets[0]
+            dq1 = _q_integral_one(k, sn, cn2, dn2, sm.n[1], sm.one_n[1], sm.qc[1]) - self._q_offsets[1]
+            dtau = tau - mo.c
+            phi = mo.phi0 + (sm.rate * dtau + (sm.b[0] * dq0 + sm.b[1] * dq1))
+            psi = mo.psi0 + (self._omega3 * t - sm.u1 * sm.rate * dtau - sm.b[0] * dq0 + sm.b[1] * dq1)
+            fd = self._phidot_one(sm, sn2, one_mu, one_pu)
+            return th, phi, psi, thd, fd, self._omega3 - u * fd, u, st
         fd = 0.0
         phi = mo.phi0
         psi = mo.psi0 + mo.spin_rate * t
         pdd = mo.spin_rate
-        dn2 = dn * dn
         for tm, offset in zip(mo.terms, self._offsets):
             dphi = tm.integral_one(tau, K, m, one_m, k, r, sn, cn2, dn2) - offset
             phi = phi + dphi
