@@ -8,7 +8,8 @@ window of at most 1/60 s, so this is the frame rate a page can show), the slowes
 the server's CPU time per second of wall time and its peak resident memory.
 
 Modes: ``shared`` (one simulation everyone drives), ``presenter`` (one lecture, every client follows
-read-only), ``private`` (one simulation per client). Bounded: a few seconds per row, traffic to
+read-only), ``private`` (one simulation per client). Every scene gets a row with one client and rows with
+30 followers and 30 private sessions; the ``--scene`` gets every client count in every mode. Bounded: a few seconds per row, traffic to
 127.0.0.1 only. Writes ``benchmarks/results/serve.md``.
 
 Run: python -m benchmarks.serve [--clients 1 10 30 60] [--seconds 4]
@@ -107,6 +108,37 @@ def _line(scene: str, mode: str, n: int, row: dict[str, float]) -> str:
     )
 
 
+def targets(measured: list[tuple[str, str, int, dict[str, float]]]) -> list[str]:
+    """The issue's targets against the rows measured: one line each, with the worst row."""
+    out = ["Targets (issue 10):", ""]
+    checks = [
+        ("at most 150 kB/s per browser (one client, every scene)", lambda m, n: n == 1, "bytes_per_s", max, 150e3),
+        (
+            "30 followers: every browser at least 55 updates/s",
+            lambda m, n: m == "presenter" and n == 30,
+            "slowest_updates_per_s",
+            min,
+            55.0,
+        ),
+        (
+            "30 private sessions: each at least 30 updates/s",
+            lambda m, n: m == "private" and n == 30,
+            "slowest_updates_per_s",
+            min,
+            30.0,
+        ),
+    ]
+    for what, pick, key, worst, limit in checks:
+        rows = [(scene, row[key]) for scene, mode, n, row in measured if pick(mode, n)]
+        if not rows:
+            continue
+        scene, value = worst(rows, key=lambda r: r[1])
+        ok = value <= limit if worst is max else value >= limit
+        shown = f"{value / 1e3:.1f} kB/s" if key == "bytes_per_s" else f"{value:.1f}/s"
+        out.append(f"- {what}: worst {shown} ({scene}) — {'met' if ok else 'NOT met'}")
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--clients", type=int, nargs="+", default=[1, 10, 30, 60])
@@ -130,17 +162,25 @@ def main(argv: list[str] | None = None) -> None:
         "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
 
+    measured: list[tuple[str, str, int, dict[str, float]]] = []
+
     def run(scene: str, mode: str, n: int) -> None:
-        line = _line(scene, mode, n, measure(scene, mode, n, args.seconds))
+        row = measure(scene, mode, n, args.seconds)
+        measured.append((scene, mode, n, row))
+        line = _line(scene, mode, n, row)
         print(line, flush=True)
         lines.append(line)
 
-    for scene in scene_names():  # every scene's bandwidth to one browser
+    for scene in scene_names():  # every scene: bandwidth to one browser, 30 followers, 30 private sessions
         run(scene, "shared", 1)
+        for mode in ("presenter", "private"):
+            if mode in args.modes and 30 in args.clients and scene != args.scene:
+                run(scene, mode, 30)
     for mode in args.modes:
         for n in args.clients:
             if (mode, n) != ("shared", 1) or args.scene not in scene_names():
                 run(args.scene, mode, n)
+    lines += ["", *targets(measured)]
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     RESULTS.write_text("\n".join(lines) + "\n")
     print(f"written {RESULTS}")

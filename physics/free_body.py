@@ -72,6 +72,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipkm1, elliprc, elliprf, elliprj
 
+from physics.double_double import _dd_add, _dd_term, _two_sum
 from physics.inertia import validate_moments
 from physics.rotations import expm_so3
 from physics.validation import (
@@ -88,8 +89,6 @@ if TYPE_CHECKING:
     from physics.free_body_trajectory import FreeBodyTrajectory
 
 Floats = NDArray[np.float64]
-# A double-double number: (high part, low part), arrays or scalars.
-DD = tuple[Any, Any]
 # The descending Landen ladder: the √μ of each step and the total argument scale.
 Ladder = tuple[list[Floats], Floats]
 
@@ -101,50 +100,6 @@ __all__ = [  # noqa: F822 - the trajectory names come from __getattr__ below
     "PrecessionRates",
     "jacobi_sn_cn_dn",
 ]
-
-# ---------------------------------------------------------------------------------------------------
-# Double-double helpers (Dekker / Knuth error-free transformations), vectorised over numpy arrays.
-# They make L² − 2 E I2 exact enough that 1 − m keeps its relative precision near the separatrix.
-# ---------------------------------------------------------------------------------------------------
-_SPLIT = 134217729.0  # 2**27 + 1
-
-
-def _two_sum(a: Any, b: Any) -> DD:
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-def _split(a: Any) -> DD:
-    c = _SPLIT * a
-    hi = c - (c - a)
-    return hi, a - hi
-
-
-def _two_prod(a: Any, b: Any) -> DD:
-    p = a * b
-    ah, al = _split(a)
-    bh, bl = _split(b)
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-def _dd_mul(x: DD, y: DD) -> DD:
-    p, e = _two_prod(x[0], y[0])
-    e = e + (x[0] * y[1] + x[1] * y[0])
-    s = p + e
-    return s, e - (s - p)
-
-
-def _dd_add(x: DD, y: DD) -> DD:
-    s, e = _two_sum(x[0], y[0])
-    e = e + (x[1] + y[1])
-    t = s + e
-    return t, e - (t - s)
-
-
-def _dd_term(moment: Any, diff: DD, w: Any) -> DD:
-    """``moment · diff · w²`` in double-double; ``diff`` is a double-double."""
-    return _dd_mul(_dd_mul((moment, 0.0 * moment), diff), _two_prod(w, w))
 
 
 # ---------------------------------------------------------------------------------------------------

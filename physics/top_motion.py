@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.special import ellipkm1
 
+from physics.double_double import _dd_add, _dd_mul, _two_prod, _two_sum
 from physics.nutation_cubic import NutationCubic, _diff, _polish, _quadratic_roots, _Root
 from physics.top_elliptic import _complete_q, _complete_third_kind, _incomplete_first_kind, _PoleTerm
 from physics.validation import MAX_RATE, finite_scalar
@@ -110,14 +111,17 @@ def motion_constants(
     if a == 0.0:
         return _free_motion(base, u0, w0, z0, s0, thd0, K0, beta, dm, dp, L3 / I3)
     c3 = 2.0 * a
+    # 4a − β² = (4 M g ℓ I1 − L3²)/I1² vanishes at the sleeping threshold: formed in double-double from
+    # the inputs, so that the roots near u = 1 are those of the data given, however close to it.
+    gap = _threshold_gap(top, phd0, psd0, u0)
     loc0 = [
         s0 * s0 * thd0 * thd0,
         -4.0 * u0 * K0 - 2.0 * a * s0 * s0 + 2.0 * beta * s0 * s0 * phd0,
-        -2.0 * K0 + 4.0 * a * u0 - beta * beta,
+        -2.0 * K0 + (gap - 4.0 * a * w0),  # −2K0 + 4a u0 − β²
         c3,
     ]
     k1 = K0 - a * w0  # ℰ − a
-    loc_p = [-dm * dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + 4.0 * a - beta * beta, c3]
+    loc_p = [-dm * dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + gap, c3]
     k2 = K0 + a * z0  # ℰ + a
     loc_m = [-dp * dp, 4.0 * k2 + 2.0 * beta * dp, -2.0 * k2 - 4.0 * a - beta * beta, c3]
 
@@ -289,6 +293,15 @@ class _SmoothPhi:
     one_n: tuple[float, float]
     qc: tuple[float, float]
     u1: float
+
+
+def _threshold_gap(top: HeavyTop, phidot0: float, psidot0: float, u0: float) -> float:
+    """``4a − β² = (4 M g ℓ I1 − L3²) / I1²`` with ``L3 = I3 (ψ̇0 + φ̇0 u0)``, the numerator in double-double."""
+    spin = _two_sum(psidot0, 0.0)
+    spin = _dd_add(spin, _two_prod(phidot0, u0))
+    L3 = _dd_mul((top.I3, 0.0), spin)
+    numerator = _dd_add(_two_prod(4.0 * top.mgl, top.I1), _dd_mul((-L3[0], -L3[1]), L3))
+    return float(numerator[0] + numerator[1]) / (top.I1 * top.I1)
 
 
 def _vertical_period(top: HeavyTop, L3: float, u0: float) -> float:
