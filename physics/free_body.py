@@ -337,7 +337,9 @@ class FreeBody:
         perm = np.eye(3)[order]
         # Sorting must be a proper rotation so that Euler's equations keep their cyclic form.
         self._q_sort = perm if np.linalg.det(perm) > 0 else -perm
-        self._sorted = inertia[order]
+        # The motion depends on the moments' ratios only: the sorted moments are scaled by a power of two
+        # (exactly) to order 1, so that the invariants' squares neither overflow nor underflow.
+        self._sorted = np.ldexp(inertia[order], -math.frexp(float(inertia.max()))[1])
         i1, i2, i3 = self._sorted
         if i1 == i3:
             self._kind, self._sym_axis = "spherical", 0

@@ -57,7 +57,7 @@ from physics import G
 from physics.euler_angles import _theta_from, euler_attitude, omega_body_from_euler, symmetry_axis
 from physics.heavy_body import FrictionRun, TransverseAirDrag, _simulate_symmetric, simulate_heavy_body
 from physics.nutation_cubic import NutationCubic
-from physics.top_motion import _Motion, motion_constants
+from physics.top_motion import ScaledTop, _Motion, motion_constants
 from physics.top_trajectory import HeavyTopSolution, HeavyTopTrajectory, _times
 from physics.validation import MAX_RATE, MAX_STEPS, bounded_scalar, finite_array, finite_scalar
 
@@ -323,7 +323,14 @@ class HeavyTop:
         phi0: float = 0.0,
         psi0: float = 0.0,
     ) -> _Motion:
-        return motion_constants(self, theta0, thetadot0, phidot0, psidot0, phi0, psi0)
+        # The motion depends on I3/I1 and M g ℓ/I1 only: computed for the moments scaled by a power of two
+        # (exactly) to order 1, then L3, Lz and E scaled back, so that 1e-300 or 1e300 kg m² work alike.
+        exponent = math.frexp(self.I1)[1]
+        scaled = ScaledTop(*(math.ldexp(x, -exponent) for x in (self.I1, self.I3, self.mgl)))
+        motion = motion_constants(scaled, theta0, thetadot0, phidot0, psidot0, phi0, psi0)
+        motion.L3, motion.Lz = math.ldexp(motion.L3, exponent), math.ldexp(motion.Lz, exponent)
+        motion.energy = math.ldexp(motion.energy, exponent)
+        return motion
 
     def trajectory(
         self, theta0: float, thetadot0: float, phidot0: float, psidot0: float, *, phi0: float = 0.0, psi0: float = 0.0

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from scipy.special import ellipkm1
@@ -52,8 +52,16 @@ class _Motion:
     smooth: _SmoothPhi | None = None  # the pole terms summed without cancellation (see _SmoothPhi)
 
 
+class ScaledTop(NamedTuple):
+    """The moments a motion is computed with (kg m², J): a :class:`physics.heavy_top.HeavyTop`'s, scaled."""
+
+    I1: float
+    I3: float
+    mgl: float
+
+
 def motion_constants(
-    top: HeavyTop,
+    top: HeavyTop | ScaledTop,
     theta0: float,
     thetadot0: float,
     phidot0: float,
@@ -295,7 +303,7 @@ class _SmoothPhi:
     u1: float
 
 
-def _threshold_gap(top: HeavyTop, phidot0: float, psidot0: float, u0: float) -> float:
+def _threshold_gap(top: HeavyTop | ScaledTop, phidot0: float, psidot0: float, u0: float) -> float:
     """``4a − β² = (4 M g ℓ I1 − L3²) / I1²`` with ``L3 = I3 (ψ̇0 + φ̇0 u0)``, the numerator in double-double."""
     spin = _two_sum(psidot0, 0.0)
     spin = _dd_add(spin, _two_prod(phidot0, u0))
@@ -304,7 +312,7 @@ def _threshold_gap(top: HeavyTop, phidot0: float, psidot0: float, u0: float) -> 
     return float(numerator[0] + numerator[1]) / (top.I1 * top.I1)
 
 
-def _vertical_period(top: HeavyTop, L3: float, u0: float) -> float:
+def _vertical_period(top: HeavyTop | ScaledTop, L3: float, u0: float) -> float:
     # Limit of the nutation period of motions with Lz = ±L3 close to the vertical: π/λ with the
     # remaining root of the cubic; infinite when the vertical is unstable (separatrix).
     a, beta = top.mgl / top.I1, L3 / top.I1
