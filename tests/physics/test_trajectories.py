@@ -117,3 +117,27 @@ def test_pendulum_solve_is_the_trajectory_and_broadcasts_as_before():
     np.testing.assert_array_equal(paired.theta, [swing.theta[k, k] for k in range(3)])
     with pytest.raises(ValueError, match="finite"):
         PENDULUM.trajectory(0.1, 0.0).at(math.inf)
+
+
+@settings(max_examples=40, deadline=None)
+@given(theta0=st.floats(-7.0, 7.0), rate=st.floats(-4.0, 4.0), t=st.floats(-6.0, 6.0))
+def test_random_swings_match_an_independent_integration(theta0, rate, t):
+    # θ̈ = −ω0² sin θ by DOP853 at rtol 1e-13 over at most 6 s (≈ 10 small periods): its global error is
+    # ~1e-11 rad there; the closed form must agree to that.
+    from scipy.integrate import solve_ivp
+
+    thetadot0 = rate * W0
+    sol = solve_ivp(
+        lambda _, y: [y[1], -(W0**2) * math.sin(y[0])],
+        (0.0, t),
+        [theta0, thetadot0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-14,
+    )
+    theta, theta_dot = PENDULUM.trajectory(theta0, thetadot0).at(t)
+    assert abs(theta - sol.y[0, -1]) < 1e-9
+    assert abs(theta_dot - sol.y[1, -1]) < 1e-9 * max(W0, abs(thetadot0))
+    # The energy is the initial one (the closed form is exact: a few roundings of ω0² and θ̇²).
+    energy = 0.5 * theta_dot**2 - W0**2 * math.cos(theta)
+    assert energy == pytest.approx(0.5 * thetadot0**2 - W0**2 * math.cos(theta0), abs=1e-13 * (W0**2 + thetadot0**2))
