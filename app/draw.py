@@ -264,6 +264,7 @@ class Arrow:
             else None
         )
         self.tip = np.zeros(3)
+        self._vector = np.full(3, np.nan)  # what the browsers were last sent
         self._head = -1.0
         self._visible = True
         self._label_visible = True
@@ -277,8 +278,11 @@ class Arrow:
         if visible:
             self.tip = o + v
             # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
-            # (the web client does not follow a change of the start point alone).
-            send_points(self.handle, np.array([[np.zeros(3), v]]))
+            # (the web client does not follow a change of the start point alone). A constant vector
+            # (L of a free body) is not resent.
+            if not np.array_equal(v, self._vector):
+                self._vector = v
+                send_points(self.handle, np.array([[np.zeros(3), v]]))
             send_position(self.handle, o)  # sent only when it changed
             # Keep the head in proportion for short arrows.
             head = min(6.0 * self.shaft_radius, 0.45 * length)
@@ -454,8 +458,9 @@ class Cone:
             cast_shadow=False,
             receive_shadow=False,
         )
+        # A child of the cone: it follows the cone's pose and scale, so a frame moves one node, not two.
         self.rim = server.scene.add_line_segments(
-            name + "_rim",
+            name + "/rim",
             points=np.stack([vertices[1:], np.roll(vertices[1:], -1, axis=0)], axis=1).astype(np.float32),
             colors=COLOURS[quantity],
             thickness=2.0,
@@ -463,29 +468,35 @@ class Cone:
         )
         self._apex: NDArray[np.float64] | None = None
         self._scale: tuple[float, float, float] | None = None
+        self._shown = True
 
     def set(self, axis: ArrayLike, half_angle: float, slant: float, apex: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         """Axis (3,) (any length), half-angle (rad), slant length (m), apex (3,) (m)."""
         a = np.asarray(axis, dtype=float)
         n = float(np.linalg.norm(a))
         ok = math.isfinite(n) and n > 0 and math.isfinite(half_angle) and 1e-4 < half_angle < math.pi - 1e-4
-        self.handle.visible = ok
-        self.rim.visible = ok
+        if ok != self._shown:  # the rim, a child, is shown and hidden with the cone
+            self._shown = self.handle.visible = ok
         if not ok:
             return
         q = wxyz(_rotation_z_to(a / n))
         r, h = slant * math.sin(half_angle), slant * math.cos(half_angle)
         apex = np.asarray(apex, dtype=float)
         moved = self._apex is None or not np.array_equal(apex, self._apex)
-        resized = self._scale != (r, r, h)
-        self._apex, self._scale = apex, (r, r, h)
-        for hd in (self.handle, self.rim):
-            send_orientation(hd, q)
-            # Assign only what changed: each assignment is a message to every browser.
-            if resized:
-                hd.scale = (r, r, h)
-            if moved:
-                send_position(hd, apex)
+        # A cone of a constant angle and slant is resent only when it really changed (not by roundoff).
+        resized = (
+            self._scale is None
+            or not math.isclose(r, self._scale[0], rel_tol=1e-9)
+            or not math.isclose(h, self._scale[2], rel_tol=1e-9)
+        )
+        self._apex = apex
+        send_orientation(self.handle, q)
+        # Assign only what changed: each assignment is a message to every browser.
+        if resized:  # compared with what was last sent, so a slow drift is sent once it adds up
+            self._scale = (r, r, h)
+            self.handle.scale = self._scale
+        if moved:
+            send_position(self.handle, apex)
 
 
 @dataclass

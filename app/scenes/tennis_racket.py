@@ -120,7 +120,8 @@ class TennisRacket(Scene):
         self.handed: dict[str, Any] | None = None  # a body from the inertia explorer
         self._last_source = ""
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
-        self.frame = draw.PrincipalFrame(server, root + "/frame", length=0.6 * self.size)
+        # A child of the body: it turns with it without a message of its own each frame.
+        self.frame = draw.PrincipalFrame(server, root + "/body/frame", length=0.6 * self.size)
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         # The L-sphere in body axes: faint sphere, body axes, separatrix, polhode, current L.
@@ -340,7 +341,6 @@ class TennisRacket(Scene):
     def draw(self, state: dict[str, Any]) -> None:
         R, w, c = state["R"], state["omega_body"], self.centre
         self.body.set_pose(R, c)
-        self.frame.set_pose(R, c)
         self.L_arrow.set(self.L_space * self.L_scale, c)
         self.omega_arrow.set(R @ w * self.omega_scale, c)
         l_hat = self.moments * w / self.L_norm

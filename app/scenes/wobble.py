@@ -30,7 +30,12 @@ def cylinder_for_ratio(ratio: float, size: float) -> tuple[float, float]:
 
 
 def _angle(u: np.ndarray, v: np.ndarray) -> float:
-    return math.atan2(float(np.linalg.norm(np.cross(u, v))), float(u @ v))
+    """The angle between two 3-vectors, atan2(|u × v|, u·v) (accurate at 0 and π), on floats: a frame
+    asks twice and numpy's cross and norm cost more than the arithmetic."""
+    u0, u1, u2 = float(u[0]), float(u[1]), float(u[2])
+    v0, v1, v2 = float(v[0]), float(v[1]), float(v[2])
+    cross = math.sqrt((u1 * v2 - u2 * v1) ** 2 + (u2 * v0 - u0 * v2) ** 2 + (u0 * v1 - u1 * v0) ** 2)
+    return math.atan2(cross, u0 * v0 + u1 * v1 + u2 * v2)
 
 
 @register
@@ -52,7 +57,8 @@ class Wobble(Scene):
     def build(self) -> None:
         server, root = self.ctx.server, self.ctx.root
         self.body = draw.BodyMesh(server, root + "/body", draw.cylinder_mesh(0.5, 0.5))
-        self.frame = draw.PrincipalFrame(server, root + "/frame", length=0.75 * self.size)
+        # A child of the body: it turns with it without a message of its own each frame.
+        self.frame = draw.PrincipalFrame(server, root + "/body/frame", length=0.75 * self.size)
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         self.body_cone = draw.Cone(server, root + "/body_cone", "body_cone")
@@ -136,7 +142,6 @@ class Wobble(Scene):
         V = R.T if self.body_view.value else np.eye(3)
         axis, L = V @ R[:, 2], V @ self.L_space
         self.body.set_pose(V @ R, c)
-        self.frame.set_pose(V @ R, c)
         self.L_arrow.set(L * self.L_scale, c)
         self.omega_arrow.set(V @ w * self.omega_scale, c)
         slant = float(np.linalg.norm(w)) * self.omega_scale
