@@ -25,16 +25,22 @@ __all__ = ["send_orientation", "send_points", "send_position"]
 
 
 def _live(handle: Any) -> Any:
+    """The handle's state, or None when its browser has left (a frame in flight as it disconnects: there is
+    no one to send to, and viser would warn about a message queued on a closed connection)."""
     impl = handle._impl
     if impl.removed:
         # As viser's setters: an update to a removed node would re-create it as a ghost in the browsers.
         raise RuntimeError(f"cannot update the removed scene node {impl.name!r}")
+    if impl.api._websock_interface.get_message_buffer().done:
+        return None
     return impl
 
 
 def send_orientation(handle: Any, wxyz: NDArray[np.float64]) -> None:
     """Set a scene node's orientation ``(w, x, y, z)`` (unit quaternion, shape (4,)), if it changed."""
     impl = _live(handle)
+    if impl is None:
+        return
     value = (float(wxyz[0]), float(wxyz[1]), float(wxyz[2]), float(wxyz[3]))
     current = impl.wxyz
     if value == (current[0], current[1], current[2], current[3]):
@@ -46,6 +52,8 @@ def send_orientation(handle: Any, wxyz: NDArray[np.float64]) -> None:
 def send_position(handle: Any, position: NDArray[np.float64]) -> None:
     """Set a scene node's position (m, shape (3,)), if it changed."""
     impl = _live(handle)
+    if impl is None:
+        return
     value = (float(position[0]), float(position[1]), float(position[2]))
     current = impl.position
     if value == (current[0], current[1], current[2]):
@@ -60,6 +68,8 @@ def send_points(handle: Any, points: NDArray[Any]) -> None:
     A copy is sent: the caller may go on writing its buffer while the message waits to be serialized.
     """
     impl = _live(handle)
+    if impl is None:
+        return
     points = np.array(points, dtype=np.float32)
     impl.props.points = points
     impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, {"points": points}))

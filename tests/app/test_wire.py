@@ -92,3 +92,28 @@ def test_a_removed_node_is_refused(server):
     for send, value in ((send_orientation, np.array([1.0, 0, 0, 0])), (send_position, np.zeros(3))):
         with pytest.raises(RuntimeError, match="removed"):
             send(handle, value)
+
+
+def test_a_node_of_a_browser_that_left_is_skipped_without_a_warning(server):
+    import time
+    import warnings
+
+    from tests.harness import raw_client
+
+    class _App:  # what raw_client needs: the server to ask for its clients, and the port
+        def __init__(self, server):
+            self.server, self.port = server, server.get_port()
+
+    with raw_client(_App(server)):
+        deadline = time.monotonic() + 10
+        while not server.get_clients() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        client = next(iter(server.get_clients().values()))
+        handle = client.scene.add_frame("/mine", show_axes=False)
+    deadline = time.monotonic() + 10
+    while not client._websock_connection.get_message_buffer().done and time.monotonic() < deadline:
+        time.sleep(0.02)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # viser warns on a message queued on a closed connection
+        send_position(handle, np.array([1.0, 2.0, 3.0]))
+        send_orientation(handle, np.array([0.0, 1.0, 0.0, 0.0]))
