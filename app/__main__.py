@@ -30,6 +30,9 @@ def main(argv: list[str] | None = None) -> None:
         "the lecture read-only until they enter the PIN",
     )
     parser.add_argument("--pin", default=None, help="presenter PIN, 4 to 32 letters or digits (default: random)")
+    parser.add_argument(
+        "--state", default=None, metavar="TEXT", help="start from a state text (the panel's “Copy state”)"
+    )
     args = parser.parse_args(argv)
 
     from app.addresses import is_loopback, urls
@@ -43,6 +46,13 @@ def main(argv: list[str] | None = None) -> None:
             parser.error(str(exc))
     if args.private and args.presenter:
         parser.error("choose --presenter or --private, not both")
+    if args.state is not None:
+        from app.states import parse_state
+
+        try:
+            parse_state(args.state)
+        except ValueError as exc:
+            parser.error(f"--state: {exc}")
     presenter = True if args.presenter else None
     app = App(
         host=args.host,
@@ -52,6 +62,7 @@ def main(argv: list[str] | None = None) -> None:
         private=args.private,
         presenter=presenter,
         pin=args.pin,
+        state=args.state,
     )
     if is_loopback(args.host):
         print(f"Rigid Body Lab serving on {app.url}", flush=True)

@@ -34,9 +34,10 @@ import viser
 from app import draw
 from app.addresses import is_loopback
 from app.event_loop import confine_events
-from app.inputs import guard_inputs
+from app.inputs import check_update, guard_inputs
 from app.presenter import Classroom, check_pin, new_pin
 from app.scenes import REGISTRY, Scene, load_all, scene_names
+from app.states import parse_state, state_text
 
 __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 
@@ -187,10 +188,87 @@ class Simulation:
         self.step_button.on_click(self.guarded(lambda _: self.step()))
         self.reset_button.on_click(self.guarded(lambda _: self.restart()))
         self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(self.speed_slider.value)))
+        with gui.add_folder("State", expand_by_default=False) as state:
+            self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
+            self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
+            self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
+        self.copy_state_button.on_click(self.guarded(self._on_copy_state))
+        self.open_state_button.on_click(self.guarded(self._on_open_state))
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("")
         self._clock = clock
-        self._global_gui = [self._title, self.scene_picker, clock, self.status, self.legend]
+        self._global_gui = [self._title, self.scene_picker, clock, state, self.status, self.legend]
+
+    # ------------------------------------------------------------------ states as text
+    def state_text(self, client: Any = None) -> str:
+        """This simulation's state as a short text (:mod:`app.states`), with ``client``'s camera if given."""
+        camera = None
+        if client is not None:
+            camera = {"position": list(client.camera.position), "look_at": list(client.camera.look_at)}
+        return state_text(self.snapshot(), camera)
+
+    def open_state(self, text: str) -> None:
+        """Go to the state a text describes: all of it or, if any part is refused, none of it.
+
+        Raises
+        ------
+        ValueError
+            What is wrong with the text, or which control refused its value (the previous state stays).
+        """
+        state = parse_state(text)
+        with self.lock:
+            before = self.snapshot() if self.scene is not None else None
+            try:
+                if self.scene is None or self.scene.name != state["scene"]:
+                    self.switch_scene(state["scene"])
+                inputs = {str(h.label): h for h in self._scene_inputs if not h._impl.removed}
+                checked = []
+                for label, value in state["controls"]:
+                    handle = inputs.get(label)
+                    if handle is None:
+                        raise ValueError(f"this state sets “{label}”, which the scene does not have")
+                    checked.append(
+                        (label, check_update(handle.value, handle._impl.props, label, {"value": value})["value"])
+                    )
+                self.restore(
+                    {
+                        **state,
+                        "controls": [
+                            (str(h.label), dict(checked).get(str(h.label), h.value)) for h in self._scene_inputs
+                        ],
+                    }
+                )
+            except Exception:
+                if before is not None:
+                    self.restore(before)
+                raise
+            camera = state.get("camera")
+        if camera is not None:
+            self._set_camera(camera["position"], camera["look_at"])
+
+    def _set_camera(self, position: list[float], look_at: list[float]) -> None:
+        eye, target = np.array(position, dtype=float), np.array(look_at, dtype=float)
+        for client in self._clients():
+            with client.atomic():
+                client.camera.position = eye
+                client.camera.look_at = target
+        if isinstance(self.server, viser.ViserServer):
+            self.server.initial_camera.position = eye
+            self.server.initial_camera.look_at = target
+
+    def _on_copy_state(self, event: Any) -> None:
+        client = getattr(event, "client", None)
+        try:
+            self.state_box.value = self.state_text(client)
+        except ValueError as exc:
+            self.notify("No state text", str(exc), client=client, error=True)
+
+    def _on_open_state(self, event: Any) -> None:
+        client = getattr(event, "client", None)
+        try:
+            self.open_state(self.state_box.value)
+        except ValueError as exc:
+            self.notify("State refused", str(exc), client=client, error=True)
 
     def _on_pick(self, event: Any) -> None:
         if self._switching:
@@ -550,6 +628,9 @@ class App(Simulation):
         Presenter mode; default: on when ``host`` is not a loopback address and ``private`` is off.
     pin : str, optional
         The presenter PIN (4 to 32 letters or digits); default: six random digits, in ``app.pin``.
+    state : str, optional
+        A state text (:mod:`app.states`, the panel's "Copy state") to start from; in private mode every
+        browser's session starts from it. A bad text raises ValueError before the server starts.
     """
 
     def __init__(
@@ -565,7 +646,11 @@ class App(Simulation):
         private: bool = False,
         presenter: bool | None = None,
         pin: str | None = None,
+        state: str | None = None,
     ) -> None:
+        if state is not None:
+            scene = parse_state(state)["scene"]  # refused here, before anything starts
+        self._state_text = state
         first, _ = _first_scene(scene)
         if presenter is None:
             presenter = not private and not is_loopback(host)
@@ -595,6 +680,12 @@ class App(Simulation):
             server.on_client_disconnect(self._close_session)
         else:
             super().__init__(server, first, fps=fps, share=share)
+            if state is not None:
+                try:
+                    self.open_state(state)
+                except ValueError:
+                    server.stop()
+                    raise
         if start_loop:
             self.start()
 
@@ -624,6 +715,8 @@ class App(Simulation):
     def _open_session(self, client: viser.ClientHandle) -> None:
         try:
             session = Simulation(client, self._first, fps=self.fps, share=self._share)
+            if self._state_text is not None:
+                session.open_state(self._state_text)
         except Exception:
             if _departed(client):
                 return  # it left while its session was being built

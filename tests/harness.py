@@ -65,9 +65,10 @@ def running_app(
     private: bool = False,
     presenter: bool = False,
     pin: str | None = None,
+    state: str | None = None,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
-    127.0.0.1); stopped on exit."""
+    127.0.0.1; ``state``: a state text to start from); stopped on exit."""
     from app.server import App
 
     app = App(
@@ -78,6 +79,7 @@ def running_app(
         private=private,
         presenter=presenter,
         pin=pin,
+        state=state,
     )
     try:
         yield app

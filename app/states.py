@@ -1,0 +1,172 @@
+"""A simulation's state as a short text, and back: what "Copy state" shows and ``--state TEXT`` opens.
+
+The text is ``rbl1:`` followed by URL-safe base64 of zlib-compressed JSON: the scene, its controls by
+label (in order), its own motion state (the friction top's attitude and angular momentum), the time,
+speed and clock, and the camera of the browser that copied it. About 300 characters; it fits the panel's
+text box, a lecture file and a shell command.
+
+Reading is strict, because a text may come from anywhere: a size limit before and while decompressing,
+the version, every field's type and finiteness, a known scene. Anything else is a ValueError that says
+what was wrong. The controls' values are checked again against each control (range, options) when they
+are applied (:func:`app.inputs.check_update`).
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import json
+import math
+import zlib
+from typing import Any
+
+PREFIX = "rbl1:"
+"""Version 1 of the state text."""
+
+MAX_TEXT = 2000
+"""Longest state text read, characters (the panel's text box takes as many)."""
+
+MAX_JSON = 16_384
+"""Most bytes a state text may decompress to (a state is a few hundred)."""
+
+__all__ = ["MAX_TEXT", "PREFIX", "parse_state", "state_text"]
+
+
+def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None = None) -> str:
+    """The text of a :meth:`app.server.Simulation.snapshot` (and optionally a camera).
+
+    Raises
+    ------
+    ValueError
+        If the scene holds a body handed over from another scene (a mesh: it has no short text).
+    """
+    if snapshot.get("payload") is not None:
+        raise ValueError(
+            "this scene shows a body handed over from another scene; a state text cannot carry a mesh "
+            "(copy the state of the scene it came from instead)"
+        )
+    state = {
+        "scene": snapshot["scene"],
+        "controls": [[label, value] for label, value in snapshot["controls"]],
+        "motion": {key: _plain(value) for key, value in (snapshot.get("motion") or {}).items()},
+        "time": float(snapshot["time"]),
+        "speed": float(snapshot["speed"]),
+        "playing": bool(snapshot["playing"]),
+    }
+    if camera is not None:
+        state["camera"] = {key: [float(x) for x in camera[key]] for key in ("position", "look_at")}
+    raw = json.dumps(state, separators=(",", ":"), ensure_ascii=False).encode()
+    return PREFIX + base64.urlsafe_b64encode(zlib.compress(raw, 9)).decode().rstrip("=")
+
+
+def parse_state(text: Any, scenes: list[str] | None = None) -> dict[str, Any]:
+    """The state a text describes, checked: keys ``scene``, ``controls`` (list of ``(label, value)``),
+    ``motion`` (dict of number lists), ``time``, ``speed``, ``playing`` and optionally ``camera``.
+
+    Parameters
+    ----------
+    text : str
+        A text made by :func:`state_text`.
+    scenes : list of str, optional
+        The scene names accepted (default: every registered scene).
+
+    Raises
+    ------
+    ValueError
+        Naming what is wrong: not text, too long, not a state text (prefix), damaged, too large
+        unpacked, or a field of the wrong type, not finite, or an unknown scene.
+    """
+    if not isinstance(text, str):
+        raise ValueError(f"a state text is text, got {type(text).__name__}")
+    text = text.strip()
+    if len(text) > MAX_TEXT:
+        raise ValueError(f"a state text has at most {MAX_TEXT} characters, this one has {len(text)}")
+    if not text.startswith(PREFIX):
+        raise ValueError(f"not a Rigid Body Lab state: a state text starts with “{PREFIX}”")
+    body = text[len(PREFIX) :]
+    try:
+        packed = base64.urlsafe_b64decode(body + "=" * (-len(body) % 4))
+        inflater = zlib.decompressobj()
+        raw = inflater.decompress(packed, MAX_JSON + 1)
+        if len(raw) > MAX_JSON or inflater.unconsumed_tail:
+            raise ValueError(f"this state text unpacks to more than {MAX_JSON} bytes: it is not a state")
+        if not inflater.eof:
+            raise ValueError("this state text is cut short (copy all of it)")
+        state = json.loads(raw.decode())
+    except ValueError as exc:
+        if "state text" in str(exc):
+            raise
+        raise ValueError(f"this state text is damaged (copy it again): {exc}") from None
+    except (binascii.Error, zlib.error, UnicodeDecodeError) as exc:
+        raise ValueError(f"this state text is damaged (copy it again): {exc}") from None
+    return _checked(state, scenes)
+
+
+def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:
+    if not isinstance(state, dict):
+        raise ValueError("this state text does not hold a state")
+    if scenes is None:
+        from app.scenes import scene_names
+
+        scenes = scene_names()
+    scene = state.get("scene")
+    if scene not in scenes:
+        raise ValueError(f"this state is of a scene this app does not have: {str(scene)[:40]!r}")
+    controls = state.get("controls")
+    if not isinstance(controls, list) or not all(
+        isinstance(c, list) and len(c) == 2 and isinstance(c[0], str) and _value(c[1]) for c in controls
+    ):
+        raise ValueError("this state's controls are not (label, value) pairs of numbers, text or on/off")
+    motion = state.get("motion", {})
+    if not isinstance(motion, dict) or not all(_numbers(v) for v in motion.values()):
+        raise ValueError("this state's motion is not lists of finite numbers")
+    out: dict[str, Any] = {
+        "scene": scene,
+        "payload": None,
+        "controls": [(label, tuple(value) if isinstance(value, list) else value) for label, value in controls],
+        "motion": motion,
+    }
+    for key, low, high in (("time", -1e12, 1e12), ("speed", 0.0, 1e3)):
+        value = state.get(key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+            raise ValueError(f"this state's {key} must be a number between {low:g} and {high:g}, got {value!r}")
+        out[key] = float(value)
+    if not isinstance(state.get("playing"), bool):
+        raise ValueError("this state's clock must be running or paused (true or false)")
+    out["playing"] = state["playing"]
+    camera = state.get("camera")
+    if camera is not None:
+        if not isinstance(camera, dict) or not all(
+            _numbers(camera.get(key)) and len(camera[key]) == 3 for key in ("position", "look_at")
+        ):
+            raise ValueError("this state's camera must be a position and a look-at point, three numbers each")
+        out["camera"] = {key: [float(x) for x in camera[key]] for key in ("position", "look_at")}
+    return out
+
+
+def _value(value: Any) -> bool:
+    if isinstance(value, (bool, str)):
+        return len(value) <= MAX_TEXT if isinstance(value, str) else True
+    if isinstance(value, list):
+        return _numbers(value)
+    return isinstance(value, (int, float)) and math.isfinite(value) and abs(value) <= 2**53
+
+
+def _numbers(value: Any) -> bool:
+    """A (nested) list of finite numbers, at most 64 of them."""
+    flat: list[Any] = []
+
+    def walk(v: Any) -> bool:
+        if isinstance(v, list):
+            return all(walk(x) for x in v)
+        flat.append(v)
+        return not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v)
+
+    return isinstance(value, list) and walk(value) and len(flat) <= 64
+
+
+def _plain(value: Any) -> Any:
+    """numpy arrays and scalars as JSON lists and floats."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    return value

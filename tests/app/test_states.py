@@ -1,0 +1,127 @@
+"""States as text (issue 13, item 2): "Copy state" gives a short text, ``open_state`` / ``--state TEXT``
+reopen exactly that state; a bad or foreign text is refused with a message and nothing changes."""
+
+from __future__ import annotations
+
+import base64
+import json
+import zlib
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from app.__main__ import main
+from app.states import MAX_JSON, PREFIX, parse_state, state_text
+from tests.harness import raw_client, running_app, wait_for
+
+FRICTION = "sleeping top with friction: falls"
+
+
+def _pack(obj) -> str:
+    raw = json.dumps(obj).encode()
+    return PREFIX + base64.urlsafe_b64encode(zlib.compress(raw)).decode()
+
+
+def _same(a: dict, b: dict) -> None:
+    assert a["scene"] == b["scene"] and a["controls"] == b["controls"]
+    assert a["time"] == b["time"] and a["speed"] == b["speed"] and a["playing"] == b["playing"]
+    assert a["motion"].keys() == b["motion"].keys()
+    for key in a["motion"]:
+        np.testing.assert_array_equal(a["motion"][key], b["motion"][key])
+
+
+def test_a_state_round_trips_through_its_text_exactly():
+    with running_app("heavy_top", start_loop=False) as app:
+        assert app.scene.presets.choose(FRICTION)
+        app.set_playing(True)
+        app.set_speed(2.5)
+        for _ in range(40):
+            app.frame(1.0 / 60.0)
+        before = app.snapshot()
+        text = app.state_text()
+        assert text.startswith(PREFIX) and len(text) < 1000
+        with running_app("wobble", start_loop=False) as other:
+            other.open_state(text)
+            _same(other.snapshot(), before)
+            # The stepped friction top goes on from the same attitude: the next frames agree too.
+            app.frame(1.0 / 60.0)
+            other.frame(1.0 / 60.0)
+            np.testing.assert_array_equal(app.scene.R, other.scene.R)
+        # The parsed text is the snapshot (state → text → state).
+        _same(parse_state(text), before)
+
+
+def test_the_copy_button_writes_the_text_and_open_brings_it_back_with_the_camera():
+    with running_app("pendulum", start_loop=False) as app:
+        camera = SimpleNamespace(position=np.array([1.0, -2.0, 0.5]), look_at=np.array([0.0, 0.0, 0.3]))
+        client = SimpleNamespace(camera=camera, client_id="someone")
+        app._on_copy_state(SimpleNamespace(client=client))
+        text = app.state_box.value
+        assert parse_state(text)["camera"] == {"position": [1.0, -2.0, 0.5], "look_at": [0.0, 0.0, 0.3]}
+        app.switch_scene("wobble")
+        app.open_state(text)
+        assert app.scene.name == "pendulum"
+        np.testing.assert_allclose(app.server.initial_camera.position, [1.0, -2.0, 0.5])
+
+
+def test_a_state_text_opens_the_app_there_and_every_private_session():
+    with running_app("heavy_top", start_loop=False) as source:
+        source.set_speed(3.0)
+        text = source.state_text()
+    with running_app(state=text, start_loop=False) as app:
+        assert app.scene.name == "heavy_top" and app.speed == 3.0
+    with running_app(private=True, state=text) as app, raw_client(app):
+        session = wait_for(lambda: next(iter(app.sessions.values()), None), what="the session")
+        wait_for(lambda: session.scene is not None and session.speed == 3.0, what="the session at the state")
+
+
+BAD = {
+    "not text": (12, "is text"),
+    "foreign": ("https://example.org/?s=1", "starts with"),
+    "too long": (PREFIX + "A" * 3000, "at most 2000"),
+    "cut short": (PREFIX + base64.urlsafe_b64encode(zlib.compress(b'{"scene": "wobble"}')[:-4]).decode(), "cut short"),
+    "not json": (PREFIX + base64.urlsafe_b64encode(zlib.compress(b"hello")).decode(), "damaged"),
+    "bomb": (PREFIX + base64.urlsafe_b64encode(zlib.compress(b"0" * (4 * MAX_JSON), 9)).decode(), "more than"),
+    "not a state": (_pack([1, 2, 3]), "does not hold a state"),
+    "unknown scene": (_pack({"scene": "orrery"}), "does not have"),
+    "bad controls": (_pack({"scene": "wobble", "controls": [["spin", {"x": 1}]]}), "controls"),
+    "nan time": (
+        _pack({"scene": "wobble", "controls": [], "time": float("nan"), "speed": 1, "playing": True}),
+        "time",
+    ),
+    "absurd speed": (_pack({"scene": "wobble", "controls": [], "time": 0, "speed": 1e9, "playing": True}), "speed"),
+    "bad camera": (
+        _pack({"scene": "wobble", "controls": [], "time": 0, "speed": 1, "playing": True, "camera": {"position": [1]}}),
+        "camera",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_a_bad_text_is_refused_with_a_message(name):
+    text, message = BAD[name]
+    with pytest.raises(ValueError, match=message):
+        parse_state(text)
+
+
+def test_a_refused_control_leaves_the_previous_state_whole():
+    with running_app("pendulum", start_loop=False) as app:
+        app.set_speed(4.0)
+        before = app.snapshot()
+        good = parse_state(state_text({**before, "scene": "wobble", "controls": [], "motion": {}}))
+        text = state_text({**good, "controls": [("no such slider", 1.0)]})
+        with pytest.raises(ValueError, match="no such slider"):
+            app.open_state(text)
+        _same(app.snapshot(), before)
+        # A value beyond a slider's range is clamped to it, as a browser's would be.
+        wobble = state_text({**good, "controls": [("|ω| (rad/s)", 1e9)]})
+        app.open_state(wobble)
+        assert app.scene.params.values["spin"] == 10.0
+
+
+def test_the_command_refuses_a_bad_state_before_starting(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["--state", "not-a-state", "--port", "0"])
+    assert info.value.code == 2
+    assert "--state: not a Rigid Body Lab state" in capsys.readouterr().err
