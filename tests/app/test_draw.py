@@ -89,5 +89,5 @@ def test_cone_points_along_its_axis_with_its_half_angle(app):
     np.testing.assert_allclose(cone.handle.position, [1.0, 2.0, 3.0])
     cone.set(axis, 0.0, 2.0)  # degenerate: hidden
     assert not cone.handle.visible
-    cone.handle.remove()
-    cone.rim.remove()
+    assert cone.rim.name.startswith(cone.handle.name + "/")  # a child: shown, hidden and moved with the cone
+    cone.handle.remove()  # and removed with it
