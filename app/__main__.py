@@ -33,6 +33,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--state", default=None, metavar="TEXT", help="start from a state text (the panel's “Copy state”)"
     )
+    parser.add_argument(
+        "--lecture",
+        default=None,
+        metavar="FILE",
+        help="follow a lecture: a TOML file of steps, or the name of one in lectures/ (e.g. rigid-body-motion)",
+    )
     args = parser.parse_args(argv)
 
     from app.addresses import is_loopback, urls
@@ -53,17 +59,28 @@ def main(argv: list[str] | None = None) -> None:
             parse_state(args.state)
         except ValueError as exc:
             parser.error(f"--state: {exc}")
+    if args.lecture is not None:
+        from app.lectures import read_lecture
+
+        try:
+            read_lecture(args.lecture)
+        except ValueError as exc:
+            parser.error(f"--lecture: {exc}")
     presenter = True if args.presenter else None
-    app = App(
-        host=args.host,
-        port=args.port,
-        scene=args.scene,
-        share=args.share,
-        private=args.private,
-        presenter=presenter,
-        pin=args.pin,
-        state=args.state,
-    )
+    try:
+        app = App(
+            host=args.host,
+            port=args.port,
+            scene=args.scene,
+            share=args.share,
+            private=args.private,
+            presenter=presenter,
+            pin=args.pin,
+            state=args.state,
+            lecture=args.lecture,
+        )
+    except ValueError as exc:  # a lecture step or a state the scene refuses
+        parser.error(str(exc))
     if is_loopback(args.host):
         print(f"Rigid Body Lab serving on {app.url}", flush=True)
     else:

@@ -47,6 +47,7 @@ class ParameterPanel:
         self.ctx = ctx
         self._apply = apply
         self.values: dict[str, float] = {s.key: float(s.initial) for s in specs}
+        self.last_refusal: Exception | None = None  # why the last offer was refused (a lecture step reports it)
         self.sliders: dict[str, Any] = {}
         self._syncing = False
         self.refusals = 0  # how many changes were refused (tests and the status line read it)
@@ -98,6 +99,7 @@ class ParameterPanel:
     def refuse(self, exc: Exception, client: Any = None) -> None:
         """Tell the browser that asked why its change was refused, and show the values in force."""
         self.refusals += 1
+        self.last_refusal = exc
         if isinstance(exc, ValueError):
             title, text = "Refused: that is not a possible body", str(exc)
         else:

@@ -26,6 +26,7 @@ import threading
 import time
 import traceback
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -35,6 +36,7 @@ from app import draw
 from app.addresses import is_loopback
 from app.event_loop import confine_events
 from app.inputs import check_update, guard_inputs
+from app.lectures import Lecture, Step, read_lecture
 from app.presenter import Classroom, check_pin, new_pin
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.states import parse_state, state_text
@@ -138,6 +140,10 @@ class Simulation:
         self._building: Scene | None = None  # the scene whose build() is running (see guarded)
         self._scene_inputs: list[Any] = []  # the scene's own controls, in the order it made them
         self._payload: Any = None  # what the current scene was handed by another (see switch_to)
+        self.lecture: Lecture | None = None  # the lecture followed (load_lecture), its step and when it began
+        self.step_index = 0
+        self._step_started = 0.0
+        self._lecture_gui: Any = None
 
         self.server.scene.set_up_direction("+z")
         self._grid = self.server.scene.add_grid(
@@ -198,6 +204,97 @@ class Simulation:
         self.legend = gui.add_html("")
         self._clock = clock
         self._global_gui = [self._title, self.scene_picker, clock, state, self.status, self.legend]
+
+    # ------------------------------------------------------------------ lectures
+    def load_lecture(self, lecture: Lecture, *, check: bool = True) -> None:
+        """Follow a lecture (:mod:`app.lectures`): its steps in the panel with Previous and Next.
+
+        With ``check`` every step is applied once first, so that what only a scene can check (a preset's
+        name, a slider's range, a possible body) is checked before the lecture starts at step 1.
+
+        Raises
+        ------
+        ValueError
+            Naming the step (1-based) and what was wrong with it; the simulation is left at its first scene.
+        """
+        with self.lock:
+            if check:
+                for k, step in enumerate(lecture.steps, start=1):
+                    try:
+                        self._apply_step(step)
+                    except ValueError as exc:
+                        raise ValueError(f"{Path(lecture.source).name or lecture.title}, step {k}: {exc}") from None
+            self.lecture = lecture
+            if self._lecture_gui is None:
+                gui = self.server.gui
+                with gui.add_folder("Lecture", order=-1.0) as folder:
+                    self._lecture_text = gui.add_markdown("")
+                    previous = gui.add_button("Previous", icon=viser.Icon.CHEVRON_LEFT)
+                    following = gui.add_button("Next", icon=viser.Icon.CHEVRON_RIGHT)
+                previous.on_click(self.guarded(lambda _: self.go_to_step(self.step_index - 1)))
+                following.on_click(self.guarded(lambda _: self.go_to_step(self.step_index + 1)))
+                self._lecture_gui = folder
+                self._global_gui.append(folder)
+            self.go_to_step(0)
+
+    def go_to_step(self, index: int) -> None:
+        """Show step ``index`` (0-based, clamped to the lecture) of the lecture being followed."""
+        lecture = self.lecture
+        if lecture is None:
+            return
+        with self.lock:
+            index = min(max(index, 0), len(lecture.steps) - 1)
+            step = lecture.steps[index]
+            self.step_index = index
+            self._step_started = time.monotonic()
+            try:
+                self._apply_step(step)
+            except ValueError as exc:  # checked when loaded; a body handed over since may refuse it
+                self.notify(f"Step {index + 1} could not be shown", str(exc), error=True)
+            self._lecture_text.content = (
+                f"**{lecture.title}** — step {index + 1} of {len(lecture.steps)}\n\n{step.caption}".rstrip()
+            )
+
+    def _auto_advance(self) -> None:
+        """Go to the next step when the current one has ``seconds`` and they have passed (the last stays)."""
+        lecture = self.lecture
+        if lecture is None or self._closed or self.step_index + 1 >= len(lecture.steps):
+            return
+        seconds = lecture.steps[self.step_index].seconds
+        if seconds is not None and time.monotonic() - self._step_started >= seconds:
+            self.go_to_step(self.step_index + 1)
+
+    def _apply_step(self, step: Step) -> None:
+        """Put the simulation at a step: its state or its scene from the defaults, then preset, values, camera."""
+        if step.state is not None:
+            self.open_state(step.state)
+            if step.scene is not None and self.scene is not None and self.scene.name != step.scene:
+                raise ValueError(f"scene: the state is of {self.scene.name!r}, the step says {step.scene!r}")
+        else:
+            assert step.scene is not None  # read_lecture: a step has a scene or a state
+            self.switch_scene(step.scene)
+        scene = self.scene
+        assert scene is not None
+        if step.preset is not None:
+            presets = getattr(scene, "presets", None)
+            names = list(presets.presets) if presets is not None else []
+            if presets is None or step.preset not in names:
+                raise ValueError(f"preset: {scene.name} has no preset {step.preset!r}; its presets are {names}")
+            if not presets.choose(step.preset):
+                raise ValueError(f"preset {step.preset!r} was refused: {presets.panel.last_refusal}")
+        if step.values:
+            params = getattr(scene, "params", None)
+            if params is None:
+                raise ValueError(f"values: {scene.name} has no sliders")
+            for key, value in step.values.items():
+                try:
+                    params._number(key, value)
+                except ValueError as exc:
+                    raise ValueError(f"values.{key}: {exc}") from None
+            if not params.offer(step.values):
+                raise ValueError(f"values were refused: {params.last_refusal}")
+        if step.camera is not None:
+            self._set_camera(step.camera["position"], step.camera["look_at"])
 
     # ------------------------------------------------------------------ states as text
     def state_text(self, client: Any = None) -> str:
@@ -548,6 +645,7 @@ class Simulation:
     def frame(self, wall_dt: float = 1.0 / FPS) -> bool:
         """Advance the clock by ``wall_dt`` × speed (if playing) and redraw; True if a frame was drawn."""
         with self.lock:
+            self._auto_advance()
             scene = self.scene
             if scene is None or self._closed or self._gone():
                 return False
@@ -631,6 +729,10 @@ class App(Simulation):
     state : str, optional
         A state text (:mod:`app.states`, the panel's "Copy state") to start from; in private mode every
         browser's session starts from it. A bad text raises ValueError before the server starts.
+    lecture : str, optional
+        A lecture file, by path or by name in ``lectures/`` (:mod:`app.lectures`); every step is checked
+        before the server serves (ValueError naming the step and the key). In private mode every browser
+        follows it on its own.
     """
 
     def __init__(
@@ -647,10 +749,12 @@ class App(Simulation):
         presenter: bool | None = None,
         pin: str | None = None,
         state: str | None = None,
+        lecture: str | None = None,
     ) -> None:
         if state is not None:
             scene = parse_state(state)["scene"]  # refused here, before anything starts
         self._state_text = state
+        self._lecture = read_lecture(lecture) if lecture is not None else None
         first, _ = _first_scene(scene)
         if presenter is None:
             presenter = not private and not is_loopback(host)
@@ -676,16 +780,27 @@ class App(Simulation):
             self.lock = threading.RLock()
             self.scene = None
             server.gui.configure_theme(control_width="large", show_share_button=share)
+            if self._lecture is not None:  # checked once, on a simulation nobody sees, before serving
+                probe = Simulation(server, first, fps=fps, share=share)
+                try:
+                    probe.load_lecture(self._lecture)
+                except ValueError:
+                    server.stop()
+                    raise
+                finally:
+                    probe.close()
             server.on_client_connect(self._open_session)
             server.on_client_disconnect(self._close_session)
         else:
             super().__init__(server, first, fps=fps, share=share)
-            if state is not None:
-                try:
+            try:
+                if state is not None:
                     self.open_state(state)
-                except ValueError:
-                    server.stop()
-                    raise
+                if self._lecture is not None:
+                    self.load_lecture(self._lecture)
+            except ValueError:
+                server.stop()
+                raise
         if start_loop:
             self.start()
 
@@ -717,6 +832,8 @@ class App(Simulation):
             session = Simulation(client, self._first, fps=self.fps, share=self._share)
             if self._state_text is not None:
                 session.open_state(self._state_text)
+            if self._lecture is not None:
+                session.load_lecture(self._lecture, check=False)
         except Exception:
             if _departed(client):
                 return  # it left while its session was being built

@@ -1,0 +1,171 @@
+"""Lectures: a TOML file of steps that the panel walks through with "Previous" and "Next".
+
+A file holds an optional ``title`` and a list of ``[[step]]`` tables with the keys::
+
+    scene    = "heavy_top"                  # a scene name (required unless ``state`` is given)
+    preset   = "cusps (θ̇0 = 0)"             # one of the scene's presets
+    values   = { I1 = 0.02, friction = 0 }  # slider values under the scene's keys (SI units, README)
+    caption  = "**Cusps.** ..."             # markdown shown in the panel for this step
+    camera   = { position = [2, -2, 1.5], look_at = [0, 0, 0.5] }   # m
+    seconds  = 20                           # go to the next step by itself after this long
+    state    = "rbl1:..."                   # a state text (the panel's "Copy state") instead of the above
+
+:func:`read_lecture` checks the file's shape (keys, types, finite numbers) and names the step and the key
+of anything wrong; what only a scene can check (a preset's name, a value in a slider's range, a possible
+body) is checked by walking every step once before the lecture starts
+(:meth:`app.server.Simulation.load_lecture`), so nothing starts half-built. ``rigid-body-lab --lecture NAME``
+finds ``lectures/NAME.toml``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+LECTURES = Path(__file__).resolve().parent.parent / "lectures"
+"""Where ``--lecture NAME`` looks for ``NAME.toml``."""
+
+MAX_BYTES = 1_000_000
+"""Largest lecture file read, bytes."""
+
+KEYS = ("scene", "preset", "values", "caption", "camera", "seconds", "state")
+
+__all__ = ["LECTURES", "Lecture", "Step", "find_lecture", "read_lecture"]
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a lecture (see the module docstring for the keys)."""
+
+    scene: str | None = None
+    preset: str | None = None
+    values: dict[str, float] = field(default_factory=dict)
+    caption: str = ""
+    camera: dict[str, list[float]] | None = None
+    seconds: float | None = None
+    state: str | None = None
+
+
+@dataclass(frozen=True)
+class Lecture:
+    """A lecture: its title and its steps, in order."""
+
+    title: str
+    steps: tuple[Step, ...]
+    source: str = ""
+
+
+def find_lecture(name_or_path: str) -> Path:
+    """The file of a lecture given by path or by name (``lectures/NAME.toml``).
+
+    Raises
+    ------
+    ValueError
+        If neither exists (the message lists the lectures shipped).
+    """
+    path = Path(name_or_path)
+    if path.is_file():
+        return path
+    shipped = LECTURES / f"{name_or_path}.toml"
+    if shipped.is_file():
+        return shipped
+    names = sorted(p.stem for p in LECTURES.glob("*.toml"))
+    raise ValueError(f"no lecture file {name_or_path!r}; the lectures shipped are: {', '.join(names) or 'none'}")
+
+
+def read_lecture(name_or_path: str, scenes: list[str] | None = None) -> Lecture:
+    """Read and check a lecture file (by path or by name).
+
+    Raises
+    ------
+    ValueError
+        The file is missing, too large, not TOML, or a step has an unknown key, a value of the wrong type
+        or an unknown scene; the message names the step (1-based) and the key.
+    """
+    path = find_lecture(name_or_path)
+    if path.stat().st_size > MAX_BYTES:
+        raise ValueError(f"{path}: a lecture file has at most {MAX_BYTES:,} bytes")
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: not a TOML file ({exc})") from None
+    if scenes is None:
+        from app.scenes import scene_names
+
+        scenes = scene_names()
+    title = document.get("title", path.stem)
+    if not isinstance(title, str):
+        raise ValueError(f"{path}: title must be text")
+    unknown = set(document) - {"title", "step"}
+    if unknown:
+        raise ValueError(f"{path}: unknown key {sorted(unknown)[0]!r} (a lecture has a title and [[step]] tables)")
+    raw_steps = document.get("step")
+    if not isinstance(raw_steps, list) or not raw_steps:
+        raise ValueError(f"{path}: a lecture needs at least one [[step]]")
+    steps = tuple(_step(raw, k, scenes, path) for k, raw in enumerate(raw_steps, start=1))
+    return Lecture(title, steps, str(path))
+
+
+def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
+    where = f"{path.name}, step {k}"
+    if not isinstance(raw, dict):
+        raise ValueError(f"{where}: a step is a table of keys")
+    for key in raw:
+        if key not in KEYS:
+            raise ValueError(f"{where}: unknown key {key!r} (a step has {', '.join(KEYS)})")
+    state = raw.get("state")
+    if state is not None:
+        from app.states import parse_state
+
+        if not isinstance(state, str):
+            raise ValueError(f"{where}, state: a state text, as “Copy state” gives it")
+        try:
+            parse_state(state, scenes)
+        except ValueError as exc:
+            raise ValueError(f"{where}, state: {exc}") from None
+    scene = raw.get("scene")
+    if scene is None and state is None:
+        raise ValueError(f"{where}: a step needs a scene (or a state)")
+    if scene is not None and scene not in scenes:
+        raise ValueError(f"{where}, scene: no scene {scene!r}; the scenes are {', '.join(scenes)}")
+    preset = raw.get("preset")
+    if preset is not None and not isinstance(preset, str):
+        raise ValueError(f"{where}, preset: the name of one of the scene's presets")
+    values = raw.get("values", {})
+    if not isinstance(values, dict):
+        raise ValueError(f"{where}, values: a table of slider values, e.g. values = {{ spin = 3.0 }}")
+    for key, value in values.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError(f"{where}, values.{key}: a finite number, got {value!r}")
+    caption = raw.get("caption", "")
+    if not isinstance(caption, str):
+        raise ValueError(f"{where}, caption: markdown text")
+    camera = raw.get("camera")
+    if camera is not None:
+        ok = isinstance(camera, dict) and set(camera) == {"position", "look_at"}
+        ok = ok and all(
+            isinstance(v, list)
+            and len(v) == 3
+            and all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v)
+            for v in camera.values()
+        )
+        if not ok:
+            raise ValueError(f"{where}, camera: {{ position = [x, y, z], look_at = [x, y, z] }} in metres")
+        camera = {key: [float(x) for x in value] for key, value in camera.items()}
+    seconds = raw.get("seconds")
+    if seconds is not None and (
+        isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not 0.5 <= seconds <= 86_400
+    ):
+        raise ValueError(f"{where}, seconds: between 0.5 and 86400, got {seconds!r}")
+    return Step(
+        scene=scene,
+        preset=preset,
+        values={key: float(value) for key, value in values.items()},
+        caption=caption,
+        camera=camera,
+        seconds=None if seconds is None else float(seconds),
+        state=state,
+    )
