@@ -12,9 +12,13 @@ model and the picture stay as they were.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
+import viser
 
 __all__ = ["SliderSpec", "ParameterPanel", "Readout", "Presets", "Gauge", "refusable_dropdown"]
 
@@ -257,3 +261,66 @@ def refusable_dropdown(
 
     handle.on_update(ctx.guarded(on_update))
     return handle
+
+
+DRIFT_HZ = 4.0
+"""The invariant-drift plot is refreshed at most this often (a few arrays to every browser)."""
+
+DRIFT_POINTS = 80
+"""Samples the invariant-drift plot keeps (the newest at the right)."""
+
+DRIFT_FLOOR = 1e-17
+"""A drift below this (exactly 0 included) is drawn at it: the plot is of log₁₀, and 0 has none."""
+
+
+class InvariantDrift:
+    """A small live plot of the relative drift of a scene's invariants (E, |L|, L_z, L₃ as they apply).
+
+    ``add(t, values)`` takes each invariant's value and its scale (the size a drift is measured against:
+    |L| for L_z, which may pass through 0); the first sample after :meth:`clear` is the reference. The plot
+    shows log₁₀ |v − v₀| / scale against time: flat near −15 for an exact solution, rising for friction or
+    an integrator. It is cleared with the scene's traces (Reset, a new parameter).
+    """
+
+    def __init__(self, ctx: Any, names: tuple[str, ...], colours: tuple[str, ...]) -> None:
+        self.names = names
+        self.handle = ctx.server.gui.add_uplot(
+            data=(np.zeros(1), *(np.full(1, math.log10(DRIFT_FLOOR)) for _ in names)),
+            series=(
+                viser.uplot.Series(label="t (s)"),
+                *(viser.uplot.Series(label=name, stroke=colour, width=2) for name, colour in zip(names, colours)),
+            ),
+            scales={
+                "x": viser.uplot.Scale(time=False, auto=True),
+                "y": viser.uplot.Scale(auto=False, range=(-17.0, 0.0)),
+            },
+            title="Invariants: log₁₀ relative drift",
+            aspect=2.2,
+        )
+        self.clear()
+
+    def clear(self) -> None:
+        self.reference: dict[str, float] | None = None
+        self.times: list[float] = []
+        self.drifts: list[list[float]] = [[] for _ in self.names]
+        self._sent = -math.inf
+
+    def add(self, t: float, values: dict[str, tuple[float, float]]) -> None:
+        """One sample: ``values[name] = (value, scale)``; the plot is sent at most :data:`DRIFT_HZ` times a second."""
+        if self.reference is None:
+            self.reference = {name: values[name][0] for name in self.names}
+        for k, name in enumerate(self.names):
+            value, scale = values[name]
+            drift = abs(value - self.reference[name]) / scale if scale > 0.0 else 0.0
+            self.drifts[k].append(math.log10(max(drift, DRIFT_FLOOR)) if math.isfinite(drift) else 0.0)
+            del self.drifts[k][:-DRIFT_POINTS]
+        self.times.append(float(t))
+        del self.times[:-DRIFT_POINTS]
+        now = time.monotonic()
+        if now - self._sent >= 1.0 / DRIFT_HZ:
+            self._sent = now
+            self.handle.data = (np.array(self.times), *(np.array(d) for d in self.drifts))
+
+    def latest(self) -> dict[str, float]:
+        """The newest log₁₀ drift of each invariant (what the plot shows at its right end)."""
+        return {name: d[-1] for name, d in zip(self.names, self.drifts) if d}

@@ -133,6 +133,8 @@ class HeavyTopScene(Scene):
         self.nutation_readout = controls.Readout(self.ctx, "nutation period (s)")
         self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
         self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
+        self.drift = controls.InvariantDrift(self.ctx, ("E", "L_z", "L₃"), ("#333333", "#b07000", "#1478ff"))
+        self.traces.append(self.drift)
         self._plot_time = 0.0
         self._y_range: tuple[float, float] | None = None
         self.apply(self.params.values)
@@ -227,6 +229,15 @@ class HeavyTopScene(Scene):
         self.torque_arrow.set(state["torque"] * self.torque_scale, 0.55 * LENGTH * state["axis"])
         self.trace.append(LENGTH * state["axis"])
         self._readouts(state)
+        # E = ½ ω·L + M g ℓ cos θ, L_z and L₃: constant for the exact top, falling with friction.
+        L_body, L = state["L_body"], state["L"]
+        top = self.top
+        energy = 0.5 * float(L_body @ (L_body / np.array([top.I1, top.I1, top.I3]))) + top.mgl * float(state["axis"][2])
+        size = float(np.linalg.norm(L))
+        self.drift.add(
+            self.ctx.time,
+            {"E": (energy, abs(energy) + top.mgl), "L_z": (float(L[2]), size), "L₃": (float(L_body[2]), size)},
+        )
 
     def _readouts(self, state: dict[str, Any]) -> None:
         top = self.top

@@ -19,6 +19,7 @@ from app import controls, draw
 from app.scenes import Scene, register
 from app.wire import send_position
 from assets import load_mesh, mass_properties
+from physics import G
 from physics.inertia import MassProperties, rod
 from physics.pendulum import PhysicalPendulum
 
@@ -79,7 +80,7 @@ class Pendulum(Scene):
         self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.012)
         self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.012)
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
-        self.traces = [self.trace]
+        self.traces: list[Any] = [self.trace]
 
         self.choice = controls.refusable_dropdown(
             self.ctx, "Body", tuple(BODIES), BODIES[0], apply=lambda: self.params.offer({})
@@ -109,6 +110,8 @@ class Pendulum(Scene):
         self.l_readout = controls.Readout(self.ctx, "effective length ℓ = k²/a⊥ (m)")
         self.period_readout = controls.Readout(self.ctx, "period: small swings / this amplitude (s)", fmt="{}")
         self.strike_readout = controls.Readout(self.ctx, "last strike: Δω (rad/s), |pivot impulse| (N s)", fmt="{}")
+        self.drift = controls.InvariantDrift(self.ctx, ("E",), ("#333333",))
+        self.traces.append(self.drift)
         self.last_strike: dict[str, Any] | None = None
         self.apply(self.params.values)
 
@@ -174,6 +177,7 @@ class Pendulum(Scene):
         impulse = self.params.values["impulse"] * direction
         result = self.model.strike(impulse, point, theta=theta)
         self.start = (theta, thetadot + result.delta_omega, t)
+        self.drift.clear()  # the blow changes the energy: the drift is measured from the struck swing
         self.last_strike = {"t": t, "point": point, "impulse": impulse, "result": result}
         self.strike_readout.set(f"{result.delta_omega:.4g}, {float(np.linalg.norm(result.reaction_impulse)):.3g}")
         self.ctx.request_redraw()
@@ -197,6 +201,10 @@ class Pendulum(Scene):
         down = R @ np.array([0.0, 0.0, -1.0])
         send_position(self.hit_marker, self.pivot + self.params.values["strike"] * down)
         self.trace.append(self.pivot + self.length * 0.98 * down)
+        # The energy of the swing: constant between strikes (a strike starts a new reference).
+        energy = float(self.model.energy(theta, state["theta_dot"]))
+        scale = abs(energy) + self.model.mass * G * self.model.effective_length
+        self.drift.add(state["t"], {"E": (energy, scale)})
         s = self.last_strike
         if s is not None and 0.0 <= state["t"] - s["t"] <= ARROW_SHOW:
             j = s["impulse"]

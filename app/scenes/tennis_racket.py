@@ -216,7 +216,8 @@ class TennisRacket(Scene):
         self._hist_n = 0
         self._frames = 0
         self.trace = draw.Trace(server, root + "/trace", capacity=800)
-        self.traces = [self.trace]
+        self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
+        self.traces: list[Any] = [self.trace, self.drift]
         self.apply(self.params.values)
 
     # -- parameters --------------------------------------------------------------------------------
@@ -251,6 +252,7 @@ class TennisRacket(Scene):
         self.motion = model.trajectory(omega0, self.attitude0)  # solved once: a frame only evaluates it
         self.L_space = self.attitude0 @ L_body
         self.L_norm = float(np.linalg.norm(L_body))
+        self._energy_scale = 0.5 * float(omega0 @ L_body)
         scale = self.size / float(np.max(np.ptp(mesh.vertices, axis=0)))
         drawn = mesh.copy()
         drawn.apply_scale(scale)
@@ -347,6 +349,12 @@ class TennisRacket(Scene):
         send_position(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
         # The tip of the spin axis traces its flips in space.
         self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
+        # ½ ω·L and |L| in the body: constant through every flip.
+        L_body = self.moments * w
+        self.drift.add(
+            state["t"],
+            {"E": (0.5 * float(w @ L_body), self._energy_scale), "|L|": (float(np.linalg.norm(L_body)), self.L_norm)},
+        )
         t = state["t"]
         if self._hist_n == 0 or t != self._hist_t[(self._hist_n - 1) % HISTORY]:
             i = self._hist_n % HISTORY

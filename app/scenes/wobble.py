@@ -64,7 +64,7 @@ class Wobble(Scene):
         self.body_cone = draw.Cone(server, root + "/body_cone", "body_cone")
         self.space_cone = draw.Cone(server, root + "/space_cone", "space_cone")
         self.trace = draw.Trace(server, root + "/trace", capacity=600)
-        self.traces = [self.trace]
+        self.traces: list[Any] = [self.trace]
         self.params = controls.ParameterPanel(
             self.ctx,
             [
@@ -96,6 +96,8 @@ class Wobble(Scene):
         self.Omega_readout = controls.Readout(self.ctx, "Ω body precession (rad/s)")
         self.phidot_readout = controls.Readout(self.ctx, "L/I₁ space precession (rad/s)")
         self.moments_readout = controls.Readout(self.ctx, "I₁, I₃ (kg m², M = 1 kg)", fmt="{}")
+        self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
+        self.traces.append(self.drift)
         self.apply(self.params.values)
 
     # -- parameters
@@ -114,6 +116,8 @@ class Wobble(Scene):
         self.motion = model.trajectory(omega0, self.attitude0)  # solved once: a frame only evaluates it
         self.L_space = self.attitude0 @ L_body
         self.L_scale = 1.1 * self.size / float(np.linalg.norm(L_body))
+        self._energy_scale = 0.5 * float(omega0 @ L_body)
+        self._L_size = float(np.linalg.norm(L_body))
         self.omega_scale = 1.1 * self.size / float(np.linalg.norm(omega0))
         self.body.set_mesh(draw.cylinder_mesh(a, max(h, 0.01 * self.size)))
         rates = model.precession_rates(omega0)
@@ -150,3 +154,7 @@ class Wobble(Scene):
         # The trace follows the axis tip in space, the tip of ω in the body view.
         tip = V @ w * self.omega_scale if self.body_view.value else axis * 0.75 * self.size
         self.trace.append(c + tip)
+        # Rotational energy ½ ω·L and |L| (about the centre of mass): constant without torque.
+        L_body = self.moments * (R.T @ w)
+        energy, size = 0.5 * float((R.T @ w) @ L_body), float(np.linalg.norm(L_body))
+        self.drift.add(state["t"], {"E": (energy, self._energy_scale), "|L|": (size, self._L_size)})
