@@ -229,15 +229,15 @@ class HeavyTopScene(Scene):
         self.torque_arrow.set(state["torque"] * self.torque_scale, 0.55 * LENGTH * state["axis"])
         self.trace.append(LENGTH * state["axis"])
         self._readouts(state)
-        # E = ½ ω·L + M g ℓ cos θ, L_z and L₃: constant for the exact top, falling with friction.
+        self.drift.add(self.ctx.time, lambda: self._invariants(state))
+
+    def _invariants(self, state: dict[str, Any]) -> dict[str, tuple[float, float]]:
+        """E = ½ ω·L + M g ℓ cos θ, L_z and L₃ (with their scales): constant for the exact top."""
         L_body, L = state["L_body"], state["L"]
         top = self.top
         energy = 0.5 * float(L_body @ (L_body / np.array([top.I1, top.I1, top.I3]))) + top.mgl * float(state["axis"][2])
         size = float(np.linalg.norm(L))
-        self.drift.add(
-            self.ctx.time,
-            {"E": (energy, abs(energy) + top.mgl), "L_z": (float(L[2]), size), "L₃": (float(L_body[2]), size)},
-        )
+        return {"E": (energy, abs(energy) + top.mgl), "L_z": (float(L[2]), size), "L₃": (float(L_body[2]), size)}
 
     def _readouts(self, state: dict[str, Any]) -> None:
         top = self.top

@@ -202,9 +202,7 @@ class Pendulum(Scene):
         send_position(self.hit_marker, self.pivot + self.params.values["strike"] * down)
         self.trace.append(self.pivot + self.length * 0.98 * down)
         # The energy of the swing: constant between strikes (a strike starts a new reference).
-        energy = float(self.model.energy(theta, state["theta_dot"]))
-        scale = abs(energy) + self.model.mass * G * self.model.effective_length
-        self.drift.add(state["t"], {"E": (energy, scale)})
+        self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))
         s = self.last_strike
         if s is not None and 0.0 <= state["t"] - s["t"] <= ARROW_SHOW:
             j = s["impulse"]
@@ -214,3 +212,7 @@ class Pendulum(Scene):
         else:
             self.impulse_arrow.set(np.zeros(3))
             self.reaction_arrow.set(np.zeros(3))
+
+    def _invariants(self, theta: float, theta_dot: float) -> dict[str, tuple[float, float]]:
+        energy = float(self.model.energy(theta, theta_dot))
+        return {"E": (energy, abs(energy) + self.model.mass * G * self.model.effective_length)}

@@ -220,6 +220,11 @@ class TennisRacket(Scene):
         self.traces: list[Any] = [self.trace, self.drift]
         self.apply(self.params.values)
 
+    def _invariants(self, omega_body: np.ndarray) -> dict[str, tuple[float, float]]:
+        L_body = self.moments * omega_body
+        energy, size = 0.5 * float(omega_body @ L_body), float(np.linalg.norm(L_body))
+        return {"E": (energy, self._energy_scale), "|L|": (size, self.L_norm)}
+
     # -- parameters --------------------------------------------------------------------------------
     def _body(self, values: dict[str, float]) -> tuple[np.ndarray, trimesh.Trimesh, str]:
         """Moments (I1 >= I2 >= I3), the mesh in the principal frame, and a description."""
@@ -350,11 +355,7 @@ class TennisRacket(Scene):
         # The tip of the spin axis traces its flips in space.
         self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
         # ½ ω·L and |L| in the body: constant through every flip.
-        L_body = self.moments * w
-        self.drift.add(
-            state["t"],
-            {"E": (0.5 * float(w @ L_body), self._energy_scale), "|L|": (float(np.linalg.norm(L_body)), self.L_norm)},
-        )
+        self.drift.add(state["t"], lambda: self._invariants(w))
         t = state["t"]
         if self._hist_n == 0 or t != self._hist_t[(self._hist_n - 1) % HISTORY]:
             i = self._hist_n % HISTORY

@@ -155,6 +155,9 @@ class Wobble(Scene):
         tip = V @ w * self.omega_scale if self.body_view.value else axis * 0.75 * self.size
         self.trace.append(c + tip)
         # Rotational energy ½ ω·L and |L| (about the centre of mass): constant without torque.
-        L_body = self.moments * (R.T @ w)
-        energy, size = 0.5 * float((R.T @ w) @ L_body), float(np.linalg.norm(L_body))
-        self.drift.add(state["t"], {"E": (energy, self._energy_scale), "|L|": (size, self._L_size)})
+        self.drift.add(state["t"], lambda: self._invariants(R.T @ w))
+
+    def _invariants(self, omega_body: np.ndarray) -> dict[str, tuple[float, float]]:
+        L_body = self.moments * omega_body
+        energy, size = 0.5 * float(omega_body @ L_body), float(np.linalg.norm(L_body))
+        return {"E": (energy, self._energy_scale), "|L|": (size, self._L_size)}
