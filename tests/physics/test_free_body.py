@@ -178,9 +178,36 @@ def test_matches_high_precision_integration_short_span(name):
     times = np.linspace(-3, 3, 13) * _rotation_period(w0)
     ref_w, ref_r = _integrate(moments, w0, R_TILT, times)
     om, rr = FreeBody(moments).motion(w0, times, R_TILT)
-    # DOP853 at rtol 1e-13 over ±3 turns is good to ~1e-12; the closed form is far better.
-    assert np.max(np.linalg.norm(om - ref_w, axis=1)) / np.linalg.norm(w0) < 1e-11
+    # DOP853 at rtol 1e-13 over ±3 turns is good to ~1e-12; the closed form is far better. The near rod
+    # is the exception: its fast ω₃ (I₃ = 0.001) costs DOP853 itself 1.2e-11 at t = −3 turns on an AVX-512
+    # machine (measured against a 25-digit Taylor series, which the closed form matches to 6e-16:
+    # test_near_rod_matches_a_taylor_series below holds the closed form to 1e-14 there).
+    bound = 3e-11 if name == "near_rod_tumbling" else 1e-11
+    assert np.max(np.linalg.norm(om - ref_w, axis=1)) / np.linalg.norm(w0) < bound
     assert np.max(rotation_angle(rr, ref_r)) < 1e-10
+
+
+def test_near_rod_matches_a_taylor_series():
+    """ω of the tumbling near rod at ±3 turns against mpmath's Taylor-series ODE solver at 25 digits
+    (independent of both the closed form and DOP853); time runs backwards by integrating −f."""
+    moments, w0 = REGIMES["near_rod_tumbling"]
+    w0 = np.asarray(w0, float)
+    turns = 3.0 * _rotation_period(w0)
+    om, _ = FreeBody(moments).motion(w0, np.array([-turns, turns]), R_TILT)
+    with mp.workdps(25):
+        i1, i2, i3 = (mp.mpf(float(x)) for x in moments)
+        for k, sign in enumerate((-1, 1)):
+
+            def euler(_s, w, sign=sign):
+                return [
+                    sign * (i2 - i3) / i1 * w[1] * w[2],
+                    sign * (i3 - i1) / i2 * w[2] * w[0],
+                    sign * (i1 - i2) / i3 * w[0] * w[1],
+                ]
+
+            taylor = mp.odefun(euler, 0, [mp.mpf(float(x)) for x in w0])
+            reference = np.array([float(v) for v in taylor(mp.mpf(turns))])
+            assert np.linalg.norm(om[k] - reference) / np.linalg.norm(w0) < 1e-14
 
 
 @pytest.mark.parametrize("name", list(REGIMES))

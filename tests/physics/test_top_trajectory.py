@@ -1,8 +1,12 @@
 """The heavy top solved once and evaluated often: ``HeavyTop.trajectory(...).at(t)``.
 
 One time is evaluated on Python floats (a frame of an animation), many times vectorised: the two are
-the same expressions in the same order, so they must agree to the last bit, in every regime (vertical,
-steady, nutating, through a pole, near the bottom pole). ``solve`` is a thin wrapper over the trajectory.
+the same expressions in the same order, so they agree to the last bit but for one thing: numpy evaluates
+an inverse trigonometric function on an array with its SIMD kernel (AVX-512 where the CPU has it) and on
+a float with the C library, and the two may round differently by one unit in the last place. So every
+field must agree to 2 ulps of max(|value|, 1), in every regime (vertical, steady, nutating, through a
+pole, near the bottom pole); measured: θ differs by at most 0.98 ulp on an AVX-512 machine, every other
+field not at all. ``solve`` is a thin wrapper over the trajectory.
 """
 
 from __future__ import annotations
@@ -30,13 +34,19 @@ REGIMES = {
 }
 
 
+EPS = float(np.finfo(float).eps)
+
+
 def _same(one: HeavyTopSolution, many: HeavyTopSolution, i: int) -> None:
     for name in FIELDS:
-        np.testing.assert_array_equal(getattr(one, name), getattr(many, name)[i], err_msg=name)
+        a, b = np.asarray(getattr(one, name), dtype=float), np.asarray(getattr(many, name)[i], dtype=float)
+        assert a.shape == b.shape, name
+        bound = 2.0 * EPS * np.maximum(np.maximum(np.abs(a), np.abs(b)), 1.0)
+        assert np.all(np.abs(a - b) <= bound), (name, a, b)
 
 
 @pytest.mark.parametrize("name", list(REGIMES))
-def test_one_time_is_bit_for_bit_the_vectorised_value(name):
+def test_one_time_is_the_vectorised_value_to_roundoff(name):
     motion = TOP.trajectory(*REGIMES[name], phi0=0.3, psi0=-1.2)
     times = np.linspace(-40.0, 40.0, 101)
     many = motion.at(times)

@@ -94,13 +94,19 @@ SWINGS = {
 
 
 @pytest.mark.parametrize("name", list(SWINGS))
-def test_pendulum_one_time_is_bit_for_bit_the_vectorised_value(name):
+def test_pendulum_one_time_is_the_vectorised_value_to_roundoff(name):
+    # The same expressions; numpy's SIMD kernels for arrays (AVX-512 where present) and the C library for
+    # floats may round a transcendental function differently by one ulp: 2 ulps of max(|value|, 1)
+    # (measured: at most 0.8).
     motion = PENDULUM.trajectory(*SWINGS[name])
     assert isinstance(motion, PendulumTrajectory)
     many = motion.at(TIMES)
+    eps = float(np.finfo(float).eps)
     for i, t in enumerate(TIMES):
         theta, theta_dot = motion.at(float(t))
-        assert theta.shape == () and theta == many.theta[i] and theta_dot == many.theta_dot[i]
+        assert theta.shape == ()
+        for one, vectorised in ((theta, many.theta[i]), (theta_dot, many.theta_dot[i])):
+            assert abs(one - vectorised) <= 2.0 * eps * max(abs(one), abs(vectorised), 1.0), (name, t)
 
 
 def test_pendulum_solve_is_the_trajectory_and_broadcasts_as_before():
