@@ -1,4 +1,8 @@
-"""The ``rigid-body-lab`` command: start the viser server and print the addresses to open."""
+"""The ``rigid-body-lab`` command: start the viser server and print the addresses to open.
+
+``rigid-body-lab export --scene NAME [--preset P | --state TEXT] --seconds S --out DIR`` records a motion
+without a browser instead (:mod:`app.export`).
+"""
 
 from __future__ import annotations
 
@@ -6,8 +10,55 @@ import argparse
 import time
 
 
-def main(argv: list[str] | None = None) -> None:
+def export_main(argv: list[str]) -> None:
+    """``rigid-body-lab export``: write DIR/index.html, DIR/NAME.csv and DIR/NAME.png."""
+    from app.export import EXPORT_FPS, MAX_SECONDS, export, terminal_progress
     from app.scenes import scene_names
+
+    parser = argparse.ArgumentParser(
+        prog="rigid-body-lab export",
+        description="Record a scene without a browser: a web page that plays it (index.html, viser's client "
+        "with the recording), its quantities as CSV (first column t in s, units in the header) and a PNG of "
+        "the last frame.",
+    )
+    parser.add_argument("--scene", default=None, choices=scene_names(), help="the scene (a --state names its own)")
+    start = parser.add_mutually_exclusive_group()
+    start.add_argument("--preset", default=None, help="one of the scene's presets, by its name in the panel")
+    start.add_argument("--state", default=None, metavar="TEXT", help="a state text (the panel's “Copy state”)")
+    parser.add_argument(
+        "--seconds", type=float, required=True, help=f"simulated time to record, s (at most {MAX_SECONDS:g})"
+    )
+    parser.add_argument("--fps", type=float, default=EXPORT_FPS, help="frames (CSV rows) per simulated second")
+    parser.add_argument("--out", required=True, help="the directory to write (created if missing)")
+    args = parser.parse_args(argv)
+    if args.scene is None and args.state is None:
+        parser.error("give --scene NAME (or --state TEXT)")
+    try:
+        written = export(
+            args.scene,
+            args.out,
+            args.seconds,
+            preset=args.preset,
+            state=args.state,
+            fps=args.fps,
+            progress=terminal_progress,
+        )
+    except ValueError as exc:
+        parser.error(str(exc))
+    print(f"{written.frames} frames written:", flush=True)
+    for path in (written.html, written.csv, written.png):
+        print(f"  {path}", flush=True)
+
+
+def main(argv: list[str] | None = None) -> None:
+    import sys
+
+    from app.scenes import scene_names
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["export"]:
+        export_main(argv[1:])
+        return
 
     parser = argparse.ArgumentParser(prog="rigid-body-lab", description=__doc__)
     parser.add_argument("--host", default="127.0.0.1", help="127.0.0.1 (default) or 0.0.0.0 for a classroom LAN")

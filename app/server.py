@@ -35,6 +35,7 @@ import viser
 from app import draw
 from app.addresses import is_loopback
 from app.event_loop import confine_events
+from app.export_button import ExportFolder
 from app.inputs import check_update, guard_inputs
 from app.lectures import Lecture, Step, read_lecture
 from app.presenter import Classroom, check_pin, new_pin
@@ -127,6 +128,7 @@ class Simulation:
         self.scene: Scene | None = None
         self.messages: list[tuple[str, str]] = []  # every notification sent (title, body), newest last
         self.frames = 0  # frames drawn
+        self.last_state: dict[str, Any] = {}  # the state the last frame drew
         self._t = 0.0
         self._playing = True
         self._speed = 1.0
@@ -200,10 +202,19 @@ class Simulation:
             self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
         self.copy_state_button.on_click(self.guarded(self._on_copy_state))
         self.open_state_button.on_click(self.guarded(self._on_open_state))
+        self.export_folder = ExportFolder(self)
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("")
         self._clock = clock
-        self._global_gui = [self._title, self.scene_picker, clock, state, self.status, self.legend]
+        self._global_gui = [
+            self._title,
+            self.scene_picker,
+            clock,
+            state,
+            self.export_folder.folder,
+            self.status,
+            self.legend,
+        ]
 
     # ------------------------------------------------------------------ lectures
     def load_lecture(self, lecture: Lecture, *, check: bool = True) -> None:
@@ -678,6 +689,7 @@ class Simulation:
                 return False
             self._dirty = False
             self.frames += 1
+            self.last_state = state  # what was drawn (the export writes its columns)
             return True
 
     def _failed(self, exc: Exception) -> None:

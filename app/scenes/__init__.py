@@ -57,7 +57,7 @@ with one physics model::
 Hooks in :class:`Scene` (all optional except ``build``, ``compute`` and ``draw``): ``reset()`` (the
 clock's reset: go back to t = 0 with the current parameters; the default clears ``self.traces``),
 ``teardown()`` (release anything that is not a scene node under ``ctx.root`` nor GUI in the folder),
-``accept(payload)`` (another scene hands over a body: e.g. the inertia explorer's "Spin it" calls
+``columns(state)`` (the quantities an export writes to its CSV), ``accept(payload)`` (another scene hands over a body: e.g. the inertia explorer's "Spin it" calls
 ``ctx.switch_to("wobble", payload=...)``).
 
 Time. Closed-form models evaluate the state at the absolute time ``t`` (exact, no drift, any speed);
@@ -161,6 +161,11 @@ class Scene:
 
     def teardown(self) -> None:
         """Release what is not a node under ``ctx.root`` or GUI in the scene folder (default: nothing)."""
+
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        """The scene's quantities at a state :meth:`compute` gave, for the export's CSV: header (symbol and
+        SI unit, e.g. ``"theta (rad)"``) to value, in column order (:mod:`app.columns`). Default: none."""
+        return {}
 
     def snapshot(self) -> dict[str, Any]:
         """The motion state that the time and the controls do not give (a stepping model's state), to copy

@@ -16,6 +16,7 @@ import numpy as np
 import viser
 
 from app import controls, draw
+from app.columns import euler_columns, vector_columns
 from app.scenes import Scene, register
 from physics import G
 from physics.heavy_top import HeavyTop
@@ -230,6 +231,16 @@ class HeavyTopScene(Scene):
         self.trace.append(LENGTH * state["axis"])
         self._readouts(state)
         self.drift.add(self.ctx.time, lambda: self._invariants(state))
+
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        energy = self._invariants(state)["E"][0]
+        return {
+            **euler_columns(state["R"]),
+            **vector_columns("omega", state["omega"], "rad/s"),
+            **vector_columns("L", state["L"], "kg m^2/s"),
+            "L_3 (kg m^2/s)": float(state["L_body"][2]),
+            "E (J)": energy,
+        }
 
     def _invariants(self, state: dict[str, Any]) -> dict[str, tuple[float, float]]:
         """E = ½ ω·L + M g ℓ cos θ, L_z and L₃ (with their scales): constant for the exact top."""

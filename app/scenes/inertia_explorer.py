@@ -16,6 +16,7 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
+from app.columns import vector_columns
 from app.scenes import Scene, register
 from app.upload import NotWatertightError, UploadedBody, body_from_mesh
 from app.upload_worker import body_in_worker
@@ -294,6 +295,13 @@ class InertiaExplorer(Scene):
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         return {"t": t}
+
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        # A still body: its principal moments at the centre of mass and about the pivot, constant in t.
+        return {
+            **vector_columns("I", self.moments, "kg m^2", "123"),
+            **vector_columns("I_pivot", self.pivot_moments, "kg m^2", "123"),
+        }
 
     def draw(self, state: dict[str, Any]) -> None:
         # A static scene: everything is placed when a parameter changes (apply).

@@ -213,6 +213,14 @@ class Pendulum(Scene):
             self.impulse_arrow.set(np.zeros(3))
             self.reaction_arrow.set(np.zeros(3))
 
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        theta, theta_dot = state["theta"], state["theta_dot"]
+        return {
+            "theta (rad)": float(theta),
+            "theta_dot (rad/s)": float(theta_dot),
+            "E (J)": self._invariants(theta, theta_dot)["E"][0],
+        }
+
     def _invariants(self, theta: float, theta_dot: float) -> dict[str, tuple[float, float]]:
         energy = float(self.model.energy(theta, theta_dot))
         return {"E": (energy, abs(energy) + self.model.mass * G * self.model.effective_length)}

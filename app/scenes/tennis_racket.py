@@ -21,6 +21,7 @@ import trimesh
 import viser
 
 from app import controls, draw
+from app.columns import euler_columns, vector_columns
 from app.scenes import Scene, register
 from app.wire import send_position
 from assets import ASSETS, load_mesh, mass_properties
@@ -219,6 +220,15 @@ class TennisRacket(Scene):
         self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
         self.traces: list[Any] = [self.trace, self.drift]
         self.apply(self.params.values)
+
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        R, w = state["R"], state["omega_body"]
+        return {
+            **euler_columns(R),
+            **vector_columns("omega", w, "rad/s", "123"),
+            **vector_columns("L", R @ (self.moments * w), "kg m^2/s"),
+            "E (J)": self._invariants(w)["E"][0],
+        }
 
     def _invariants(self, omega_body: np.ndarray) -> dict[str, tuple[float, float]]:
         L_body = self.moments * omega_body

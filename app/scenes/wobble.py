@@ -12,6 +12,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from app import controls, draw
+from app.columns import euler_columns, vector_columns
 from app.scenes import Scene, register
 from physics.free_body import FreeBody
 from physics.inertia import validate_moments
@@ -156,6 +157,16 @@ class Wobble(Scene):
         self.trace.append(c + tip)
         # Rotational energy ½ ω·L and |L| (about the centre of mass): constant without torque.
         self.drift.add(state["t"], lambda: self._invariants(R.T @ w))
+
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        R, w = state["R"], state["omega_space"]
+        return {
+            **euler_columns(R),
+            **vector_columns("omega", w, "rad/s"),
+            **vector_columns("L", self.L_space, "kg m^2/s"),
+            "E (J)": self._invariants(R.T @ w)["E"][0],
+            **vector_columns("centre", state["centre"], "m"),
+        }
 
     def _invariants(self, omega_body: np.ndarray) -> dict[str, tuple[float, float]]:
         L_body = self.moments * omega_body

@@ -1,0 +1,78 @@
+"""The panel's Export folder: the current state recorded for some seconds and downloaded as a zip.
+
+The click takes the browser's state text (scene, controls, time, its camera) and hands it to
+:func:`app.export.export_zip` in a thread of its own, so the clock and the other browsers go on; a
+notification in that browser shows the progress and then the download starts (viser's file download).
+At most one export runs in the server at a time; a second click meanwhile is told so.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+import viser
+
+from app.export import export_zip
+
+__all__ = ["ExportFolder", "EXPORT_SECONDS"]
+
+EXPORT_SECONDS = (1.0, 60.0, 10.0)
+"""The panel's choice of recording length (s): least, most, default (the CLI allows longer)."""
+
+
+class ExportFolder:
+    """The "Export" folder of a simulation's panel (seconds, and the button)."""
+
+    def __init__(self, simulation: Any) -> None:
+        self.simulation = simulation
+        gui = simulation.server.gui
+        low, high, default = EXPORT_SECONDS
+        with gui.add_folder("Export", expand_by_default=False) as self.folder:
+            self.seconds = gui.add_slider("Seconds to record", min=low, max=high, step=1.0, initial_value=default)
+            self.button = gui.add_button("Export", icon=viser.Icon.DOWNLOAD, hint="a web page, a CSV and a PNG")
+        self.button.on_click(simulation.guarded(self._on_click))
+        self.running: threading.Thread | None = None
+
+    def _on_click(self, event: Any) -> None:
+        client = getattr(event, "client", None)
+        if client is None:
+            return
+        if self.running is not None and self.running.is_alive():
+            self.simulation.notify("Export running", "the previous export has not finished yet", client=client)
+            return
+        text = self.simulation.state_text(client)  # under the simulation's lock: one consistent state
+        seconds = float(self.seconds.value)
+        name = self.simulation.scene.name if self.simulation.scene is not None else "scene"
+        self.running = threading.Thread(
+            target=self._run, args=(client, text, seconds, name), name="rbl-export", daemon=True
+        )
+        self.running.start()
+
+    def _run(self, client: Any, text: str, seconds: float, name: str) -> None:
+        try:
+            note = client.add_notification("Exporting", f"{seconds:g} s of {name}…", loading=True)
+        except Exception:  # noqa: BLE001 - it left
+            return
+        last = [-1]
+
+        def progress(done: int, total: int) -> None:
+            percent = 100 * done // total
+            if percent >= last[0] + 10:  # a tenth at a time: the notification is not a stream of messages
+                last[0] = percent
+                note.body = f"{seconds:g} s of {name}: {percent} %"
+
+        try:
+            archive = export_zip(text, seconds, progress)
+            client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
+            note.title, note.body, note.loading = (
+                "Exported",
+                f"rigid-body-lab-{name}.zip ({len(archive) // 1024} kB)",
+                False,
+            )
+            note.color = "green"
+        except ValueError as exc:
+            note.title, note.body, note.loading, note.color = "Export refused", str(exc), False, "red"
+        except Exception as exc:  # noqa: BLE001 - the server stays up; the browser is told
+            note.title, note.body, note.loading = "Export failed", f"{type(exc).__name__}: {exc}", False
+            note.color = "red"
