@@ -22,6 +22,8 @@ Methods (each declares ``name``, ``order``, ``symplectic`` and ``conserves``):
   much cheaper per step), plus torque kicks; order 2 (``composition="yoshida4"``, ``"yoshida6"``,
   ``"yoshida8"`` give 4, 6, 8).
   Without torque it is exact for any step.
+* :class:`ClassicalRK4` — classical RK4 on the components of ``(R, L_body)``: order 4, conserves nothing,
+  ``R`` leaves SO(3) (stepped by :func:`advance`); the careless baseline the app shows beside the exact motion.
 * :class:`LieRK4` — Runge–Kutta–Munthe-Kaas of order 4 with the classical RK4 tableau (the attitude is
   advanced by the exponential map, so it stays on SO(3)); the non-symplectic baseline.
 
@@ -66,6 +68,8 @@ __all__ = [
     "Yoshida8",
     "ExactFreeSplitting",
     "LieRK4",
+    "ClassicalRK4",
+    "advance",
     "Trajectory",
     "integrate",
     "kinetic_energy",
@@ -843,6 +847,79 @@ class LieRK4(_Method):
         lnew = tuple(s[9 + i] + h6 * (m1[i] + 2.0 * m2[i] + 2.0 * m3[i] + m4[i]) for i in range(3))
         out = _right_exp(s, *u, xp) + lnew
         return self._project(out) if self._zero_axes else out
+
+
+class ClassicalRK4(LieRK4):
+    """Classical Runge–Kutta of order 4 on the twelve components of ``(R, L_body)``: not geometric.
+
+    ``Ṙ = R hat(ω)`` is integrated as any linear ODE in the nine entries of ``R``, so ``R`` leaves the
+    rotations (``|RᵀR − I|`` grows like the error, order 4 per unit time) and the energy and ``|L|``
+    drift: the careless integrator that the app's "Compare with integrator" shows beside the exact
+    solution. Its state is not projected back onto SO(3) (use :func:`advance` to step it; :func:`integrate`
+    accepts only rotations as a start).
+    """
+
+    name = "classical RK4"
+    order = 4
+    symplectic = False
+    conserves = ()
+
+    def _rates(self, s, xp):
+        (w0, w1, w2), dl = self._rhs(s, xp)
+        # (R hat(ω)) row i = r_i × ω.
+        dr = []
+        for i in (0, 3, 6):
+            a, b, c = s[i], s[i + 1], s[i + 2]
+            dr += [b * w2 - c * w1, c * w0 - a * w2, a * w1 - b * w0]
+        return tuple(dr) + dl
+
+    def _step(self, s, dt, xp):
+        h = dt
+        k1 = self._rates(s, xp)
+        k2 = self._rates(tuple(x + 0.5 * h * k for x, k in zip(s, k1)), xp)
+        k3 = self._rates(tuple(x + 0.5 * h * k for x, k in zip(s, k2)), xp)
+        k4 = self._rates(tuple(x + h * k for x, k in zip(s, k3)), xp)
+        h6 = h / 6.0
+        out = tuple(x + h6 * (a + 2.0 * b + 2.0 * c + d) for x, a, b, c, d in zip(s, k1, k2, k3, k4))
+        return self._project(out) if self._zero_axes else out
+
+
+def advance(method: _Method, state: ArrayLike, dt: float, n_steps: int) -> NDArray[np.float64]:
+    """Take ``n_steps`` steps of ``dt`` from one body's state, without requiring ``R`` to be a rotation.
+
+    For stepping a motion frame by frame (the app's integrator "ghost"), and for :class:`ClassicalRK4`,
+    whose ``R`` leaves SO(3) as it goes: the state is carried as it is, never projected.
+
+    Parameters
+    ----------
+    method : a method instance
+    state : array_like, shape (12,)
+        ``R`` row-major (nine entries), then ``L_body`` (kg m²/s).
+    dt : float
+        Step, s.
+    n_steps : int
+        Number of steps (≥ 0).
+
+    Returns
+    -------
+    ndarray, shape (12,)
+    """
+    if not isinstance(method, _Method):
+        raise ValueError(f"method must be an integrator instance such as LiePoissonStrang(moments), got {method!r}")
+    try:
+        values = np.asarray(state, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"state must be twelve numbers (R row-major, then L_body), got {state!r:.60}") from None
+    if values.shape != (12,) or not np.all(np.isfinite(values)):
+        raise ValueError(f"state must be twelve finite numbers (R row-major, then L_body), got shape {values.shape}")
+    dt = _check_dt(dt)
+    if int(n_steps) != n_steps or n_steps < 0:
+        raise ValueError(f"n_steps must be a non-negative integer, got {n_steps}")
+    s = tuple(float(x) for x in values)
+    step = method._step
+    for _ in range(int(n_steps)):
+        s = step(s, dt, math)
+    return np.array(s)
 
 
 # --------------------------------------------------------------------------------------------------

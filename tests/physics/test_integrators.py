@@ -339,3 +339,71 @@ def test_wrong_shapes_and_steps_name_the_argument():
         simulate_heavy_body(*args, np.eye(3), [0.0, 10.0], 1.0, 0.01)
     with pytest.raises(ValueError, match="not a reflection"):
         simulate_heavy_body(*args, np.diag([1.0, -1.0, -1.0]) @ np.diag([1.0, 1.0, -1.0]), [0.0, 0.0, 10.0], 1.0, 0.01)
+
+
+# --------------------------------------------------------------------------------------------------
+# Classical RK4 (the app's careless comparison) and advance()
+# --------------------------------------------------------------------------------------------------
+
+
+def _chordal(a: np.ndarray, b: np.ndarray) -> float:
+    """Chordal angle 2 arcsin(|A − B|_F / √8): the rotation angle between two rotations, and a distance
+    that stays defined when one of them has left SO(3)."""
+    return float(2.0 * np.arcsin(min(1.0, np.linalg.norm(a - b) / math.sqrt(8.0))))
+
+
+@pytest.mark.parametrize("with_gravity", [False, True])
+def test_classical_rk4_is_order_four_and_not_geometric(with_gravity):
+    from physics.integrators import ClassicalRK4, advance
+
+    if with_gravity:
+        moments, torque, sol, t_end = _top_setup()
+        R0, L0, exact = sol.attitude[0], moments * sol.omega_body[0], sol.attitude[-1]
+        steps = (200, 400, 800)
+    else:
+        moments, torque, t_end = MOMENTS, None, 5.0
+        R0, L0, exact = np.eye(3), MOMENTS * OMEGA0, FreeBody(MOMENTS).attitude(OMEGA0, t_end)[0]
+        steps = (100, 200, 400)
+    method = ClassicalRK4(moments, torque)
+    assert (method.order, method.symplectic, method.conserves) == (4, False, ())
+    start = np.concatenate([np.asarray(R0).ravel(), L0])
+    errors, squish = [], []
+    for n in steps:
+        end = advance(method, start, t_end / n, n)
+        R = end[:9].reshape(3, 3)
+        errors.append(_chordal(R, exact))
+        squish.append(float(np.abs(R.T @ R - np.eye(3)).max()))
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(np.abs(orders - 4) < 0.2), (errors, orders)
+    # Not geometric: R leaves the rotations by an amount of the order of the error (Lie RK4 stays on them).
+    assert squish[0] > 1e-10 and squish[0] > 10.0 * squish[-1]
+    lie = integrate(LieRK4(moments, torque), R0, L0, t_end / steps[0], steps[0], save_every=steps[0])
+    assert orthonormality_error(lie.attitude[-1]) < 1e-14
+
+
+def test_advance_is_integrate_for_a_splitting():
+    from physics.integrators import advance
+
+    method = Yoshida4(MOMENTS)
+    tr = integrate(method, np.eye(3), MOMENTS * OMEGA0, 0.01, 50, save_every=50)
+    end = advance(method, np.concatenate([np.eye(3).ravel(), MOMENTS * OMEGA0]), 0.01, 50)
+    np.testing.assert_allclose(end[:9].reshape(3, 3), tr.attitude[-1], rtol=0, atol=1e-14)
+    np.testing.assert_allclose(end[9:], tr.L_body[-1], rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize(
+    "state, dt, n, message",
+    [
+        (np.zeros(11), 0.1, 1, "twelve"),
+        (np.full(12, np.nan), 0.1, 1, "finite"),
+        ("twelve", 0.1, 1, "twelve"),
+        (np.zeros(12), float("inf"), 1, "finite"),
+        (np.zeros(12), 0.1, -1, "non-negative"),
+        (np.zeros(12), 0.1, 1.5, "integer"),
+    ],
+)
+def test_advance_refuses_bad_input(state, dt, n, message):
+    from physics.integrators import advance
+
+    with pytest.raises(ValueError, match=message):
+        advance(LieRK4(MOMENTS), state, dt, n)
