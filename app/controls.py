@@ -19,7 +19,15 @@ from typing import Any
 import numpy as np
 import viser
 
-__all__ = ["SliderSpec", "ParameterPanel", "Readout", "Presets", "Gauge", "refusable_dropdown"]
+__all__ = [
+    "SliderSpec",
+    "ParameterPanel",
+    "Readout",
+    "Presets",
+    "Gauge",
+    "refusable_dropdown",
+    "InvariantDrift",
+]
 
 
 @dataclass(frozen=True)
@@ -283,7 +291,13 @@ class InvariantDrift:
     an integrator. It is cleared with the scene's traces (Reset, a new parameter).
     """
 
-    def __init__(self, ctx: Any, names: tuple[str, ...], colours: tuple[str, ...]) -> None:
+    def __init__(
+        self,
+        ctx: Any,
+        names: tuple[str, ...],
+        colours: tuple[str, ...],
+        title: str = "Invariants: log₁₀ relative drift",
+    ) -> None:
         self.names = names
         self.handle = ctx.server.gui.add_uplot(
             data=(np.zeros(1), *(np.full(1, math.log10(DRIFT_FLOOR)) for _ in names)),
@@ -295,7 +309,7 @@ class InvariantDrift:
                 "x": viser.uplot.Scale(time=False, auto=True),
                 "y": viser.uplot.Scale(auto=False, range=(-17.0, 0.0)),
             },
-            title="Invariants: log₁₀ relative drift",
+            title=title,
             aspect=2.2,
         )
         self.clear()

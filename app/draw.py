@@ -53,6 +53,7 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "body": (185, 190, 200),  # the body itself: light steel
     "impulse": (40, 90, 230),  # an impulse (strike): blue
     "reaction": (120, 70, 30),  # a constraint's reaction: brown
+    "ghost": (70, 130, 255),  # the body moved by an integrator beside the exact one: translucent blue
 }
 
 # Legend text per quantity (Unicode: viser's markdown has no LaTeX).
@@ -68,6 +69,7 @@ LABELS: dict[str, str] = {
     "body": "the body",
     "impulse": "J — impulse",
     "reaction": "pivot reaction",
+    "ghost": "ghost — the same body moved by the chosen integrator",
 }
 
 

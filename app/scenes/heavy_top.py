@@ -17,9 +17,11 @@ import viser
 
 from app import controls, draw
 from app.columns import euler_columns, vector_columns
+from app.ghost import IntegratorGhost
 from app.scenes import Scene, register
 from physics import G
 from physics.heavy_top import HeavyTop
+from physics.integrators import GravityTorque
 
 LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
 ELL = 0.5  # pivot-to-centre-of-mass distance used to split M g ℓ into M and ℓ for the stepping model (m)
@@ -135,7 +137,8 @@ class HeavyTopScene(Scene):
         self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
         self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
         self.drift = controls.InvariantDrift(self.ctx, ("E", "L_z", "L₃"), ("#333333", "#b07000", "#1478ff"))
-        self.traces.append(self.drift)
+        self.ghost = IntegratorGhost(self.ctx, root + "/ghost", draw.top_mesh(LENGTH))
+        self.traces += [self.drift, self.ghost]
         self._plot_time = 0.0
         self._y_range: tuple[float, float] | None = None
         self.apply(self.params.values)
@@ -159,8 +162,30 @@ class HeavyTopScene(Scene):
         self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
+        self._start_ghost()
         self.reset()
         self.ctx.restart()
+
+    def _start_ghost(self) -> None:
+        """The integrator ghost from the same start, under the same gravity (none with friction: no exact)."""
+        top, motion = self.top, self.motion
+        moments = np.array([top.I1, top.I1, top.I3])
+
+        def exact(t: float) -> tuple[np.ndarray, np.ndarray]:
+            now = motion.at(t)
+            return now.attitude, moments * now.omega_body
+
+        def energy(R: np.ndarray, L_body: np.ndarray) -> float:
+            return 0.5 * float(L_body @ (L_body / moments)) + top.mgl * float(R[2, 2])
+
+        E0 = energy(*exact(0.0))
+        self.ghost.start(
+            moments,
+            exact if self.values["friction"] == 0.0 else None,
+            energy,
+            abs(E0) + top.mgl,
+            torque=GravityTorque(top.mgl / (G * ELL), [0.0, 0.0, ELL]),
+        )
 
     def reset(self) -> None:
         super().reset()
@@ -231,6 +256,7 @@ class HeavyTopScene(Scene):
         self.trace.append(LENGTH * state["axis"])
         self._readouts(state)
         self.drift.add(self.ctx.time, lambda: self._invariants(state))
+        self.ghost.follow(self.ctx.time, lambda R: (R, (0.0, 0.0, 0.0)))
 
     def columns(self, state: dict[str, Any]) -> dict[str, float]:
         energy = self._invariants(state)["E"][0]

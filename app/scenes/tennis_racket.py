@@ -22,6 +22,7 @@ import viser
 
 from app import controls, draw
 from app.columns import euler_columns, vector_columns
+from app.ghost import IntegratorGhost
 from app.scenes import Scene, register
 from app.wire import send_position
 from assets import ASSETS, load_mesh, mass_properties
@@ -218,7 +219,8 @@ class TennisRacket(Scene):
         self._frames = 0
         self.trace = draw.Trace(server, root + "/trace", capacity=800)
         self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
-        self.traces: list[Any] = [self.trace, self.drift]
+        self.ghost = IntegratorGhost(self.ctx, root + "/ghost", trimesh.creation.box())
+        self.traces: list[Any] = [self.trace, self.drift, self.ghost]
         self.apply(self.params.values)
 
     def columns(self, state: dict[str, Any]) -> dict[str, float]:
@@ -272,6 +274,7 @@ class TennisRacket(Scene):
         drawn = mesh.copy()
         drawn.apply_scale(scale)
         self.body.set_mesh(drawn)
+        self.ghost.start_free(moments, self.motion, drawn)
         self.mesh_scale = scale
         self.L_scale = 0.9 * self.size / self.L_norm
         self.omega_scale = 0.9 * self.size / float(np.linalg.norm(omega0))
@@ -366,6 +369,7 @@ class TennisRacket(Scene):
         self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
         # ½ ω·L and |L| in the body: constant through every flip.
         self.drift.add(state["t"], lambda: self._invariants(w))
+        self.ghost.follow(state["t"], lambda Rg: (Rg, c))
         t = state["t"]
         if self._hist_n == 0 or t != self._hist_t[(self._hist_n - 1) % HISTORY]:
             i = self._hist_n % HISTORY

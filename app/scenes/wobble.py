@@ -13,6 +13,7 @@ import numpy as np
 
 from app import controls, draw
 from app.columns import euler_columns, vector_columns
+from app.ghost import IntegratorGhost
 from app.scenes import Scene, register
 from physics.free_body import FreeBody
 from physics.inertia import validate_moments
@@ -98,7 +99,8 @@ class Wobble(Scene):
         self.phidot_readout = controls.Readout(self.ctx, "L/I₁ space precession (rad/s)")
         self.moments_readout = controls.Readout(self.ctx, "I₁, I₃ (kg m², M = 1 kg)", fmt="{}")
         self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
-        self.traces.append(self.drift)
+        self.ghost = IntegratorGhost(self.ctx, root + "/ghost", draw.cylinder_mesh(0.5, 0.5))
+        self.traces += [self.drift, self.ghost]
         self.apply(self.params.values)
 
     # -- parameters
@@ -120,7 +122,9 @@ class Wobble(Scene):
         self._energy_scale = 0.5 * float(omega0 @ L_body)
         self._L_size = float(np.linalg.norm(L_body))
         self.omega_scale = 1.1 * self.size / float(np.linalg.norm(omega0))
-        self.body.set_mesh(draw.cylinder_mesh(a, max(h, 0.01 * self.size)))
+        mesh = draw.cylinder_mesh(a, max(h, 0.01 * self.size))
+        self.body.set_mesh(mesh)
+        self.ghost.start_free(moments, self.motion, mesh)
         rates = model.precession_rates(omega0)
         self.Omega_readout.set(rates.body)
         self.phidot_readout.set(rates.space)
@@ -157,6 +161,7 @@ class Wobble(Scene):
         self.trace.append(c + tip)
         # Rotational energy ½ ω·L and |L| (about the centre of mass): constant without torque.
         self.drift.add(state["t"], lambda: self._invariants(R.T @ w))
+        self.ghost.follow(state["t"], lambda Rg: (V @ Rg, self.centre_at(self.ghost.t)))
 
     def columns(self, state: dict[str, Any]) -> dict[str, float]:
         R, w = state["R"], state["omega_space"]
