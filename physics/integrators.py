@@ -768,7 +768,7 @@ class LieRK4(_Method):
     name = "Lie RK4 (RKMK)"
     order = 4
     symplectic = False
-    conserves = ("orthonormality of R",)
+    conserves: tuple[str, ...] = ("orthonormality of R",)
 
     def _rhs(self, s, xp):
         i0, i1, i2 = self._inv
@@ -862,7 +862,7 @@ class ClassicalRK4(LieRK4):
     name = "classical RK4"
     order = 4
     symplectic = False
-    conserves = ()
+    conserves: tuple[str, ...] = ()
 
     def _rates(self, s, xp):
         (w0, w1, w2), dl = self._rhs(s, xp)
