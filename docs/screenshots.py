@@ -55,7 +55,9 @@ def teaching(path: Path) -> None:
             app.restart()
         time.sleep(8.0)
         page.evaluate(_CLOSE_NOTIFICATIONS)
-        page.evaluate("() => { const p = document.querySelector('.mantine-ScrollArea-viewport'); if (p) p.scrollTop = 1e6; }")
+        page.evaluate(
+            "() => { const p = document.querySelector('.mantine-ScrollArea-viewport'); if (p) p.scrollTop = 1e6; }"
+        )
         time.sleep(0.5)
         page.screenshot(path=str(path))
         print(f"teaching: {path}", flush=True)
