@@ -14,6 +14,7 @@ from typing import Any
 import viser
 
 from app.export import export_zip
+from app.wire import departed
 
 __all__ = ["ExportFolder", "EXPORT_SECONDS"]
 
@@ -41,7 +42,11 @@ class ExportFolder:
         if self.running is not None and self.running.is_alive():
             self.simulation.notify("Export running", "the previous export has not finished yet", client=client)
             return
-        text = self.simulation.state_text(client)  # under the simulation's lock: one consistent state
+        try:
+            text = self.simulation.state_text(client)  # under the simulation's lock: one consistent state
+        except ValueError as exc:  # e.g. a body handed over from another scene: no text can carry it
+            self.simulation.notify("Export refused", str(exc), client=client, error=True)
+            return
         seconds = float(self.seconds.value)
         name = self.simulation.scene.name if self.simulation.scene is not None else "scene"
         self.running = threading.Thread(
@@ -50,6 +55,8 @@ class ExportFolder:
         self.running.start()
 
     def _run(self, client: Any, text: str, seconds: float, name: str) -> None:
+        if departed(client):
+            return
         try:
             note = client.add_notification("Exporting", f"{seconds:g} s of {name}…", loading=True)
         except Exception:  # noqa: BLE001 - it left
@@ -58,12 +65,14 @@ class ExportFolder:
 
         def progress(done: int, total: int) -> None:
             percent = 100 * done // total
-            if percent >= last[0] + 10:  # a tenth at a time: the notification is not a stream of messages
+            if percent >= last[0] + 10 and not departed(client):  # a tenth at a time, not a stream
                 last[0] = percent
                 note.body = f"{seconds:g} s of {name}: {percent} %"
 
         try:
             archive = export_zip(text, seconds, progress)
+            if departed(client):
+                return  # it left while the export ran: nobody to send it to
             client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
             note.title, note.body, note.loading = (
                 "Exported",
@@ -72,7 +81,11 @@ class ExportFolder:
             )
             note.color = "green"
         except ValueError as exc:
+            if departed(client):
+                return
             note.title, note.body, note.loading, note.color = "Export refused", str(exc), False, "red"
         except Exception as exc:  # noqa: BLE001 - the server stays up; the browser is told
+            if departed(client):
+                return
             note.title, note.body, note.loading = "Export failed", f"{type(exc).__name__}: {exc}", False
             note.color = "red"

@@ -41,6 +41,7 @@ from app.lectures import Lecture, Step, read_lecture
 from app.presenter import Classroom, check_pin, new_pin
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.states import parse_state, state_text
+from app.wire import departed as _departed
 
 __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 
@@ -75,11 +76,6 @@ def check_finite(state: dict[str, Any], where: str = "") -> None:
                 raise NumericalFailure(f"{name} contains NaN or inf")
         elif isinstance(value, (list, tuple)) and value and all(isinstance(v, (float, int, np.ndarray)) for v in value):
             check_finite({str(i): v for i, v in enumerate(value)}, name + "[")
-
-
-def _departed(client: viser.ClientHandle) -> bool:
-    """The browser has disconnected (viser closed its message buffer and removes its handles)."""
-    return bool(client._websock_connection.get_message_buffer().done)
 
 
 def _first_scene(scene: str | None) -> tuple[str, list[str]]:

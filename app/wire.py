@@ -21,7 +21,12 @@ import numpy as np
 from numpy.typing import NDArray
 from viser import _messages
 
-__all__ = ["send_orientation", "send_points", "send_position"]
+__all__ = ["departed", "send_orientation", "send_points", "send_position"]
+
+
+def departed(client: Any) -> bool:
+    """The browser has disconnected (viser closed its message buffer and removes its handles)."""
+    return bool(client._websock_connection.get_message_buffer().done)
 
 
 def _live(handle: Any) -> Any:

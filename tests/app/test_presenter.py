@@ -155,7 +155,9 @@ def test_exploring_gives_a_copy_from_the_current_state_and_following_brings_the_
         assert isinstance(copy, Simulation) and copy is not app
         assert copy.scene.name == app.scene.name and copy.scene.params.values["spin"] == changed
         assert copy.time > 0.3  # it starts where the lecture was, not at t = 0
-        assert app.classroom.exploring(student_id) and student_panel.explore.label == "Follow the lecturer"
+        assert app.classroom.exploring(student_id)
+        # The button is relabelled just after the copy is registered: wait for it rather than race it.
+        wait_for(lambda: student_panel.explore.label == "Follow the lecturer", what="the button relabelled")
         # The student's page removes the lecture's panel and nodes, then hears nothing more of it.
         removal = received(student, 1.0)
         removed = {m["uuid"] for m in removal if m.get("type") == "GuiRemoveMessage"}
