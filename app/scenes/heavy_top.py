@@ -29,6 +29,11 @@ PLOT_HZ = 5.0  # the U(θ) plot is refreshed at most this often (it sends four a
 PLOT_POINTS = 180  # one a degree: a smooth curve at a quarter of the bytes of a finer grid
 
 
+# A static θ range: viser 1.1.1's client loses an auto x scale when the plot's scales are sent again
+# (its x min/max become null and the curve vanishes until a reload); a fixed range is kept.
+_THETA_SCALE = viser.uplot.Scale(time=False, auto=False, range=(0.0, 180.0))
+
+
 def _theta_grid() -> np.ndarray:
     return np.radians(np.linspace(0.5, 179.5, PLOT_POINTS))
 
@@ -126,7 +131,7 @@ class HeavyTopScene(Scene):
                 ),
             ),
             scales={
-                "x": viser.uplot.Scale(time=False, auto=True),
+                "x": _THETA_SCALE,
                 "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
             },
             title="Effective potential U(θ) (1/s²)",
@@ -329,6 +334,6 @@ class HeavyTopScene(Scene):
             # New options rebuild the chart in every browser: only when the range really changes.
             self._y_range = y_range
             self.plot.scales = {
-                "x": viser.uplot.Scale(time=False, auto=True),
+                "x": _THETA_SCALE,
                 "y": viser.uplot.Scale(auto=False, range=y_range),
             }

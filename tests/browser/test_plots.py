@@ -1,0 +1,53 @@
+"""Plots keep their data and their axes in the page after Reset, a preset, a slider change and a scene
+switch (viser's uPlot test points give each chart's scales in the page)."""
+
+from __future__ import annotations
+
+import math
+import time
+
+from tests.harness import click, open_page, pick_scene, running_app, wait_for
+
+CHARTS = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(v => ({
+    title: v.chart.root.querySelector('.u-title') ? v.chart.root.querySelector('.u-title').textContent : '',
+    x: [v.chart.scales.x.min, v.chart.scales.x.max],
+    points: v.chart.data.length > 1 ? v.chart.data[1].length : 0,
+}))"""
+
+
+def _chart(page, title: str) -> dict | None:
+    return next((c for c in page.evaluate(CHARTS) if c["title"].startswith(title)), None)
+
+
+def _drawn(page, title: str) -> bool:
+    chart = _chart(page, title)
+    return bool(
+        chart
+        and chart["points"] > 1
+        and all(v is not None and math.isfinite(v) for v in chart["x"])
+        and chart["x"][1] > chart["x"][0]
+    )
+
+
+def test_the_effective_potential_survives_reset_preset_and_sliders(chromium) -> None:
+    with running_app("heavy_top") as app:
+        page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
+        title = "Effective potential"
+        wait_for(lambda: _drawn(page, title), 30, what="the U(θ) plot")
+        click(page.get_by_role("button", name="Reset"))
+        time.sleep(1.5)
+        assert _drawn(page, title), _chart(page, title)
+        with app.lock:
+            assert app.scene.presets.choose("loops (φ̇0 = −1 × steady)")
+        time.sleep(1.5)
+        assert _drawn(page, title), _chart(page, title)
+        with app.lock:
+            assert app.scene.params.offer({"mgl": 2.0})
+        time.sleep(1.5)
+        assert _drawn(page, title), _chart(page, title)
+        pick_scene(page, "Torque-free wobble")
+        wait_for(lambda: app.scene.name == "wobble", 30, what="the wobble")
+        wait_for(lambda: _drawn(page, "Invariants"), 30, what="the wobble's drift plot")
+        pick_scene(page, "Heavy top")
+        wait_for(lambda: _drawn(page, title), 30, what="the U(θ) plot back")
+        page.close()
