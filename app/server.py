@@ -40,6 +40,7 @@ from app.inputs import check_update, guard_inputs
 from app.lectures import Lecture, Step, read_lecture
 from app.presenter import Classroom, check_pin, new_pin
 from app.scenes import REGISTRY, Scene, load_all, scene_names
+from app.speed import POSITION_MARKS, POSITION_STEP, SPEED_MAX, SPEED_MIN, position_of, speed_at, speed_label
 from app.states import parse_state, state_text
 from app.wire import departed as _departed
 
@@ -47,7 +48,6 @@ __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 
 FPS = 60.0
 NOTIFY_SECONDS = 6.0  # a notification closes by itself after this long; an identical one is not stacked
-SPEED_MIN, SPEED_MAX = 0.1, 10.0
 FOV = math.radians(50.0)  # vertical field of view (viser's default 75° makes the scene look far away)
 MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
 
@@ -184,14 +184,15 @@ class Simulation:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
             self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
             self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
+            # Logarithmic (app.speed): the value is a position in [−1, 1], the label shows the speed.
             self.speed_slider = gui.add_slider(
-                "Speed (×)", min=SPEED_MIN, max=SPEED_MAX, step=0.1, initial_value=1.0, marks=(0.1, 1, 5, 10)
+                speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
             )
             self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
         self.play_button.on_click(self.guarded(lambda _: self.set_playing(not self._playing)))
         self.step_button.on_click(self.guarded(lambda _: self.step()))
         self.reset_button.on_click(self.guarded(lambda _: self.restart()))
-        self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(self.speed_slider.value)))
+        self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(speed_at(self.speed_slider.value))))
         with gui.add_folder("State", expand_by_default=False) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
             self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
@@ -509,8 +510,11 @@ class Simulation:
             raise ValueError(f"speed must be between {SPEED_MIN}× and {SPEED_MAX}×, got {speed}")
         with self.lock:
             self._speed = speed
-            if self.speed_slider.value != speed:
-                self.speed_slider.value = speed  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
+            position = position_of(speed)
+            if abs(self.speed_slider.value - position) > 1e-9:
+                self.speed_slider.value = position  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
+            if self.speed_slider.label != speed_label(speed):
+                self.speed_slider.label = speed_label(speed)
 
     def switch_to(self, name: str, payload: Any = None) -> None:
         """For scenes: switch to another scene and hand it a payload (see Scene.accept)."""

@@ -89,8 +89,12 @@ def test_buttons_and_speed_slider_drive_the_clock(app):
     for cb in app.play_button._impl.update_cb:  # a click from the page arrives like this
         cb(None)
     assert not app.playing and app.play_button.label == "Play"
-    app.speed_slider.value = 3.0
-    assert app.speed == 3.0
+    app.speed_slider.value = 0.5  # the slider is logarithmic (app.speed): half-way right is 10^0.5×
+    assert app.speed == pytest.approx(10**0.5, rel=1e-15) and app.speed_slider.label == "Speed 3.2×"
+    app.speed_slider.value = -1.0
+    assert app.speed == pytest.approx(0.01, rel=1e-15) and app.speed_slider.label == "Speed 0.01×"
+    app.set_speed(1.0)
+    assert app.speed_slider.value == 0.0 and app.speed_slider.label == "Speed 1×"
 
 
 def test_nan_in_a_frame_pauses_with_a_message_and_keeps_the_last_state(app, monkeypatch):

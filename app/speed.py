@@ -1,0 +1,43 @@
+"""The clock's speed slider: logarithmic, 0.01× to 10×, with 1× in the middle.
+
+A lecturer slows a tennis-racket flip to 0.05× far more often than speeding it up, so a linear slider
+crowds the useful speeds into its first millimetre. The slider's value is a *position* p in [−1, 1]:
+the left half is 100^p (0.01× … 1×), the right half 10^p (1× … 10×). Each half is logarithmic, and the
+slider's own number box shows the position while its label shows the speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = [
+    "SPEED_MIN",
+    "SPEED_MAX",
+    "POSITION_STEP",
+    "POSITION_MARKS",
+    "speed_at",
+    "position_of",
+    "speed_label",
+]
+
+SPEED_MIN, SPEED_MAX = 0.01, 10.0
+POSITION_STEP = 0.05  # 20 steps per decade on the slow half, 20 per decade on the fast half
+POSITION_MARKS = ((-1.0, "0.01×"), (-0.5, "0.1×"), (0.0, "1×"), (0.5, "3.2×"), (1.0, "10×"))
+
+
+def speed_at(position: float) -> float:
+    """The speed (×) at a slider position in [−1, 1] (clamped): 100^p left of the middle, 10^p right."""
+    p = min(max(float(position), -1.0), 1.0)
+    return 100.0**p if p <= 0.0 else 10.0**p
+
+
+def position_of(speed: float) -> float:
+    """The slider position of a speed in [SPEED_MIN, SPEED_MAX] (×): the inverse of :func:`speed_at`."""
+    s = min(max(float(speed), SPEED_MIN), SPEED_MAX)
+    return math.log10(s) / 2.0 if s <= 1.0 else math.log10(s)
+
+
+def speed_label(speed: float) -> str:
+    """The slider's label: two significant digits, e.g. ``Speed 0.032×``, ``Speed 1×``, ``Speed 3.2×``."""
+    text = f"{speed:.2g}"
+    return f"Speed {text}×"

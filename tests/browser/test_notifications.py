@@ -1,0 +1,59 @@
+"""Notifications in the page (issue 12, item 4): a refusal is one notification, to the browser that
+caused it, that closes by itself; an identical one is not stacked; the status line belongs to the scene."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from app.server import NOTIFY_SECONDS
+from tests.harness import click, open_page, pick_scene, running_app, wait_for
+
+pytestmark = pytest.mark.browser
+
+# Ours only: headless Chromium renders WebGL in software, and viser's client says so in a notification.
+VISIBLE = """() => [...document.querySelectorAll('.mantine-Notification-root')]
+    .filter(n => n.offsetParent && !n.innerText.includes('WebGL')).length"""
+TEXTS = "() => [...document.querySelectorAll('.mantine-Notification-root')].map(n => n.innerText)"
+
+
+def _refuse(page, app, text: str, times: int = 1) -> None:
+    """Open a state text that no state has, from this page (the refusal is this browser's); ``times``
+    clicks in quick succession."""
+    with app.lock:
+        app.state_box.value = text
+    time.sleep(0.3)  # the page has the text before the click sends it back
+    button = page.get_by_role("button", name="Open state").first
+    button.wait_for(state="visible", timeout=30_000)
+    button.click(force=True, click_count=times, delay=50)
+
+
+def test_refusals_close_by_themselves_and_identical_ones_are_not_stacked(chromium) -> None:
+    with running_app("wobble") as app:
+        page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
+        other, _ = open_page(chromium, app, viewport={"width": 1024, "height": 768})
+        click(page.get_by_text("State", exact=True))
+        before = len(app.messages)
+        _refuse(page, app, "not a state", times=3)  # the same mistake three times: one notification
+        wait_for(lambda: len(app.messages) >= before + 3, 10, what="three clicks at the server")
+        wait_for(lambda: page.evaluate(VISIBLE) >= 1, 10, what="the refusal in the page")
+        time.sleep(0.5)
+        assert page.evaluate(VISIBLE) == 1, page.evaluate(TEXTS)
+        assert other.evaluate(VISIBLE) == 0  # the other browser did nothing wrong and hears nothing
+        assert "⚠" in app.status.content  # ...but the scene's status line says what was refused
+        wait_for(lambda: page.evaluate(VISIBLE) == 0, NOTIFY_SECONDS + 4, what="the notification to close itself")
+        shown = []
+        for text in ("not a state", "rbl1:!!!", "rbl1:AAAA"):  # three different mistakes: one each
+            _refuse(page, app, text)
+            shown.append(wait_for(lambda: page.evaluate(VISIBLE), 10, what="the refusal"))
+        assert max(shown) >= 2, shown  # different refusals are each shown, not replaced
+        time.sleep(12.0)
+        assert NOTIFY_SECONDS <= 6.0
+        assert page.evaluate(VISIBLE) == 0, "notifications still open 12 s after the refusals"
+        pick_scene(page, "Heavy top")
+        wait_for(lambda: app.scene.name == "heavy_top", 30, what="the heavy top")
+        assert app.status.content == ""  # the status line belonged to the wobble
+        wait_for(lambda: "⚠" not in page.inner_text("body"), 10, what="the status line cleared in the page")
+        page.close()
+        other.close()
