@@ -69,6 +69,7 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="show viser's share button, which can publish this server on a public tunnel (off by default)",
     )
+    parser.add_argument("--dark", action="store_true", help="a dark look, for a dark lecture room")
     parser.add_argument(
         "--private",
         action="store_true",
@@ -124,6 +125,7 @@ def main(argv: list[str] | None = None) -> None:
             port=args.port,
             scene=args.scene,
             share=args.share,
+            dark=args.dark,
             private=args.private,
             presenter=presenter,
             pin=args.pin,

@@ -24,10 +24,15 @@ from scipy.spatial.transform import Rotation
 from app.wire import send_orientation, send_points, send_position
 
 __all__ = [
+    "OKABE_ITO",
     "COLOURS",
+    "hex_colour",
+    "instance_colour",
+    "shown_colour",
     "LABELS",
     "wxyz",
     "legend_html",
+    "light",
     "BodyMesh",
     "Arrow",
     "PrincipalFrame",
@@ -40,21 +45,44 @@ __all__ = [
     "cylinder_mesh",
 ]
 
-# One colour per quantity, the same in every scene (RGB 0-255).
-COLOURS: dict[str, tuple[int, int, int]] = {
-    "L": (255, 160, 0),  # angular momentum: amber
-    "omega": (220, 30, 60),  # angular velocity: red
-    "torque": (140, 60, 220),  # torque: violet
-    "trace": (0, 150, 170),  # trace of the symmetry-axis tip: teal
-    "body_cone": (40, 170, 90),  # body cone: green
-    "space_cone": (230, 90, 200),  # space cone: pink
-    "path": (150, 150, 150),  # path of the centre of mass: light grey
-    "axes": (25, 25, 25),  # principal axes e1, e2, e3: black (not RGB: red and green are taken)
-    "body": (185, 190, 200),  # the body itself: light steel
-    "impulse": (40, 90, 230),  # an impulse (strike): blue
-    "reaction": (120, 70, 30),  # a constraint's reaction: brown
-    "ghost": (70, 130, 255),  # the body moved by an integrator beside the exact one: translucent blue
+OKABE_ITO: dict[str, tuple[int, int, int]] = {
+    "orange": (230, 159, 0),
+    "sky_blue": (86, 180, 233),
+    "bluish_green": (0, 158, 115),
+    "yellow": (240, 228, 66),
+    "blue": (0, 114, 178),
+    "vermillion": (213, 94, 0),
+    "reddish_purple": (204, 121, 167),
+    "black": (0, 0, 0),
 }
+"""Okabe & Ito (2008), *Color Universal Design*: eight colours that stay distinct under every common
+colour-vision deficiency. Every quantity below takes one of them; the body and the guides are greys."""
+
+# One colour per quantity, the same in every scene (RGB 0-255); the legend shows exactly these, and
+# tests/app/test_palette.py checks that every node a scene sends is drawn in one of them.
+COLOURS: dict[str, tuple[int, int, int]] = {
+    "L": OKABE_ITO["orange"],  # angular momentum
+    "omega": OKABE_ITO["blue"],  # angular velocity
+    "torque": OKABE_ITO["reddish_purple"],  # torque
+    "trace": OKABE_ITO["vermillion"],  # trace of the symmetry-axis tip
+    "body_cone": OKABE_ITO["bluish_green"],  # body cone
+    "space_cone": OKABE_ITO["sky_blue"],  # space cone
+    "path": (96, 96, 96),  # path of the centre of mass: dark grey
+    "axes": OKABE_ITO["black"],  # principal axes e1, e2, e3 (not RGB: the quantities have those colours)
+    "body": (104, 118, 140),  # the body: slate, at least 3:1 against a white or a dark background
+    "impulse": OKABE_ITO["vermillion"],  # an impulse (strike); the pendulum shows no trace
+    "reaction": OKABE_ITO["reddish_purple"],  # a constraint's reaction; the pendulum shows no torque
+    "ghost": OKABE_ITO["black"],  # the body moved by an integrator: translucent, so a grey shadow body
+    "ellipsoid": OKABE_ITO["yellow"],  # the inertia ellipsoid, translucent
+    "guide": (150, 150, 150),  # construction lines: spheres, equators, the separatrix, a pivot's axle
+}
+
+
+def hex_colour(name: str) -> str:
+    """``#rrggbb`` of a quantity's colour (a key of :data:`COLOURS`) or of an :data:`OKABE_ITO` name, for
+    plots and HTML."""
+    return _rgb_hex(COLOURS[name] if name in COLOURS else OKABE_ITO[name])
+
 
 # Legend text per quantity (Unicode: viser's markdown has no LaTeX).
 LABELS: dict[str, str] = {
@@ -70,6 +98,8 @@ LABELS: dict[str, str] = {
     "impulse": "J — impulse",
     "reaction": "pivot reaction",
     "ghost": "ghost — the same body moved by the chosen integrator",
+    "ellipsoid": "inertia ellipsoid (long where the moment is small)",
+    "guide": "guides (spheres, equators, separatrix, axle)",
 }
 
 
@@ -127,6 +157,29 @@ def _rgb_hex(rgb: tuple[int, int, int]) -> str:
     return "#{:02x}{:02x}{:02x}".format(*rgb)
 
 
+def instance_colour(quantity: str) -> tuple[int, int, int]:
+    """What to send as an arrow's colour so that the page shows ``COLOURS[quantity]``.
+
+    viser's client reads the per-instance colours of batched meshes (arrows; ``new THREE.Color(r, g, b)``
+    in its ``BatchedMeshBase.tsx``) as *linear* RGB, but a mesh's or a line's colour as sRGB. Sent as it
+    is, an arrow's colour comes out washed out (dark blue shows as sky blue, red as pink); so it goes
+    out converted to linear light (IEC 61966-2-1's sRGB transfer function), and the page converts it
+    back to within one level in 255.
+    """
+    c = np.asarray(COLOURS[quantity], dtype=float) / 255.0
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    r, g, b = (int(v) for v in np.rint(255.0 * linear))
+    return (r, g, b)
+
+
+def shown_colour(sent: ArrayLike) -> tuple[int, int, int]:
+    """The sRGB colour a page shows for an arrow colour ``sent`` (the inverse of :func:`instance_colour`)."""
+    c = np.asarray(sent, dtype=float) / 255.0
+    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+    r, g, b = (int(v) for v in np.rint(255.0 * srgb))
+    return (r, g, b)
+
+
 def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
     """HTML legend: a coloured swatch and a name for each quantity key of :data:`COLOURS`."""
     rows = []
@@ -138,6 +191,21 @@ def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
             f"{LABELS[key]}</div>"
         )
     return '<div class="rbl-legend">' + "".join(rows) + "</div>"
+
+
+def light(scene: Any) -> None:
+    """Light a scene so that a surface facing the viewer shows its colour as the legend does.
+
+    viser's defaults (a warehouse environment map plus a directional light of intensity 3) wash the
+    colours out: amber turns pale yellow, red turns pink. three.js's physically based lights give a
+    Lambertian surface its own colour under an ambient intensity of π, so the scene gets 0.6 π of ambient
+    light and 0.55 π from a light above and in front (faces towards it a little brighter than the legend,
+    faces away at 0.6 of it, in linear light): solid bodies keep their shading, colours keep their hue.
+    """
+    scene.configure_environment_map(hdri=None)
+    scene.configure_default_lights(enabled=False)
+    scene.add_light_ambient("/lights/ambient", intensity=0.6 * math.pi)
+    scene.add_light_directional("/lights/key", intensity=0.55 * math.pi, position=(2.0, -3.0, 5.0))
 
 
 def _rotation_z_to(direction: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -255,7 +323,7 @@ class Arrow:
         self.handle = server.scene.add_arrows(
             name,
             points=np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1e-3]]]),
-            colors=COLOURS[quantity],
+            colors=instance_colour(quantity),
             shaft_radius=shaft_radius,
             head_radius=2.4 * shaft_radius,
             head_length=6.0 * shaft_radius,
@@ -523,7 +591,7 @@ def faint_sphere(
     handle = server.scene.add_icosphere(
         name,
         radius=radius,
-        color=(150, 170, 200),
+        color=COLOURS["guide"],
         subdivisions=4,
         opacity=opacity,
         cast_shadow=False,
@@ -534,7 +602,7 @@ def faint_sphere(
     server.scene.add_line_segments(
         name + "_equator",
         points=np.stack([ring[:-1], ring[1:]], axis=1),
-        colors=(150, 170, 200),
+        colors=COLOURS["guide"],
         thickness=1.0,
         thickness_units="screen",
     )
@@ -555,7 +623,7 @@ class InertiaEllipsoid:
         server: viser.ViserServer,
         name: str,
         *,
-        colour: tuple[int, int, int] = (255, 200, 60),
+        colour: tuple[int, int, int] = COLOURS["ellipsoid"],
         opacity: float = 0.25,
         cap: float = 4.0,
     ) -> None:

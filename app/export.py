@@ -158,8 +158,8 @@ def _record(app: Any, out: Path, frames: int, fps: float, progress: Callable[[in
         rows.append({"t (s)": app.time, **scene.columns(app.last_state)})
         if progress is not None and k > 0:
             progress(k, frames)
-    camera = app.server.initial_camera
-    picture = render_png(app.server.scene._handle_from_node_name, camera.position, camera.look_at)
+    position, look_at = app.view  # the whole picture is the scene's: no panel to frame it clear of
+    picture = render_png(app.server.scene._handle_from_node_name, position, look_at)
     html = serializer.as_html()
     out.mkdir(parents=True, exist_ok=True)
     paths = Export(out / "index.html", out / f"{scene.name}.csv", out / f"{scene.name}.png", frames + 1)

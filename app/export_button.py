@@ -25,11 +25,11 @@ EXPORT_SECONDS = (1.0, 60.0, 10.0)
 class ExportFolder:
     """The "Export" folder of a simulation's panel (seconds, and the button)."""
 
-    def __init__(self, simulation: Any) -> None:
+    def __init__(self, simulation: Any, order: float | None = None) -> None:
         self.simulation = simulation
         gui = simulation.server.gui
         low, high, default = EXPORT_SECONDS
-        with gui.add_folder("Export a recording", expand_by_default=False) as self.folder:
+        with gui.add_folder("Export a recording", expand_by_default=False, order=order) as self.folder:
             self.seconds = gui.add_slider("Seconds to record", min=low, max=high, step=1.0, initial_value=default)
             self.button = gui.add_button("Export", icon=viser.Icon.DOWNLOAD, hint="a web page, a CSV and a PNG")
         self.button.on_click(simulation.guarded(self._on_click))

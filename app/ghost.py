@@ -85,7 +85,7 @@ class IntegratorGhost:
         self.plot = controls.InvariantDrift(
             ctx,
             ("angle", "E"),
-            ("#1478ff", "#333333"),
+            (draw.hex_colour("blue"), draw.hex_colour("black")),
             title="Ghost − exact: log₁₀ angle (rad), log₁₀ energy drift",
         )
         self.plot.handle.visible = False

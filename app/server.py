@@ -32,10 +32,11 @@ from typing import Any
 import numpy as np
 import viser
 
-from app import draw
+from app import draw, look
 from app.addresses import is_loopback
 from app.event_loop import confine_events
 from app.export_button import ExportFolder
+from app.framing import framed
 from app.inputs import check_update, guard_inputs
 from app.lectures import Lecture, Step, read_lecture
 from app.presenter import Classroom, check_pin, new_pin
@@ -49,6 +50,7 @@ __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 FPS = 60.0
 NOTIFY_SECONDS = 6.0  # a notification closes by itself after this long; an identical one is not stacked
 FOV = math.radians(50.0)  # vertical field of view (viser's default 75° makes the scene look far away)
+LAST_ORDER = 1e6  # viser's panel order of what comes after the scene's folder (legend, state, export)
 MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
 
 
@@ -104,6 +106,8 @@ class Simulation:
         Frames per second of the loop that drives it.
     share : bool
         Show viser's share button (a public tunnel).
+    dark : bool
+        The dark look (:mod:`app.look`), for a dark lecture room.
     """
 
     root = "/scene"
@@ -116,6 +120,7 @@ class Simulation:
         *,
         fps: float = FPS,
         share: bool = False,
+        dark: bool = False,
     ) -> None:
         first, names = _first_scene(scene)
         self.lock = threading.RLock()
@@ -125,6 +130,7 @@ class Simulation:
         self.messages: list[tuple[str, str]] = []  # every notification sent (title, body), newest last
         self.frames = 0  # frames drawn
         self.last_state: dict[str, Any] = {}  # the state the last frame drew
+        self.view: tuple[Any, Any] = ((3.0, -3.0, 2.0), (0.0, 0.0, 0.0))  # camera asked for, before framing
         self._t = 0.0
         self._playing = True
         self._speed = 1.0
@@ -144,11 +150,13 @@ class Simulation:
         self._lecture_gui: Any = None
 
         self.server.scene.set_up_direction("+z")
+        draw.light(self.server.scene)
         self._grid = self.server.scene.add_grid(
             "/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0)
         )
         # No public tunnel unless asked for: viser's share button would publish this server to the world.
-        self.server.gui.configure_theme(control_width="large", show_share_button=share)
+        self.dark = bool(dark)
+        self._style = look.configure(self.server.gui, share=share, dark=dark)
         self._build_global_gui(names)
         guard_inputs(self.server.gui, self._refuse_input, self.refusal)
         if isinstance(self.server, viser.ViserServer):
@@ -175,7 +183,7 @@ class Simulation:
 
     def _build_global_gui(self, names: list[str]) -> None:
         gui = self.server.gui
-        self._title = gui.add_markdown("**Rigid Body Lab** — drag a slider, the class sees L and ω change.")
+        self._title = gui.add_markdown("**Rigid Body Lab**")
         titles = {REGISTRY[n].title: n for n in names}
         self._title_to_name = titles
         self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=REGISTRY[names[0]].title)
@@ -193,17 +201,20 @@ class Simulation:
         self.step_button.on_click(self.guarded(lambda _: self.step()))
         self.reset_button.on_click(self.guarded(lambda _: self.restart()))
         self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(speed_at(self.speed_slider.value))))
-        with gui.add_folder("State", expand_by_default=False) as state:
+        self._style.content = look.STYLE + look.hide_number_box(self.speed_slider._impl.uuid)
+        # Below the scene's own folder (LAST_ORDER): the scene's controls stay above the fold at 1280×800.
+        with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
             self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
             self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
         self.copy_state_button.on_click(self.guarded(self._on_copy_state))
         self.open_state_button.on_click(self.guarded(self._on_open_state))
-        self.export_folder = ExportFolder(self)
+        self.export_folder = ExportFolder(self, order=LAST_ORDER + 2)
         self.status = gui.add_markdown("")
-        self.legend = gui.add_html("")
+        self.legend = gui.add_html("", order=LAST_ORDER)
         self._clock = clock
         self._global_gui = [
+            self._style,
             self._title,
             self.scene_picker,
             clock,
@@ -353,6 +364,7 @@ class Simulation:
 
     def _set_camera(self, position: list[float], look_at: list[float]) -> None:
         eye, target = np.array(position, dtype=float), np.array(look_at, dtype=float)
+        self.view = (eye, target)
         for client in self._clients():
             with client.atomic():
                 client.camera.position = eye
@@ -384,10 +396,16 @@ class Simulation:
 
     def _on_connect(self, client: viser.ClientHandle) -> None:
         if self.scene is not None:
-            position, look_at = self.scene.camera
+            self._show_scene_to(client, *self.scene.camera)
+
+    @staticmethod
+    def _show_scene_to(client: Any, position: Any, look_at: Any) -> None:
+        """Point a browser's camera at a scene, framed clear of the panel for its view (app.framing)."""
+        eye, target = framed(position, look_at, client.camera.image_width, client.camera.image_height, FOV)
+        with client.atomic():
             client.camera.fov = FOV
-            client.camera.position = position
-            client.camera.look_at = look_at
+            client.camera.position = eye
+            client.camera.look_at = target
 
     # ------------------------------------------------------------------ the context scenes use
     @property
@@ -600,12 +618,11 @@ class Simulation:
                 self._switching = False
             self.legend.content = draw.legend_html(cls.quantities)
             self.clear_status()  # the status line belongs to the scene
-            position, look_at = cls.camera
+            self.view = cls.camera
             for c in self._clients():
-                c.camera.fov = FOV
-                c.camera.position = position
-                c.camera.look_at = look_at
-            if isinstance(self.server, viser.ViserServer):
+                self._show_scene_to(c, *cls.camera)
+            if isinstance(self.server, viser.ViserServer):  # a browser's first view, before it reports its size
+                position, look_at = framed(*cls.camera, 1280, 800, FOV)
                 self.server.initial_camera.fov = FOV
                 self.server.initial_camera.position = position
                 self.server.initial_camera.look_at = look_at
@@ -732,6 +749,8 @@ class App(Simulation):
         Frames per second of the loop.
     share : bool
         Show viser's share button, which can publish the server on a public tunnel (off by default).
+    dark : bool
+        The dark look (``--dark``), for a dark lecture room.
     private : bool
         One simulation per browser instead of one for all.
     presenter : bool, optional
@@ -757,6 +776,7 @@ class App(Simulation):
         verbose: bool = False,
         fps: float = FPS,
         share: bool = False,
+        dark: bool = False,
         private: bool = False,
         presenter: bool | None = None,
         pin: str | None = None,
@@ -788,12 +808,12 @@ class App(Simulation):
             self.classroom = Classroom(self, self.pin, self._copy_for)
         if self.private:
             self.server = server
-            self.fps, self._first, self._share = float(fps), first, share
+            self.fps, self._first, self._share, self.dark = float(fps), first, share, bool(dark)
             self.lock = threading.RLock()
             self.scene = None
-            server.gui.configure_theme(control_width="large", show_share_button=share)
+            look.configure(server.gui, share=share, dark=dark)
             if self._lecture is not None:  # checked once, on a simulation nobody sees, before serving
-                probe = Simulation(server, first, fps=fps, share=share)
+                probe = Simulation(server, first, fps=fps, share=share, dark=dark)
                 try:
                     probe.load_lecture(self._lecture)
                 except ValueError:
@@ -804,7 +824,7 @@ class App(Simulation):
             server.on_client_connect(self._open_session)
             server.on_client_disconnect(self._close_session)
         else:
-            super().__init__(server, first, fps=fps, share=share)
+            super().__init__(server, first, fps=fps, share=share, dark=dark)
             try:
                 if state is not None:
                     self.open_state(state)
@@ -834,14 +854,14 @@ class App(Simulation):
     def _copy_for(self, client: viser.ClientHandle) -> Simulation:
         """A browser's own copy of the lecture, at the lecture's current state (presenter mode)."""
         snapshot = self.snapshot()
-        copy = Simulation(client, snapshot["scene"], fps=self.fps, share=self._share)
+        copy = Simulation(client, snapshot["scene"], fps=self.fps, share=self._share, dark=self.dark)
         copy.restore(snapshot)
         return copy
 
     # ------------------------------------------------------------------ private sessions
     def _open_session(self, client: viser.ClientHandle) -> None:
         try:
-            session = Simulation(client, self._first, fps=self.fps, share=self._share)
+            session = Simulation(client, self._first, fps=self.fps, share=self._share, dark=self.dark)
             if self._state_text is not None:
                 session.open_state(self._state_text)
             if self._lecture is not None:

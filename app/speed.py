@@ -3,7 +3,8 @@
 A lecturer slows a tennis-racket flip to 0.05× far more often than speeding it up, so a linear slider
 crowds the useful speeds into its first millimetre. The slider's value is a *position* p in [−1, 1]:
 the left half is 100^p (0.01× … 1×), the right half 10^p (1× … 10×). Each half is logarithmic, and the
-slider's own number box shows the position while its label shows the speed.
+slider's label shows the speed; its number box, which would show the position, is hidden
+(:func:`app.look.hide_number_box`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,8 @@ __all__ = [
 
 SPEED_MIN, SPEED_MAX = 0.01, 10.0
 POSITION_STEP = 0.05  # 20 steps per decade on the slow half, 20 per decade on the fast half
-POSITION_MARKS = ((-1.0, "0.01×"), (-0.5, "0.1×"), (0.0, "1×"), (0.5, "3.2×"), (1.0, "10×"))
+# Labelled at the ends and the middle (five labels overlap on a phone); ticks at 0.1× and 3.2×.
+POSITION_MARKS: tuple[float | tuple[float, str], ...] = ((-1.0, "0.01×"), -0.5, (0.0, "1×"), 0.5, (1.0, "10×"))
 
 
 def speed_at(position: float) -> float:

@@ -124,10 +124,13 @@ class HeavyTopScene(Scene):
             ),
             series=(
                 viser.uplot.Series(label="θ (°)"),
-                viser.uplot.Series(label="U(θ)", stroke="#1478ff", width=2),
-                viser.uplot.Series(label="energy ℰ", stroke="#888888", width=1, dash=(6, 4)),
+                viser.uplot.Series(label="U(θ)", stroke=draw.hex_colour("blue"), width=2),
+                viser.uplot.Series(label="energy ℰ", stroke=draw.hex_colour("guide"), width=1, dash=(6, 4)),
                 viser.uplot.Series(
-                    label="now (θ, U)", stroke="#dc1e3c", width=0, points={"show": True, "size": 10, "fill": "#dc1e3c"}
+                    label="now (θ, U)",
+                    stroke=draw.hex_colour("vermillion"),
+                    width=0,
+                    points={"show": True, "size": 10, "fill": draw.hex_colour("vermillion")},
                 ),
             ),
             scales={
@@ -141,7 +144,11 @@ class HeavyTopScene(Scene):
         self.nutation_readout = controls.Readout(self.ctx, "nutation period (s)")
         self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
         self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
-        self.drift = controls.InvariantDrift(self.ctx, ("E", "L_z", "L₃"), ("#333333", "#b07000", "#1478ff"))
+        self.drift = controls.InvariantDrift(
+            self.ctx,
+            ("E", "L_z", "L₃"),
+            (draw.hex_colour("black"), draw.hex_colour("L"), draw.hex_colour("bluish_green")),
+        )
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", draw.top_mesh(LENGTH))
         self.traces += [self.drift, self.ghost]
         self._plot_time = 0.0

@@ -93,7 +93,7 @@ class InertiaExplorer(Scene):
     name = "inertia_explorer"
     title = "Inertia explorer"
     order = 50  # after the frame's scenes: the heavy top stays the first thing a user sees
-    quantities = ("body",)
+    quantities = ("body", "axes", "ellipsoid")
     caption = (
         "**The inertia tensor.** Pick a body (1 kg) or upload your own mesh. The axes at the centre of mass are "
         "the principal axes (labelled 1, 2, 3 with I₁ ≥ I₂ ≥ I₃); the translucent ellipsoid is the "
@@ -114,12 +114,12 @@ class InertiaExplorer(Scene):
         self.frame = draw.PrincipalFrame(server, root + "/principal", length=0.7)
         self.axis_labels = [server.scene.add_label(f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
         self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
-        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=(20, 20, 20))
+        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=draw.COLOURS["axes"])
         self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)
         self.lever = server.scene.add_line_segments(
             root + "/lever",
             points=np.zeros((1, 2, 3), dtype=np.float32),
-            colors=(20, 20, 20),
+            colors=draw.COLOURS["axes"],
             thickness=2.0,
             thickness_units="screen",
         )

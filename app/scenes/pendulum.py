@@ -64,11 +64,11 @@ class Pendulum(Scene):
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.6)  # markers show through
-        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=(30, 30, 30))
+        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=draw.COLOURS["axes"])
         self.axle = server.scene.add_line_segments(
             root + "/axle",
             points=np.zeros((1, 2, 3), dtype=np.float32),
-            colors=(30, 30, 30),
+            colors=draw.COLOURS["axes"],
             thickness=4.0,
             thickness_units="screen",
         )
@@ -76,7 +76,7 @@ class Pendulum(Scene):
         self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
         self.cop_label = server.scene.add_label(root + "/cop_label", "centre of percussion")
         self.cm_label = server.scene.add_label(root + "/cm_label", "CM")
-        self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.02, color=(240, 120, 0))
+        self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.02, color=draw.COLOURS["impulse"])
         self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.012)
         self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.012)
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
@@ -110,7 +110,7 @@ class Pendulum(Scene):
         self.l_readout = controls.Readout(self.ctx, "effective length ℓ = k²/a⊥ (m)")
         self.period_readout = controls.Readout(self.ctx, "period: small swings / this amplitude (s)", fmt="{}")
         self.strike_readout = controls.Readout(self.ctx, "last strike: Δω (rad/s), |pivot impulse| (N s)", fmt="{}")
-        self.drift = controls.InvariantDrift(self.ctx, ("E",), ("#333333",))
+        self.drift = controls.InvariantDrift(self.ctx, ("E",), (draw.hex_colour("black"),))
         self.traces.append(self.drift)
         self.last_strike: dict[str, Any] | None = None
         self.apply(self.params.values)

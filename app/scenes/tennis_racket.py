@@ -127,17 +127,12 @@ class TennisRacket(Scene):
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         # The L-sphere in body axes: faint sphere, body axes, separatrix, polhode, current L.
-        server.scene.add_frame(
-            root + "/lsphere_axes",
-            axes_length=1.25 * self.sphere_radius,
-            axes_radius=0.006,
-            origin_radius=0.0,
-            position=self.sphere_centre,
-        )
+        lsphere_axes = draw.PrincipalFrame(server, root + "/lsphere_axes", length=1.25 * self.sphere_radius)
+        lsphere_axes.set_pose(np.eye(3), self.sphere_centre)
         self.sphere_sphere = server.scene.add_icosphere(
             root + "/lsphere_shell",
             radius=self.sphere_radius,
-            color=(150, 170, 200),
+            color=draw.COLOURS["guide"],
             opacity=0.08,
             position=self.sphere_centre,
             cast_shadow=False,
@@ -145,7 +140,7 @@ class TennisRacket(Scene):
         self.separatrix = server.scene.add_line_segments(
             root + "/separatrix",
             points=np.zeros((2, 2, 3), dtype=np.float32),
-            colors=(110, 110, 110),
+            colors=draw.COLOURS["guide"],
             thickness=1.5,
             thickness_units="screen",
         )
@@ -205,9 +200,9 @@ class TennisRacket(Scene):
             data=(np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2)),
             series=(
                 viser.uplot.Series(label="t (s)"),
-                viser.uplot.Series(label="ω₁", stroke="#dc1e3c", width=2),
-                viser.uplot.Series(label="ω₂", stroke="#28aa5a", width=2),
-                viser.uplot.Series(label="ω₃", stroke="#1478ff", width=2),
+                viser.uplot.Series(label="ω₁", stroke=draw.hex_colour("vermillion"), width=2),
+                viser.uplot.Series(label="ω₂", stroke=draw.hex_colour("bluish_green"), width=2),
+                viser.uplot.Series(label="ω₃", stroke=draw.hex_colour("blue"), width=2),
             ),
             title="ω in body axes (rad/s)",
             scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
@@ -218,7 +213,7 @@ class TennisRacket(Scene):
         self._hist_n = 0
         self._frames = 0
         self.trace = draw.Trace(server, root + "/trace", capacity=800)
-        self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
+        self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), (draw.hex_colour("black"), draw.hex_colour("L")))
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", trimesh.creation.box())
         self.traces: list[Any] = [self.trace, self.drift, self.ghost]
         self.apply(self.params.values)

@@ -98,7 +98,7 @@ class Wobble(Scene):
         self.Omega_readout = controls.Readout(self.ctx, "Ω body precession (rad/s)")
         self.phidot_readout = controls.Readout(self.ctx, "L/I₁ space precession (rad/s)")
         self.moments_readout = controls.Readout(self.ctx, "I₁, I₃ (kg m², M = 1 kg)", fmt="{}")
-        self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), ("#333333", "#ffa000"))
+        self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), (draw.hex_colour("black"), draw.hex_colour("L")))
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", draw.cylinder_mesh(0.5, 0.5))
         self.traces += [self.drift, self.ghost]
         self.apply(self.params.values)

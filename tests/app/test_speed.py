@@ -38,7 +38,9 @@ def test_out_of_range_is_clamped():
 
 
 def test_marks_sit_at_their_speeds():
-    for position, label in POSITION_MARKS:
+    labelled = [mark for mark in POSITION_MARKS if isinstance(mark, tuple)]
+    assert [p for p, _ in labelled] == [-1.0, 0.0, 1.0]
+    for position, label in labelled:
         assert float(label.rstrip("×")) == pytest.approx(
             speed_at(position), rel=0.02
         )  # labels carry two significant digits

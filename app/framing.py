@@ -1,0 +1,82 @@
+"""Frame a scene's camera clear of the control panel, for the browser's own viewport.
+
+A scene states its camera for the whole view (``Scene.camera``: position and look-at, m). viser's panel
+then covers part of it: on a laptop a floating panel of :data:`PANEL_PX` at the right, on a phone
+(narrower than viser's ``xs`` breakpoint, :data:`PHONE_PX`) a sheet over up to the bottom
+:data:`SHEET_FRACTION` of the screen. :func:`framed` moves the camera back until the scene's extent fits
+the free part of the view, and pans it so that the look-at point sits in that part's centre.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["PANEL_PX", "PHONE_PX", "SHEET_FRACTION", "free_region", "framed"]
+
+PANEL_PX = 400.0
+"""Width the floating panel takes at the right, its margins included (viser's "large" control width)."""
+
+PHONE_PX = 576.0
+"""viser's phone layout below this width (Mantine's ``xs`` breakpoint, 36 em)."""
+
+SHEET_FRACTION = 0.6
+"""Largest share of a phone's height the panel's bottom sheet covers (viser's ``maxHeight: 60%``)."""
+
+FILL = 0.75
+"""Share of the scene's own view that must stay visible in the free region (its views have margins)."""
+
+REFERENCE_ASPECT = 1.6
+"""The aspect ratio (width / height) a scene's camera was chosen for: a 1280×800 view, no panel."""
+
+
+def free_region(width: float, height: float) -> tuple[float, float, float, float]:
+    """The part of a ``width`` × ``height`` px view the panel leaves free: (left, top, right, bottom), px."""
+    if width <= PHONE_PX:
+        return (0.0, 0.0, width, (1.0 - SHEET_FRACTION) * height)
+    return (0.0, 0.0, max(width - PANEL_PX, 0.5 * width), height)
+
+
+def framed(
+    position: ArrayLike, look_at: ArrayLike, width: float, height: float, fov: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A scene's camera moved so that what it frames is seen clear of the panel.
+
+    Parameters
+    ----------
+    position, look_at : array_like, shape (3,)
+        The scene's camera (m), chosen for the whole view; +z is up.
+    width, height : float
+        The browser's view, px (viser's ``client.camera.image_width`` / ``image_height``).
+    fov : float
+        Vertical field of view, rad.
+
+    Returns
+    -------
+    (position, look_at) : ndarrays, shape (3,)
+        Unchanged for an unknown view size (0 px), otherwise backed off along the line of sight and
+        panned so the look-at point is at the centre of :func:`free_region`.
+    """
+    eye, target = np.asarray(position, dtype=float), np.asarray(look_at, dtype=float)
+    if not (width > 0 and height > 0 and math.isfinite(width) and math.isfinite(height)):
+        return eye, target
+    offset = eye - target
+    distance = float(np.linalg.norm(offset))
+    forward = -offset / distance
+    right = np.cross(forward, (0.0, 0.0, 1.0))
+    if np.linalg.norm(right) < 1e-9:  # looking straight down or up: any horizontal "right" will do
+        right = np.array([1.0, 0.0, 0.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    left, top, right_px, bottom = free_region(width, height)
+    free_w, free_h = right_px - left, bottom - top
+    # Back off until FILL of the scene's own view (REFERENCE_ASPECT wide, the same height) fits.
+    back = max(1.0, FILL * REFERENCE_ASPECT * height / free_w, FILL * height / free_h)
+    distance *= back
+    metres_per_px = 2.0 * distance * math.tan(0.5 * fov) / height
+    dx = 0.5 * (left + right_px) - 0.5 * width  # where the free centre is, from the view's centre, px
+    dy = 0.5 * (top + bottom) - 0.5 * height  # (down is positive)
+    shift = metres_per_px * (-dx * right + dy * up)
+    return target + shift - distance * forward, target + shift
