@@ -419,7 +419,7 @@ class Trace:
     ) -> None:
         self._server = server
         self._name = name
-        self._quantity = quantity
+        self.quantity = quantity
         self._thickness = thickness
         self.min_step = min_step
         self._chunks: list[viser.LineSegmentsHandle] = []
@@ -444,7 +444,7 @@ class Trace:
             self._server.scene.add_line_segments(
                 f"{self._name}/{k}",
                 points=self._segments[k],
-                colors=COLOURS[self._quantity],
+                colors=COLOURS[self.quantity],
                 thickness=self._thickness,
                 thickness_units="screen",
                 visible=False,
@@ -514,6 +514,7 @@ class Cone:
     def __init__(
         self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.25, sections: int = 64
     ):
+        self.quantity = quantity
         ang = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
         # Unit cone: apex at the origin, base circle of radius 1 at z = 1 (open: no base disc).
         vertices = np.vstack([[0.0, 0.0, 0.0], np.column_stack([np.cos(ang), np.sin(ang), np.ones_like(ang)])])

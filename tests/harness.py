@@ -66,9 +66,10 @@ def running_app(
     presenter: bool = False,
     pin: str | None = None,
     state: str | None = None,
+    dark: bool = False,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
-    127.0.0.1; ``state``: a state text to start from); stopped on exit."""
+    127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look); stopped on exit."""
     from app.server import App
 
     app = App(
@@ -80,6 +81,7 @@ def running_app(
         presenter=presenter,
         pin=pin,
         state=state,
+        dark=dark,
     )
     try:
         yield app
