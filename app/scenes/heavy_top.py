@@ -13,7 +13,9 @@ import time
 from typing import Any
 
 import numpy as np
+import trimesh
 import viser
+from scipy.spatial.transform import Rotation
 
 from app import controls, draw
 from app.columns import euler_columns, vector_columns
@@ -38,10 +40,42 @@ def _theta_grid() -> np.ndarray:
     return np.radians(np.linspace(0.5, 179.5, PLOT_POINTS))
 
 
+UPRIGHT_NUDGE = 1e-3
+"""rad (0.057°): a top set exactly upright below the sleeping threshold starts this far off the vertical.
+θ = 0 is an equilibrium there, but an unstable one; a real top never stands exactly upright, and the
+nudge grows as e^{λt}, λ = √(M g ℓ/I₁ − (L₃/2I₁)²), so it topples within seconds, as the lecture says."""
+
+
+def _touch_angle(mesh: trimesh.Trimesh) -> float:
+    """The tilt θ (rad) at which a body standing on its tip at the origin first touches the table z = 0.
+
+    A point at height z on the axis and distance ρ from it reaches the table when ρ sin θ = z cos θ,
+    i.e. at θ = atan2(z, ρ); the body touches at the smallest such angle over its vertices.
+    """
+    v = np.asarray(mesh.vertices, dtype=float)
+    rho, z = np.hypot(v[:, 0], v[:, 1]), v[:, 2]
+    away = rho > 1e-9  # the tip itself, on the axis, is always on the table
+    return float(np.min(np.arctan2(z[away], rho[away])))
+
+
+TOP_MESH = draw.top_mesh(LENGTH)
+TOUCH = _touch_angle(TOP_MESH)
+"""Tilt at which the drawn top's rim meets the table (61.4°): the friction top comes to rest there."""
+
+
 def _start(values: dict[str, float]) -> tuple[float, float, float, float]:
-    """(θ0, θ̇0, φ̇0, ψ̇0) from the sliders: released at rest in θ with spin ω3 = ψ̇ + φ̇ cos θ."""
-    theta0 = math.radians(values["theta0"])
+    """(θ0, θ̇0, φ̇0, ψ̇0) from the sliders: released at rest in θ with spin ω3 = ψ̇ + φ̇ cos θ; exactly
+    upright below the sleeping threshold, θ0 is :data:`UPRIGHT_NUDGE` instead (see :func:`_nudged`)."""
+    theta0 = UPRIGHT_NUDGE if _nudged(values) else math.radians(values["theta0"])
     return theta0, 0.0, values["phidot0"], values["spin"] - values["phidot0"] * math.cos(theta0)
+
+
+def _nudged(values: dict[str, float]) -> bool:
+    """True when the sliders ask for the unstable upright equilibrium: θ0 = 0 and L₃ = I₃ ω₃ at or below
+    the sleeping threshold 2√(M g ℓ I₁)."""
+    return values["theta0"] == 0.0 and values["I3"] * abs(values["spin"]) <= 2.0 * math.sqrt(
+        values["mgl"] * values["I1"]
+    )
 
 
 def _steady(values: dict[str, float]) -> float:
@@ -67,6 +101,20 @@ PRESETS = {
 }
 
 
+def _on_the_table(R: np.ndarray, L_body: np.ndarray, landed: bool) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The friction top stands on a table (z = 0): once its rim reaches it (θ ≥ :data:`TOUCH`) it lies
+    there at rest, its axis turned back up to θ = TOUCH about the horizontal line through the tip."""
+    axis = R[:, 2]
+    theta = math.atan2(math.hypot(axis[0], axis[1]), axis[2])
+    if theta < TOUCH and not landed:
+        return R, L_body, False
+    if theta > TOUCH:
+        n = np.cross([0.0, 0.0, 1.0], axis)
+        n /= np.linalg.norm(n)
+        R = Rotation.from_rotvec(-(theta - TOUCH) * n).as_matrix() @ R
+    return R, np.zeros(3), True
+
+
 @register
 class HeavyTopScene(Scene):
     name = "heavy_top"
@@ -78,14 +126,15 @@ class HeavyTopScene(Scene):
         "L_z and L₃ are conserved and θ moves in the effective potential "
         "U(θ) = (L_z − L₃ cos θ)²/(2 I₁² sin²θ) + (M g ℓ/I₁) cos θ between two turning points: the axis tip "
         "draws waves, loops or cusps. Stable upright (sleeping) when L₃ > 2√(M g ℓ I₁). "
-        "Exact solution without friction; with friction the spin decays and the top falls."
+        "Exact solution without friction (the tip is a pivot: the top may swing below it). With friction the "
+        "top stands on the table: the spin decays, it falls and comes to rest on its rim."
     )
     camera = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
-        self.body = draw.BodyMesh(server, root + "/top", draw.top_mesh(LENGTH))
+        self.body = draw.BodyMesh(server, root + "/top", TOP_MESH)
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.025)
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.025)
         self.torque_arrow = draw.Arrow(server, root + "/torque", "torque", label="τ")
@@ -149,7 +198,8 @@ class HeavyTopScene(Scene):
             ("E", "L_z", "L₃"),
             (draw.hex_colour("black"), draw.hex_colour("L"), draw.hex_colour("bluish_green")),
         )
-        self.ghost = IntegratorGhost(self.ctx, root + "/ghost", draw.top_mesh(LENGTH))
+        self.note = gui.add_markdown("")  # what the scene did to the sliders' start, and why
+        self.ghost = IntegratorGhost(self.ctx, root + "/ghost", TOP_MESH)
         self.traces += [self.drift, self.ghost]
         self._plot_time = 0.0
         self._y_range: tuple[float, float] | None = None
@@ -174,6 +224,12 @@ class HeavyTopScene(Scene):
         self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
+        self.note.content = (
+            f"θ₀ = 0 below the sleeping threshold is an unstable equilibrium: the top starts "
+            f"{math.degrees(UPRIGHT_NUDGE):.3f}° off the vertical, and topples."
+            if _nudged(values)
+            else ""
+        )
         self._start_ghost()
         self.reset()
         self.ctx.restart()
@@ -205,16 +261,19 @@ class HeavyTopScene(Scene):
         # Stepping state (friction): attitude and body angular momentum about the tip.
         self.R = sol.attitude[0].copy()
         self.L_body = np.array([self.top.I1, self.top.I1, self.top.I3]) * sol.omega_body[0]
+        self.landed = False  # the friction top has come to rest on the table
         self._plot_time = 0.0
         self._curve_key = None
         self._y_range = None
 
     def snapshot(self) -> dict[str, Any]:
-        return {"R": self.R.copy(), "L_body": self.L_body.copy()}  # the friction top's stepped state
+        # The friction top's stepped state.
+        return {"R": self.R.copy(), "L_body": self.L_body.copy(), "landed": [float(self.landed)]}
 
     def restore(self, motion: dict[str, Any]) -> None:
         if motion:
             self.R, self.L_body = np.array(motion["R"], dtype=float), np.array(motion["L_body"], dtype=float)
+            self.landed = bool(motion.get("landed", [0.0])[0])
 
     # -- the state
     def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -243,8 +302,10 @@ class HeavyTopScene(Scene):
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         top = self.top
         moments = np.array([top.I1, top.I1, top.I3])
+        landed = self.landed
         if self.values["friction"] > 0.0:
-            R, L_body = self._step_friction(dt)
+            R, L_body = (self.R, self.L_body) if landed else self._step_friction(dt)
+            R, L_body, landed = _on_the_table(R, L_body, landed)
         else:
             now = self.motion.at(t)
             R, L_body = now.attitude, moments * now.omega_body
@@ -257,10 +318,12 @@ class HeavyTopScene(Scene):
             "omega": R @ (L_body / moments),
             "torque": top.mgl * np.cross(axis, [0.0, 0.0, -1.0]),
             "theta": math.atan2(math.hypot(axis[0], axis[1]), axis[2]),
+            "landed": landed,
         }
 
     def draw(self, state: dict[str, Any]) -> None:
         self.R, self.L_body = state["R"], state["L_body"]  # adopt the stepped state (friction)
+        self.landed = state["landed"]
         self.body.set_pose(state["R"])
         self.L_arrow.set(state["L"] * self.L_scale)
         self.omega_arrow.set(state["omega"] * self.omega_scale)
@@ -305,7 +368,11 @@ class HeavyTopScene(Scene):
         if friction:
             self.precession_readout.set("— (friction: no fixed rate)")
             self.nutation_readout.set("—")
-            self.theta_readout.set(f"now {math.degrees(theta):.1f}")
+            self.theta_readout.set(
+                f"lying on the table at {math.degrees(theta):.1f}"
+                if state["landed"]
+                else f"now {math.degrees(theta):.1f}"
+            )
         else:
             sol = self.exact
             self.precession_readout.set(sol.precession_rate)

@@ -10,6 +10,7 @@ baseball story; docs/conventions.md erratum 2: *no* impulse from the pivot is ne
 from __future__ import annotations
 
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -27,7 +28,9 @@ BODIES = ("Baseball bat (mesh)", "Uniform rod 0.84 m, 0.9 kg")
 ROD_LENGTH, ROD_MASS = 0.84, 0.9
 HANG_HEIGHT = 1.9  # m: where the knob end is when the pivot slider is 0
 AXIS = np.array([1.0, 0.0, 0.0])  # the fixed axis: horizontal, along x
-ARROW_SHOW = 1.5  # s of simulation time the strike's arrows stay after the blow
+ARROW_SHOW = 1.5  # s of simulation time the strike's arrows stay after the blow...
+ARROW_SECONDS = 1.2  # ...and at least this long in wall time, however fast the clock runs
+wall_clock = time.monotonic  # (a test replaces it)
 _FLIP = np.diag([1.0, -1.0, -1.0])  # half turn about x: the body's +z (knob to tip) now points down
 
 
@@ -178,7 +181,7 @@ class Pendulum(Scene):
         result = self.model.strike(impulse, point, theta=theta)
         self.start = (theta, thetadot + result.delta_omega, t)
         self.drift.clear()  # the blow changes the energy: the drift is measured from the struck swing
-        self.last_strike = {"t": t, "point": point, "impulse": impulse, "result": result}
+        self.last_strike = {"t": t, "wall": wall_clock(), "point": point, "impulse": impulse, "result": result}
         self.strike_readout.set(f"{result.delta_omega:.4g}, {float(np.linalg.norm(result.reaction_impulse)):.3g}")
         self.ctx.request_redraw()
         return result
@@ -204,7 +207,11 @@ class Pendulum(Scene):
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))
         s = self.last_strike
-        if s is not None and 0.0 <= state["t"] - s["t"] <= ARROW_SHOW:
+        if (
+            s is not None
+            and state["t"] >= s["t"]
+            and (state["t"] - s["t"] <= ARROW_SHOW or wall_clock() - s["wall"] <= ARROW_SECONDS)
+        ):
             j = s["impulse"]
             scale = 0.4 / max(float(np.linalg.norm(j)), 1e-12)  # the blow drawn 0.4 m long, the reaction alike
             self.impulse_arrow.set(j * scale, s["point"] - j * scale)

@@ -93,22 +93,56 @@ def test_heavy_top_presets_reach_cusps_loops_and_waves(app):
     assert sol.phidot.min() < 0.0 < sol.phidot.max()
 
 
-def test_heavy_top_with_friction_spins_down_and_falls(app):
+def test_heavy_top_with_friction_spins_down_falls_and_lies_on_the_table(app):
+    from app.scenes.heavy_top import TOP_MESH, TOUCH
+
     scene = open_scene(app, "heavy_top")
     assert scene.presets.choose("sleeping top with friction: falls")
     L3_start = scene.L_body[2]
+    c, I3 = scene.params.values["friction"], scene.params.values["I3"]
     app.set_speed(10.0)
-    thetas = []
-    for _ in range(25):  # 0.1 s of wall time at 10x: 1 s of simulation per frame, 25 s in all
+    thetas, lowest = [], []
+    for _ in range(40):  # 0.1 s of wall time at 10x: 1 s of simulation per frame, 40 s in all
         app.frame(0.1)
         thetas.append(math.degrees(math.acos(np.clip(scene.R[2, 2], -1, 1))))
-    assert app.time == pytest.approx(25.0, rel=1e-12)
-    # Spin friction alone: L3 decays as exp(-c t / I3) (dL3/dt = -c L3/I3; gravity's torque has no axis part).
-    c, I3 = scene.params.values["friction"], scene.params.values["I3"]
-    assert scene.L_body[2] == pytest.approx(L3_start * math.exp(-c * 25.0 / I3), rel=1e-6)
+        lowest.append(float(np.min(TOP_MESH.vertices @ scene.R.T[:, 2])))  # the body's lowest point (m)
+        if not scene.landed:
+            # Spin friction alone: L3 decays as exp(-c t / I3) (dL3/dt = -c L3/I3; gravity has no axis part).
+            assert scene.L_body[2] == pytest.approx(L3_start * math.exp(-c * app.time / I3), rel=1e-6)
+    assert app.time == pytest.approx(40.0, rel=1e-12)
     assert thetas[0] < 5.0  # still sleeping at first
-    assert max(thetas) > 45.0  # below the threshold it wobbles and falls
+    # Below the threshold it falls until its rim meets the table, and lies there: never below it.
+    assert scene.landed and thetas[-1] == pytest.approx(math.degrees(TOUCH), abs=1e-9)
+    assert max(thetas) <= math.degrees(TOUCH) + 1e-9
+    assert min(lowest) >= -1e-12, min(lowest)
+    assert min(lowest) == pytest.approx(0.0, abs=1e-12)  # it does touch the table
+    assert np.all(scene.L_body == 0.0) and "lying on the table" in scene.theta_readout.text
     assert "too slow to sleep" in scene.gauge.text.content
+
+
+@pytest.mark.parametrize("spin", [0.0, 2.0])
+def test_a_top_set_upright_below_the_threshold_topples_from_a_stated_nudge(app, spin):
+    from app.scenes.heavy_top import UPRIGHT_NUDGE
+
+    scene = open_scene(app, "heavy_top")
+    assert scene.params.offer({"theta0": 0.0, "spin": spin, "phidot0": 0.0, "friction": 0.0})
+    assert scene.start[0] == UPRIGHT_NUDGE and "unstable equilibrium" in scene.note.content
+    tilts = []
+    for _ in range(8 * 60):
+        app.frame(FRAME)
+        tilts.append(math.degrees(math.acos(np.clip(scene.R[2, 2], -1, 1))))
+    # The nudge grows as exp(λt), λ = √(M g ℓ/I₁ − (L₃/2I₁)²) (1.6 and 1.5 /s here): within 8 s the top
+    # has fallen far from upright (and, being exact and frictionless, swings back).
+    assert tilts[0] < 0.1 and max(tilts) > 90.0
+
+
+def test_a_sleeping_top_set_upright_stays_upright(app):
+    scene = open_scene(app, "heavy_top")
+    assert scene.params.offer({"theta0": 0.0, "spin": 20.0, "phidot0": 0.0, "friction": 0.0})
+    assert scene.start[0] == 0.0 and scene.note.content == ""
+    for _ in range(120):
+        app.frame(FRAME)
+    assert scene.R[2, 2] == pytest.approx(1.0, abs=1e-12)
 
 
 def test_impossible_heavy_top_is_refused_and_the_last_state_stays(app):

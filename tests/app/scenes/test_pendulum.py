@@ -34,7 +34,11 @@ def test_pendulum_pivot_slider_changes_a_perp(app):
     assert sc.model.a_perp == pytest.approx(a0 - 0.1, abs=1e-12)  # the bat hangs straight: a⊥ shrinks by 0.1 m
 
 
-def test_pendulum_strike_at_centre_of_percussion_needs_no_pivot_impulse(app):
+def test_pendulum_strike_at_centre_of_percussion_needs_no_pivot_impulse(app, monkeypatch):
+    from app.scenes import pendulum
+
+    wall = [0.0]
+    monkeypatch.setattr(pendulum, "wall_clock", lambda: wall[0])
     sc = open_scene(app, "pendulum")
     l = sc.model.effective_length
     assert sc.params.offer({"strike": l})
@@ -55,7 +59,28 @@ def test_pendulum_strike_at_centre_of_percussion_needs_no_pivot_impulse(app):
     assert sc.reaction_arrow.handle.visible
     for _ in range(int(2.0 / FRAME)):
         app.frame(FRAME)
-    assert not sc.impulse_arrow.handle.visible  # arrows go after ARROW_SHOW seconds
+    assert sc.impulse_arrow.handle.visible  # a fast machine did this in no time: a person saw nothing yet
+    wall[0] += pendulum.ARROW_SECONDS + 0.01
+    app.frame(FRAME)
+    assert not sc.impulse_arrow.handle.visible  # gone after ARROW_SHOW s of the clock and ARROW_SECONDS of ours
+
+
+def test_strike_arrows_stay_a_second_at_ten_times_speed(app, monkeypatch):
+    from app.scenes import pendulum
+
+    wall = [0.0]
+    monkeypatch.setattr(pendulum, "wall_clock", lambda: wall[0])
+    sc = open_scene(app, "pendulum")
+    app.set_speed(10.0)
+    sc.strike()
+    for _ in range(50):  # 50 frames of 1/60 s at 10×: 8.3 s of simulation, 0.83 s of wall time
+        wall[0] += FRAME
+        app.frame(FRAME)
+        assert sc.impulse_arrow.handle.visible
+    for _ in range(30):
+        wall[0] += FRAME
+        app.frame(FRAME)
+    assert not sc.impulse_arrow.handle.visible
 
 
 def test_pendulum_strike_point_slider_does_not_restart_the_swing(app):
