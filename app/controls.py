@@ -62,6 +62,7 @@ class ParameterPanel:
         self.sliders: dict[str, Any] = {}
         self._syncing = False
         self.refusals = 0  # how many changes were refused (tests and the status line read it)
+        self.listeners: list[Callable[[dict[str, float]], None]] = []  # told of every accepted change
         for spec in specs:
             handle = ctx.server.gui.add_slider(
                 spec.label, min=spec.min, max=spec.max, step=spec.step, initial_value=spec.initial, hint=spec.hint
@@ -101,6 +102,8 @@ class ParameterPanel:
                 return False
             self.values = candidate
             self._sync(candidate)
+            for listener in self.listeners:
+                listener(candidate)
             self.ctx.request_redraw()
             clear = getattr(self.ctx, "clear_status", None)
             if clear is not None:
@@ -149,7 +152,10 @@ class ParameterPanel:
 
 
 class Readout:
-    """A read-only number with a label and units, rewritten only when its text changes."""
+    """A read-only number with a label and units, rewritten only when its text changes.
+
+    Every number in the panel has four significant digits (``fmt``'s default) and its unit in the label.
+    """
 
     def __init__(self, ctx: Any, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
         self.fmt = fmt
@@ -191,10 +197,29 @@ class Presets:
         self.handle = ctx.server.gui.add_dropdown(label, options=(self.NONE, *presets.keys()), initial_value=self.NONE)
         self.handle.on_update(ctx.guarded(self._chosen))
         self.last: str | None = None
+        self._chosen_values: dict[str, float] = {}
+        self._choosing = False
+        panel.listeners.append(self._values_changed)
+
+    def _values_changed(self, values: dict[str, float]) -> None:
+        """A slider moved away from the chosen preset: the dropdown no longer names it."""
+        if self._choosing or self.last is None or values == self._chosen_values:
+            return
+        self.last = None
+        self._show(self.NONE)
+
+    def _show(self, name: str) -> None:
+        """Set the dropdown without choosing (setting a value from Python runs its callbacks at once)."""
+        if self.handle.value != name:
+            self._choosing = True
+            try:
+                self.handle.value = name
+            finally:
+                self._choosing = False
 
     def _chosen(self, event: Any) -> None:
         name = self.handle.value
-        if name == self.NONE:
+        if name == self.NONE or self._choosing:
             return
         self.choose(name, client=getattr(event, "client", None))
 
@@ -207,25 +232,30 @@ class Presets:
         except ValueError as exc:
             self.panel.refuse(exc, client)
             return False
-        ok = self.panel.offer(values, client=client)
+        self._choosing = True
+        try:
+            ok = self.panel.offer(values, client=client)
+        finally:
+            self._choosing = False
         if ok:
-            self.last = name
+            self.last, self._chosen_values = name, dict(self.panel.values)
+        self._show(name if ok else (self.last or self.NONE))  # a refused preset is not shown as chosen
         return ok
 
 
 class Gauge:
     """A value against a threshold: a bar filled to ``value / (2 threshold)`` (the threshold at half),
-    green above the threshold and red below, with a line of text."""
+    blue above the threshold and orange below, with a line of text."""
 
     def __init__(self, ctx: Any, label: str) -> None:
         self.text = ctx.server.gui.add_markdown(label)
         self.label = label
-        self.bar = ctx.server.gui.add_progress_bar(0.0, color="red")
+        self.bar = ctx.server.gui.add_progress_bar(0.0, color="orange")
         self._last: tuple[float, str] | None = None
 
     def set(self, value: float, threshold: float, text: str) -> None:
         fill = 100.0 * min(max(value / (2.0 * threshold), 0.0), 1.0) if threshold > 0 else 0.0
-        colour = "green" if value > threshold else "red"
+        colour = "blue" if value > threshold else "orange"  # not green/red: told apart by every eye
         key = (round(fill, 1), colour + text)
         if key == self._last:
             return

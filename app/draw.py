@@ -65,6 +65,7 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "omega": OKABE_ITO["blue"],  # angular velocity
     "torque": OKABE_ITO["reddish_purple"],  # torque
     "trace": OKABE_ITO["vermillion"],  # trace of the symmetry-axis tip
+    "polhode": OKABE_ITO["bluish_green"],  # the polhode: the path L draws in the body (no body cone there)
     "body_cone": OKABE_ITO["bluish_green"],  # body cone
     "space_cone": OKABE_ITO["sky_blue"],  # space cone
     "path": (96, 96, 96),  # path of the centre of mass: dark grey
@@ -89,7 +90,8 @@ LABELS: dict[str, str] = {
     "L": "L — angular momentum (fixed in space without torque)",
     "omega": "ω — angular velocity",
     "torque": "τ — torque",
-    "trace": "trace of the symmetry-axis tip",
+    "trace": "trace of the axis tip (a top's symmetry axis, the racket's spin axis)",
+    "polhode": "polhode: the path of L seen from the body, on the L-sphere",
     "body_cone": "body cone (turns with the body)",
     "space_cone": "space cone (fixed about L)",
     "path": "path of the centre of mass",

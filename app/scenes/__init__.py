@@ -64,8 +64,8 @@ Time. Closed-form models evaluate the state at the absolute time ``t`` (exact, n
 a stepping model (friction) advances its own state by ``dt`` and must not mutate it in ``compute``.
 The clock's single step advances ``speed/60`` s; a parameter change usually calls ``ctx.restart()``.
 
-Colours. Use the quantity keys of ``app.draw.COLOURS`` (L amber, ω red, τ violet, trace teal, body
-cone green, space cone pink, principal axes black, ...) and list them in ``quantities`` for the legend;
+Colours. Use the quantity keys of ``app.draw.COLOURS`` (Okabe–Ito: L orange, ω blue, τ reddish purple,
+trace vermillion, body cone bluish green, space cone sky blue, principal axes black, ...) and list them in ``quantities`` for the legend;
 add a new key to COLOURS/LABELS rather than a one-off colour.
 
 Tests. ``tests/harness.py`` has ``running_app``, ``open_page``, ``nudge_slider``, ``wait_for``,

@@ -115,6 +115,19 @@ def _on_the_table(R: np.ndarray, L_body: np.ndarray, landed: bool) -> tuple[np.n
     return R, np.zeros(3), True
 
 
+SLEEPING_TILT = math.radians(5.0)
+"""Within this tilt of the vertical a top above the threshold is said to sleep (it stands, barely moving)."""
+
+
+def _sleeping_words(above: bool, theta: float) -> str:
+    """What the gauge says: sleeping only for a top that stands (nearly) upright above the threshold."""
+    if not above:
+        return "too slow to sleep: upright would be unstable"
+    if theta <= SLEEPING_TILT:
+        return "above it: stable upright, the top sleeps"
+    return f"above it: it would sleep upright, but it is tilted {math.degrees(theta):.4g}°"
+
+
 @register
 class HeavyTopScene(Scene):
     name = "heavy_top"
@@ -360,8 +373,7 @@ class HeavyTopScene(Scene):
         self.gauge.set(
             abs(L3),
             threshold,
-            f"L₃ = {L3:.3g} kg m²/s, threshold {threshold:.3g}: "
-            + ("stable upright (sleeping)" if abs(L3) > threshold else "too slow to sleep"),
+            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g}: " + _sleeping_words(abs(L3) > threshold, theta),
         )
         now = time.monotonic()
         friction = self.values["friction"] > 0.0
@@ -369,15 +381,15 @@ class HeavyTopScene(Scene):
             self.precession_readout.set("— (friction: no fixed rate)")
             self.nutation_readout.set("—")
             self.theta_readout.set(
-                f"lying on the table at {math.degrees(theta):.1f}"
+                f"lying on the table at {math.degrees(theta):.4g}"
                 if state["landed"]
-                else f"now {math.degrees(theta):.1f}"
+                else f"now {math.degrees(theta):.4g}"
             )
         else:
             sol = self.exact
             self.precession_readout.set(sol.precession_rate)
             self.nutation_readout.set(sol.nutation_period)
-            self.theta_readout.set(f"{math.degrees(sol.theta_min):.1f} and {math.degrees(sol.theta_max):.1f}")
+            self.theta_readout.set(f"{math.degrees(sol.theta_min):.4g} and {math.degrees(sol.theta_max):.4g}")
         if now - self._plot_time < 1.0 / PLOT_HZ and self._curve_key is not None:
             return
         self._plot_time = now

@@ -182,7 +182,7 @@ class Pendulum(Scene):
         self.start = (theta, thetadot + result.delta_omega, t)
         self.drift.clear()  # the blow changes the energy: the drift is measured from the struck swing
         self.last_strike = {"t": t, "wall": wall_clock(), "point": point, "impulse": impulse, "result": result}
-        self.strike_readout.set(f"{result.delta_omega:.4g}, {float(np.linalg.norm(result.reaction_impulse)):.3g}")
+        self.strike_readout.set(f"{result.delta_omega:.4g}, {float(np.linalg.norm(result.reaction_impulse)):.4g}")
         self.ctx.request_redraw()
         return result
 
@@ -203,7 +203,7 @@ class Pendulum(Scene):
         send_position(self.cop_label, cop + np.array([0.0, 0.05, 0.0]))
         down = R @ np.array([0.0, 0.0, -1.0])
         send_position(self.hit_marker, self.pivot + self.params.values["strike"] * down)
-        self.trace.append(self.pivot + self.length * 0.98 * down)
+        self.trace.append(cm)  # the legend says "path of the centre of mass": it is
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))
         s = self.last_strike

@@ -102,12 +102,12 @@ class TennisRacket(Scene):
     name = "tennis_racket"
     title = "Tennis racket: the intermediate axis"
     order = 60
-    quantities = ("L", "omega", "trace")
+    quantities = ("L", "omega", "trace", "polhode", "guide")
     caption = (
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
         "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like e^{λt}, "
         "λ = Ω √((I₁ − I₂)(I₂ − I₃)/(I₁ I₃)), and the body flips over and back, again and again. L stays fixed. "
-        "Left: L seen from the body, on the L-sphere: the polhode (blue) and the separatrix (grey). "
+        "Left: L seen from the body, on the L-sphere, with the polhode and the separatrix (see the legend). "
         "A body with two equal moments (a cylinder from the explorer) has no intermediate axis: it precesses "
         "steadily at Ω = ω_s (I⊥ − I_s)/I⊥ and never flips."
     )
@@ -147,7 +147,7 @@ class TennisRacket(Scene):
         self.polhode = server.scene.add_line_segments(
             root + "/polhode",
             points=np.zeros((2, 2, 3), dtype=np.float32),
-            colors=draw.COLOURS["trace"],
+            colors=draw.COLOURS["polhode"],
             thickness=3.0,
             thickness_units="screen",
         )
@@ -291,8 +291,12 @@ class TennisRacket(Scene):
                 "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
             )
             self.rate_readout.set(stab.rate)
-            self.period_readout.handle.label = "measured flip period (s)"
-        self.first_flip_readout.set(math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else float("nan"))
+            self.period_readout.handle.label = (
+                "measured flip period (s)" if stab.kind == "unstable" else "measured wobble period (s)"
+            )
+        self.first_flip_readout.set(
+            math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else "— (a stable axis does not flip)"
+        )
         self.flip_period = self.measured_flip_period()
         self.period_readout.set(self.flip_period)
         # Polhode: L/|L| in body axes over one period of ω.

@@ -75,3 +75,18 @@ def test_offer_checks_type_finiteness_and_the_slider_range(app, value, message):
     before = dict(scene.params.values)
     assert scene.params.offer({"spin": value}) is False
     assert scene.params.values == before and message in app.messages[-1][1]
+
+
+def test_a_preset_name_is_cleared_when_a_slider_moves_away_from_it(app):
+    from app.controls import Presets
+    from tests.harness import open_scene
+
+    scene = open_scene(app, "heavy_top")
+    assert scene.presets.choose("cusps (released from rest)")
+    assert scene.presets.handle.value == "cusps (released from rest)"
+    assert scene.params.offer({"theta0": 45.0})  # the sliders left the preset
+    assert scene.presets.handle.value == Presets.NONE and scene.presets.last is None
+    # Choosing from the page (the dropdown's value arrives first) applies it and keeps the name shown.
+    scene.presets.handle.value = "loops (φ̇0 = −1 × steady)"
+    assert scene.presets.last == "loops (φ̇0 = −1 × steady)" and scene.params.values["phidot0"] < 0
+    assert scene.presets.handle.value == "loops (φ̇0 = −1 × steady)"

@@ -159,3 +159,14 @@ def test_impossible_heavy_top_is_refused_and_the_last_state_stays(app):
     assert title.startswith("Refused") and "no rigid body" in body and "I3" in body
     np.testing.assert_array_equal(scene.body.handle.wxyz, pose_before)
     assert app.frame(FRAME)  # the server goes on
+
+
+def test_sleeping_is_said_only_of_a_top_that_stands_upright(app):
+    scene = open_scene(app, "heavy_top")
+    assert scene.params.offer({"spin": 30.0, "theta0": 60.0, "phidot0": 0.0, "friction": 0.0})
+    app.frame(FRAME)
+    text = scene.gauge.text.content
+    assert "above it" in text and "tilted" in text and "sleeps" not in text  # above the threshold, at 60°
+    assert scene.params.offer({"theta0": 2.0})
+    app.frame(FRAME)
+    assert "the top sleeps" in scene.gauge.text.content

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from app import draw
 from physics.pendulum import PhysicalPendulum
 from tests.harness import FRAME, matrix, open_scene
 
@@ -107,3 +108,12 @@ def test_pendulum_refuses_pivot_off_or_at_the_centre_of_mass(app):
     # A uniform rod hung from its end: ℓ = 2/3 of its length (lecture).
     assert sc.params.offer({"pivot": 0.0, "strike": 0.3})
     assert sc.model.effective_length == pytest.approx(2 * 0.84 / 3, rel=1e-12)
+
+
+def test_the_path_in_the_legend_is_the_centre_of_mass(app):
+    sc = open_scene(app, "pendulum")
+    for _ in range(30):
+        app.frame(FRAME)
+    theta, _ = sc.state_at(app.time)
+    np.testing.assert_allclose(sc.trace.points()[-1], sc.model.center_of_mass_at(theta), atol=1e-12)
+    assert "path" in sc.quantities and "centre of mass" in draw.LABELS["path"]

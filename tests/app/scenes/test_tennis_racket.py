@@ -66,6 +66,9 @@ def test_racket_stable_axes_wobble_at_the_lecture_frequency(app, label):
     # It stays near the axis: the spin component never drops below 99 %.
     w = sc.model.omega(sc.omega0, np.linspace(0, 20, 400))
     assert np.all(np.abs(w[:, i]) > 0.99 * spin)
+    # A stable axis does not flip: no readout says "flip period" for it.
+    assert sc.period_readout.handle.label == "measured wobble period (s)"
+    assert "does not flip" in sc.first_flip_readout.text
 
 
 def test_racket_sliders_refuse_impossible_or_unordered_moments(app):
