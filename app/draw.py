@@ -316,7 +316,7 @@ class Arrow:
         quantity: str,
         *,
         scale: float = 1.0,
-        shaft_radius: float = 0.02,
+        shaft_radius: float = 0.03,
         label: str | None = None,
     ) -> None:
         self.quantity = quantity
@@ -331,7 +331,7 @@ class Arrow:
             head_length=6.0 * shaft_radius,
         )
         self.label = (
-            server.scene.add_label(name + "_label", label or quantity, font_screen_scale=1.1, anchor="bottom-left")
+            server.scene.add_label(name + "_label", label or quantity, font_screen_scale=1.6, anchor="bottom-left")
             if label
             else None
         )

@@ -26,9 +26,14 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "scenes")
     parser.add_argument("--seconds", type=float, default=5.0, help="run time before each shot (s)")
     parser.add_argument("--teaching", action="store_true", help="only the README's 'Teaching with it' shot")
+    parser.add_argument("--readme", action="store_true", help="the README's screenshots (into --out, e.g. docs)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     if args.teaching:
+        teaching(args.out / "teaching.png")
+        return
+    if args.readme:
+        readme(args.out)
         teaching(args.out / "teaching.png")
         return
     with running_app() as app, launch_chromium() as browser:
@@ -42,6 +47,40 @@ def main(argv: list[str] | None = None) -> None:
             path = args.out / f"{name}.png"
             page.screenshot(path=str(path))
             print(f"{name}: {path}", flush=True)
+
+
+# The README's pictures: (file, scene, preset or None, viewport, dark look, scroll the panel to its end).
+README_SHOTS = [
+    ("heavy_top.png", "heavy_top", None, (1280, 800), False, False),
+    ("heavy_top_loops.png", "heavy_top", "loops (φ̇0 = −1 × steady)", (1280, 800), False, False),
+    ("heavy_top_potential.png", "heavy_top", None, (1280, 800), False, True),
+    ("heavy_top_dark.png", "heavy_top", "waves (φ̇0 = 2 × steady)", (1024, 768), True, False),
+    ("heavy_top_phone.png", "heavy_top", None, (390, 844), False, False),
+    ("wobble.png", "wobble", None, (1280, 800), False, False),
+    ("scene_explorer.png", "inertia_explorer", None, (1280, 800), False, False),
+    ("scene_pendulum.png", "pendulum", None, (1280, 800), False, False),
+    ("scene_racket_plot.png", "tennis_racket", None, (1280, 800), False, True),
+]
+
+
+def readme(out: Path, seconds: float = 6.0) -> None:
+    """The README's screenshots, each from a fresh server at its viewport and look."""
+    for file, scene, preset, (width, height), dark, scroll in README_SHOTS:
+        with running_app(scene, dark=dark) as app, launch_chromium() as browser:
+            page, _client = open_page(browser, app, viewport={"width": width, "height": height})
+            if preset is not None:
+                with app.lock:
+                    assert app.scene.presets.choose(preset), preset
+            time.sleep(seconds)
+            page.evaluate(_CLOSE_NOTIFICATIONS)
+            if scroll:
+                page.evaluate(
+                    "() => { const p = document.querySelector('.mantine-ScrollArea-viewport');"
+                    " if (p) p.scrollTop = 1e6; }"
+                )
+            time.sleep(0.5)
+            page.screenshot(path=str(out / file))
+            print(f"{file}: {out / file}", flush=True)
 
 
 def teaching(path: Path) -> None:

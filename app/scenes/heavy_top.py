@@ -148,8 +148,8 @@ class HeavyTopScene(Scene):
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
         self.body = draw.BodyMesh(server, root + "/top", TOP_MESH)
-        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.025)
-        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.025)
+        self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.035)
+        self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.035)
         self.torque_arrow = draw.Arrow(server, root + "/torque", "torque", label="τ")
         self.trace = draw.Trace(server, root + "/trace", capacity=1500)
         self.traces = [self.trace]

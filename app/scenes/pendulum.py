@@ -80,8 +80,8 @@ class Pendulum(Scene):
         self.cop_label = server.scene.add_label(root + "/cop_label", "centre of percussion")
         self.cm_label = server.scene.add_label(root + "/cm_label", "CM")
         self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.02, color=draw.COLOURS["impulse"])
-        self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.012)
-        self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.012)
+        self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.02)
+        self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.02)
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
         self.traces: list[Any] = [self.trace]
 
