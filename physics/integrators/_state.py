@@ -1,0 +1,201 @@
+"""The component state of one body or a batch, and the exact sub-flows every method is built from.
+
+A state is a tuple of 12 scalars (or (n,) arrays): ``R`` row-major r00..r22, then ``L0, L1, L2``. The rotations
+``_rot_x/_rot_y/_rot_z`` are the exact flows of ``L_i²/(2 I_i)`` (lecture, Euler's equations); ``_right_exp`` is
+``R ← R exp(hat u)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from physics.validation import rotation_array, vector_array
+
+# A state is a tuple of 12 scalars (or (n,) arrays): R row-major r00..r22, then L0, L1, L2.
+_State = tuple
+
+
+def _vec3(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    v = np.asarray(value, dtype=float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{name} must be 3 finite numbers, got {np.asarray(value).tolist()}")
+    return v
+
+
+def _moments(moments: ArrayLike) -> NDArray[np.float64]:
+    m = np.asarray(moments, dtype=float)
+    if m.shape != (3,) or not np.all(np.isfinite(m)):
+        raise ValueError(f"moments must be 3 finite principal moments in kg m², got {np.asarray(moments).tolist()}")
+    if np.any(m < 0.0) or np.all(m == 0.0):
+        raise ValueError(f"no rigid body has these moments: {m.tolist()} (negative, or all zero)")
+    tol = 1e-12 * float(np.max(m))
+    for i in range(3):
+        if m[i] > m[(i + 1) % 3] + m[(i + 2) % 3] + tol:
+            raise ValueError(
+                f"no rigid body has these moments: {m.tolist()} (each moment must be at most the sum of the other two)"
+            )
+    return m
+
+
+def _inverse_moments(m: NDArray[np.float64]) -> NDArray[np.float64]:
+    """1/I, with 0 on a zero moment (a rod: no angular velocity component is carried there)."""
+    return np.where(m > 0.0, 1.0 / np.where(m > 0.0, m, 1.0), 0.0)
+
+
+def kinetic_energy(moments: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
+    """``T = Σ L_i² / (2 I_i)``, J (zero moments contribute 0): ``L_body`` (n,3) or (3,) -> (n,) or ()."""
+    inv = _inverse_moments(np.asarray(moments, dtype=float))
+    L = np.asarray(L_body, dtype=float)
+    return 0.5 * np.sum(L * L * inv, axis=-1)
+
+
+def _to_state(R, L) -> _State:
+    """Arrays to the component tuple; floats for one body, (n,) arrays for a batch."""
+    if R.ndim == 2:
+        r = R.ravel().tolist()
+        return tuple(r) + tuple(L.tolist())
+    return tuple(R[:, i, j].copy() for i in range(3) for j in range(3)) + tuple(L[:, i].copy() for i in range(3))
+
+
+def _from_state(s: _State, batched: bool):
+    if not batched:
+        return np.array(s[:9], dtype=float).reshape(3, 3), np.array(s[9:], dtype=float)
+    n = np.broadcast(*s).shape[0]
+    R = np.empty((n, 3, 3))
+    L = np.empty((n, 3))
+    for k in range(9):
+        R[:, k // 3, k % 3] = s[k]
+    for k in range(3):
+        L[:, k] = s[9 + k]
+    return R, L
+
+
+def _rot_x(s: _State, th, xp) -> _State:
+    """R ← R exp(θ ê_x), L ← exp(−θ ê_x) L (the exact flow of L_x²/(2 I_x) for θ = h L_x / I_x)."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
+    c, sn = xp.cos(th), xp.sin(th)
+    return (
+        r00,
+        c * r01 + sn * r02,
+        c * r02 - sn * r01,
+        r10,
+        c * r11 + sn * r12,
+        c * r12 - sn * r11,
+        r20,
+        c * r21 + sn * r22,
+        c * r22 - sn * r21,
+        l0,
+        c * l1 + sn * l2,
+        c * l2 - sn * l1,
+    )
+
+
+def _rot_y(s: _State, th, xp) -> _State:
+    r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
+    c, sn = xp.cos(th), xp.sin(th)
+    return (
+        c * r00 - sn * r02,
+        r01,
+        c * r02 + sn * r00,
+        c * r10 - sn * r12,
+        r11,
+        c * r12 + sn * r10,
+        c * r20 - sn * r22,
+        r21,
+        c * r22 + sn * r20,
+        c * l0 - sn * l2,
+        l1,
+        c * l2 + sn * l0,
+    )
+
+
+def _rot_z(s: _State, th, xp) -> _State:
+    r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
+    c, sn = xp.cos(th), xp.sin(th)
+    return (
+        c * r00 + sn * r01,
+        c * r01 - sn * r00,
+        r02,
+        c * r10 + sn * r11,
+        c * r11 - sn * r10,
+        r12,
+        c * r20 + sn * r21,
+        c * r21 - sn * r20,
+        r22,
+        c * l0 + sn * l1,
+        c * l1 - sn * l0,
+        l2,
+    )
+
+
+_ROT = (_rot_x, _rot_y, _rot_z)
+
+
+def _expm_coeffs(u0, u1, u2, xp):
+    """Rodrigues coefficients sin(a)/a and (1 − cos a)/a² (Taylor below a = 1e-4 rad)."""
+    a2 = u0 * u0 + u1 * u1 + u2 * u2
+    if xp is math:
+        if a2 < 1e-8:
+            return 1.0 - a2 / 6.0 + a2 * a2 / 120.0, 0.5 - a2 / 24.0 + a2 * a2 / 720.0
+        a = math.sqrt(a2)
+        return math.sin(a) / a, (1.0 - math.cos(a)) / a2
+    small = a2 < 1e-8
+    angle = np.sqrt(np.where(small, 1.0, a2))
+    sa = np.where(small, 1.0 - a2 / 6.0 + a2 * a2 / 120.0, np.sin(angle) / angle)
+    # 2 sin²(a/2) avoids the cancellation of 1 − cos a.
+    ca = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, 2.0 * np.sin(0.5 * angle) ** 2 / (angle * angle))
+    return sa, ca
+
+
+def _right_exp(s: _State, u0, u1, u2, xp) -> tuple:
+    """The attitude part ``R exp(hat u)`` of a state (9 components), by Rodrigues' formula."""
+    sa, ca = _expm_coeffs(u0, u1, u2, xp)
+    # E = I + sa K + ca K², K = hat(u)
+    e00 = 1.0 - ca * (u1 * u1 + u2 * u2)
+    e11 = 1.0 - ca * (u0 * u0 + u2 * u2)
+    e22 = 1.0 - ca * (u0 * u0 + u1 * u1)
+    p01, p02, p12 = ca * u0 * u1, ca * u0 * u2, ca * u1 * u2
+    q0, q1, q2 = sa * u0, sa * u1, sa * u2
+    e01, e10 = p01 - q2, p01 + q2
+    e02, e20 = p02 + q1, p02 - q1
+    e12, e21 = p12 - q0, p12 + q0
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = s[:9]
+    return (
+        r00 * e00 + r01 * e10 + r02 * e20,
+        r00 * e01 + r01 * e11 + r02 * e21,
+        r00 * e02 + r01 * e12 + r02 * e22,
+        r10 * e00 + r11 * e10 + r12 * e20,
+        r10 * e01 + r11 * e11 + r12 * e21,
+        r10 * e02 + r11 * e12 + r12 * e22,
+        r20 * e00 + r21 * e10 + r22 * e20,
+        r20 * e01 + r21 * e11 + r22 * e21,
+        r20 * e02 + r21 * e12 + r22 * e22,
+    )
+
+
+def _check_state(R, L_body):
+    R = rotation_array(R, "R0")
+    L = vector_array(L_body, "L0_body")
+    if R.shape == (3, 3) and L.shape == (3,):
+        batched = False
+    elif R.ndim == 3 and R.shape[1:] == (3, 3) and L.ndim == 2 and L.shape[1] == 3 and R.shape[0] == L.shape[0]:
+        batched = True
+    else:
+        raise ValueError(
+            f"R must have shape (3, 3) or (n, 3, 3) and L_body (3,) or (n, 3) with the same n; got {R.shape}, {L.shape}"
+        )
+    if not (np.all(np.isfinite(R)) and np.all(np.isfinite(L))):
+        raise ValueError("the attitude R and the angular momentum L_body must be finite")
+    return R, L, batched
+
+
+def _check_dt(dt) -> float:
+    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)):
+        raise ValueError(f"the time step dt must be one number of seconds, got {dt!r}")
+    dt = float(dt)
+    if not math.isfinite(dt):
+        raise ValueError(f"the time step dt must be a finite number of seconds, got {dt}")
+    return dt
