@@ -150,9 +150,18 @@ class Simulation:
         self._lecture_gui: Any = None
 
         self.server.scene.set_up_direction("+z")
-        draw.light(self.server.scene)
+        draw.light(self.server.scene, dark=dark)
+        # The floor recedes: light lines on white, dark ones on the dark look (the body stays 3:1 over it).
+        cell, section = ((72, 74, 80), (96, 98, 104)) if dark else ((205, 205, 205), (175, 175, 175))
         self._grid = self.server.scene.add_grid(
-            "/grid", width=6.0, height=6.0, cell_size=0.5, plane="xy", position=(0, 0, 0)
+            "/grid",
+            width=6.0,
+            height=6.0,
+            cell_size=0.5,
+            plane="xy",
+            position=(0, 0, 0),
+            cell_color=cell,
+            section_color=section,
         )
         # No public tunnel unless asked for: viser's share button would publish this server to the world.
         self.dark = bool(dark)
@@ -400,12 +409,31 @@ class Simulation:
 
     @staticmethod
     def _show_scene_to(client: Any, position: Any, look_at: Any) -> None:
-        """Point a browser's camera at a scene, framed clear of the panel for its view (app.framing)."""
-        eye, target = framed(position, look_at, client.camera.image_width, client.camera.image_height, FOV)
+        """Point a browser's camera at a scene, framed clear of the panel for its view (app.framing).
+
+        A page reports its real size only after its layout settles (and again when the window or a
+        phone's orientation changes): until the viewer moves the camera, a new size re-frames it.
+        """
+        size = (client.camera.image_width, client.camera.image_height)
+        eye, target = framed(position, look_at, size[0], size[1], FOV)
+        first = getattr(client, "_rbl_framing", None) is None
+        client._rbl_framing = (size, eye, position, look_at)
         with client.atomic():
             client.camera.fov = FOV
             client.camera.position = eye
             client.camera.look_at = target
+        if first:
+            client.camera.on_update(Simulation._reframe)
+
+    @staticmethod
+    def _reframe(camera: Any) -> None:
+        client = camera.client
+        size, eye, position, look_at = client._rbl_framing
+        if (camera.image_width, camera.image_height) == size:
+            return
+        if np.linalg.norm(np.asarray(camera.position) - eye) > 1e-6 * max(1.0, float(np.linalg.norm(eye))):
+            return  # the viewer has moved the camera: theirs now
+        Simulation._show_scene_to(client, position, look_at)
 
     # ------------------------------------------------------------------ the context scenes use
     @property
