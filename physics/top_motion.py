@@ -389,6 +389,13 @@ def _free_motion(
     # numbers): f(1 − g) = −ν² g² + (4ℰ − 2β(α − β)) g − (α − β)², f(h − 1) likewise with α + β.
     gap_top = 0.0 if dm == 0.0 else min(_quadratic_roots(nu2, -(4.0 * K0 - 2.0 * beta * dm), dm * dm))
     gap_bottom = 0.0 if dp == 0.0 else min(_quadratic_roots(nu2, -(4.0 * K0 + 2.0 * beta * dp), dp * dp))
+    # That quadratic's roots (1 ∓ u2 and 1 ∓ u1) are 2A apart: far from a pole compared with the amplitude
+    # they nearly coincide and its discriminant cancels (a sphere started at the top pole lost 2e-10 of its
+    # precession rate). There the gap is (1 ∓ u0) ∓ v, a difference of numbers of very unequal size.
+    if dm != 0.0 and w0 - v2 > 4.0 * amplitude:
+        gap_top = w0 - v2
+    if dp != 0.0 and z0 + v1 > 4.0 * amplitude:
+        gap_bottom = z0 + v1
     gap_top, gap_bottom = max(gap_top, 0.0), max(gap_bottom, 0.0)
     # Phase: u − ū = A cos c, u̇0 = −A ν sin c = −sin θ0 θ̇0.
     c = math.atan2(s0 * thd0 / nu, -0.5 * (v1 + v2))

@@ -89,3 +89,20 @@ def test_nutation_period_is_the_precession_about_L_and_the_vertical_is_never_uns
     assert top.nutation_period(0.0, 0.0, 0.0, 4.0) == pytest.approx(2.0 * math.pi / (0.6 * 4.0), rel=1e-15)
     with pytest.raises(ValueError, match="mgl must be zero or positive"):
         HeavyTop(1.0, 0.6, -1e-3)
+
+
+@pytest.mark.parametrize(
+    ("ratio", "ic"),
+    [
+        (1.0, (0.0, 0.001, 0.0, 1.0)),  # a sphere leaving the top pole on a narrow cone (found by hypothesis)
+        (0.6, (0.0, 1e-4, 0.0, 3.0)),
+        (0.6, (math.pi, 1e-4, 0.0, 3.0)),  # the same at the bottom pole
+    ],
+)
+def test_a_narrow_cone_far_from_the_other_pole_keeps_its_precession_rate(ratio, ic):
+    # The far pole's gap 1 ± u was the near-double root of its quadratic (roots 2A apart): 2e-10 of the
+    # precession rate was lost, 4.9e-9 rad after 20 s. Now the roundoff floor.
+    top = HeavyTop(1.0, ratio, 0.0)
+    solution = top.solve(*ic, TIMES)
+    _, attitude = _reference(top, ic, 0.0, 0.0)
+    assert np.max(rotation_angle(solution.attitude, attitude)) < 1e-12
