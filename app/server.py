@@ -431,7 +431,9 @@ class Simulation:
         size, eye, position, look_at = client._rbl_framing
         if (camera.image_width, camera.image_height) == size:
             return
-        if np.linalg.norm(np.asarray(camera.position) - eye) > 1e-6 * max(1.0, float(np.linalg.norm(eye))):
+        # The page echoes the position in float32 and after its own easing: "unmoved" is to 1e-3 of the
+        # distance (an orbit by a person moves it by far more).
+        if np.linalg.norm(np.asarray(camera.position) - eye) > 1e-3 * max(1.0, float(np.linalg.norm(eye))):
             return  # the viewer has moved the camera: theirs now
         Simulation._show_scene_to(client, position, look_at)
 

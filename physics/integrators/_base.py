@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -22,9 +21,6 @@ from physics.integrators._state import (
     kinetic_energy,
 )
 from physics.integrators.torques import GravityTorque, _torque_flows, _torque_list
-
-if TYPE_CHECKING:
-    from physics.integrators._codegen import _CompiledRun
 
 
 class _Method:
@@ -114,7 +110,6 @@ class _Splitting(_Method):
     def __init__(self, moments: ArrayLike, torque=None) -> None:
         super().__init__(moments, torque)
         self._program = self._build_program()
-        self._compiled: _CompiledRun | None = None  # generated scalar code for one body, built on first use
         conserves = ["orthonormality of R", "|L| (Casimir) of each free sub-step"]
         if not self.torques:
             conserves = ["orthonormality of R", "|L|", "L_space", "symplectic form"]

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics.integrators._base import _Method, _Splitting
-from physics.integrators._codegen import _CompiledRun
+from physics.integrators._base import _Method
 from physics.integrators._state import _check_dt, _check_state, _from_state, _to_state
 
 __all__ = ["advance", "Trajectory", "integrate"]
@@ -46,11 +46,26 @@ def advance(method: _Method, state: ArrayLike, dt: float, n_steps: int) -> NDArr
     dt = _check_dt(dt)
     if int(n_steps) != n_steps or n_steps < 0:
         raise ValueError(f"n_steps must be a non-negative integer, got {n_steps}")
+    kernel = compiled_step(method)
+    if kernel is not None:
+        rows = values.reshape(1, 12).copy()
+        kernel.run(rows, dt, int(n_steps))
+        return rows[0]
     s = tuple(float(x) for x in values)
     step = method._step
     for _ in range(int(n_steps)):
         s = step(s, dt, math)
     return np.array(s)
+
+
+def compiled_step(method: _Method) -> Any:
+    """The method's compiled step (:mod:`physics.integrators.compiled`), made on first use and kept on the
+    instance; None when it runs interpreted (a Python torque, a triaxial exact free flow, ClassicalRK4)."""
+    if "_kernel" not in vars(method):
+        from physics.integrators.compiled import compile_method  # numba loads on first use only
+
+        method._kernel = compile_method(method)  # type: ignore[attr-defined]
+    return vars(method)["_kernel"]
 
 
 @dataclass(frozen=True)
@@ -105,24 +120,34 @@ def integrate(
     if int(save_every) != save_every or save_every < 1:
         raise ValueError(f"save_every must be a positive integer, got {save_every}")
     n_steps, save_every = int(n_steps), int(save_every)
+    kernel = compiled_step(method)
+    if kernel is not None:
+        # Compiled: the whole batch (or the one body) as rows of 12, stepped in place between saves.
+        s0 = method._project(_to_state(R, L))
+        rows = np.array(s0, dtype=float).T.reshape(-1, 12) if batched else np.array([s0], dtype=float)
+        saved, steps = [rows.copy()], [0]
+        done = 0
+        while done < n_steps:
+            chunk = min(save_every, n_steps - done)
+            kernel.run(rows, dt, chunk)
+            done += chunk
+            saved.append(rows.copy())
+            steps.append(done)
+        t = np.asarray(steps, dtype=float) * dt
+        arr = np.stack(saved)  # (k, n, 12)
+        if not batched:
+            arr = arr[:, 0]
+        return Trajectory(t=t, attitude=arr[..., :9].reshape(arr.shape[:-1] + (3, 3)), L_body=arr[..., 9:].copy())
     xp = np if batched else math
     s = method._project(_to_state(R, L))
     states = [s]
     steps = [0]
     step = method._step
-    run: _CompiledRun | None = None
-    if not batched and isinstance(method, _Splitting):
-        if method._compiled is None:
-            method._compiled = _CompiledRun(method)
-        run = method._compiled if method._compiled.ok else None
     done = 0
     while done < n_steps:
         chunk = min(save_every, n_steps - done)
-        if run is not None:
-            s = run(s, dt, chunk)
-        else:
-            for _ in range(chunk):
-                s = step(s, dt, xp)
+        for _ in range(chunk):
+            s = step(s, dt, xp)
         done += chunk
         states.append(s)
         steps.append(done)

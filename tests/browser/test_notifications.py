@@ -52,7 +52,7 @@ def test_refusals_close_by_themselves_and_identical_ones_are_not_stacked(chromiu
         assert NOTIFY_SECONDS <= 6.0
         assert page.evaluate(VISIBLE) == 0, "notifications still open 12 s after the refusals"
         pick_scene(page, "Heavy top")
-        wait_for(lambda: app.scene.name == "heavy_top", 30, what="the heavy top")
+        wait_for(lambda: getattr(app.scene, "name", None) == "heavy_top", 30, what="the heavy top")
         assert app.status.content == ""  # the status line belonged to the wobble
         wait_for(lambda: "⚠" not in page.inner_text("body"), 10, what="the status line cleared in the page")
         page.close()

@@ -46,7 +46,7 @@ def test_the_effective_potential_survives_reset_preset_and_sliders(chromium) -> 
         time.sleep(1.5)
         assert _drawn(page, title), _chart(page, title)
         pick_scene(page, "Torque-free wobble")
-        wait_for(lambda: app.scene.name == "wobble", 30, what="the wobble")
+        wait_for(lambda: getattr(app.scene, "name", None) == "wobble", 30, what="the wobble")
         wait_for(lambda: _drawn(page, "Invariants"), 30, what="the wobble's drift plot")
         pick_scene(page, "Heavy top")
         wait_for(lambda: _drawn(page, title), 30, what="the U(θ) plot back")

@@ -1,0 +1,215 @@
+"""Compiled steps (numba, ``cache=True``): the splitting methods and Lie RK4 with the project's torques.
+
+A method's step is data here, not code: a splitting is its *program*, a sequence of sub-flows (the exact
+axis rotations ``X``, ``Y``, ``Z``; the torque half-steps ``T0``/``T1``; the exact symmetric free flow
+``E``) with the fraction of the step each takes, and the torques are arrays of coefficients. One compiled
+loop runs any program over a batch of bodies, shape (n, 12): ``R`` row-major, then ``L_body``. The
+sub-flows are the very formulas of :mod:`physics.integrators._state` and :mod:`.torques`, so the compiled
+and the interpreted step agree to round-off.
+
+Compiled torques (all of :mod:`physics.integrators.torques` and the air drag of
+:mod:`physics.heavy_body`): gravity at the centre of mass (a kick, ``L ← L + h τ(R)``), spin friction
+about an axis (its exact flow, linear in L), transverse air drag ``−c (ω1, ω2, 0)`` (its exact flow,
+``L_i ← L_i e^{−c h / I_i}``). Any other torque runs on the interpreted path, slower.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["OP_X", "OP_Y", "OP_Z", "OP_T0", "OP_T1", "OP_E", "run_splitting", "run_lie_rk4"]
+
+OP_X, OP_Y, OP_Z, OP_T0, OP_T1, OP_E = 0, 1, 2, 3, 4, 5
+
+
+@njit(cache=True)
+def _rotate(s, i, th):
+    """The exact flow of ``L_i²/(2 I_i)``: R ← R exp(θ ê_i), L ← exp(−θ ê_i) L, in place."""
+    j, k = (1, 2) if i == 0 else ((2, 0) if i == 1 else (0, 1))
+    c, sn = math.cos(th), math.sin(th)
+    for row in range(3):
+        a, b = s[3 * row + j], s[3 * row + k]
+        s[3 * row + j] = c * a + sn * b
+        s[3 * row + k] = c * b - sn * a
+    a, b = s[9 + j], s[9 + k]
+    s[9 + j] = c * a + sn * b
+    s[9 + k] = c * b - sn * a
+
+
+@njit(cache=True)
+def _right_exp(s, u0, u1, u2):
+    """R ← R exp(hat u) by Rodrigues' formula (Taylor below |u| = 1e-4 rad), in place."""
+    a2 = u0 * u0 + u1 * u1 + u2 * u2
+    if a2 < 1e-8:
+        sa, ca = 1.0 - a2 / 6.0 + a2 * a2 / 120.0, 0.5 - a2 / 24.0 + a2 * a2 / 720.0
+    else:
+        a = math.sqrt(a2)
+        sa, ca = math.sin(a) / a, (1.0 - math.cos(a)) / a2
+    e00 = 1.0 - ca * (u1 * u1 + u2 * u2)
+    e11 = 1.0 - ca * (u0 * u0 + u2 * u2)
+    e22 = 1.0 - ca * (u0 * u0 + u1 * u1)
+    p01, p02, p12 = ca * u0 * u1, ca * u0 * u2, ca * u1 * u2
+    q0, q1, q2 = sa * u0, sa * u1, sa * u2
+    e01, e10 = p01 - q2, p01 + q2
+    e02, e20 = p02 + q1, p02 - q1
+    e12, e21 = p12 - q0, p12 + q0
+    for row in range(3):
+        x, y, z = s[3 * row], s[3 * row + 1], s[3 * row + 2]
+        s[3 * row] = x * e00 + y * e10 + z * e20
+        s[3 * row + 1] = x * e01 + y * e11 + z * e21
+        s[3 * row + 2] = x * e02 + y * e12 + z * e22
+
+
+@njit(cache=True)
+def _kick(s, h, gravity):
+    """Gravity kicks L ← L − h w × (third row of R), one per row of ``gravity`` (w = M g c, N m)."""
+    for g in range(gravity.shape[0]):
+        w0, w1, w2 = gravity[g, 0], gravity[g, 1], gravity[g, 2]
+        r20, r21, r22 = s[6], s[7], s[8]
+        s[9] -= h * (w1 * r22 - w2 * r21)
+        s[10] -= h * (w2 * r20 - w0 * r22)
+        s[11] -= h * (w0 * r21 - w1 * r20)
+
+
+@njit(cache=True)
+def _dissipate(s, h, inv, friction, drag):
+    """The exact flows of the spin frictions (rows c, s, a0, a1, a2, 1/I0, 1/I1, 1/I2 of its own moments)
+    and of the transverse air drags (rows c, 1/I0, 1/I1)."""
+    for f in range(friction.shape[0]):
+        c, sf, a0, a1, a2 = friction[f, 0], friction[f, 1], friction[f, 2], friction[f, 3], friction[f, 4]
+        if sf > 0.0 and c > 0.0:
+            wa = a0 * friction[f, 5] * s[9] + a1 * friction[f, 6] * s[10] + a2 * friction[f, 7] * s[11]
+            k = math.expm1(-c * sf * h) / sf * wa
+            s[9] += k * a0
+            s[10] += k * a1
+            s[11] += k * a2
+    for d in range(drag.shape[0]):
+        for i in range(2):
+            s[9 + i] *= math.exp(-drag[d, 0] * h * drag[d, 1 + i])
+
+
+@njit(cache=True)
+def _hold_zero_axes(s, zero):
+    for i in range(3):
+        if zero[i]:
+            s[9 + i] = 0.0 * s[9 + i]
+
+
+@njit(cache=True)
+def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag, sym):
+    """Take ``n`` steps of ``dt`` of a splitting program for every body of ``states`` (k, 12), in place.
+
+    ``ops``/``fracs``: the program; ``inv`` (3,) the inverse moments (0 on a zero moment), ``zero`` (3,)
+    the zero-moment axes; ``gravity`` (g, 3), ``friction`` (f, 8), ``drag`` (d, 3) the torques; ``sym``
+    (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body for the exact free flow ``E``.
+    """
+    has_zero = zero[0] or zero[1] or zero[2]
+    ax = int(sym[0])
+    last = ops.shape[0] - 1
+    # A step's last sub-flow and the next step's first are one flow when they are the same rotation (it
+    # leaves its own L_i alone) or two kicks with nothing dissipative between: fused, one rounding less.
+    fuse = last > 0 and (
+        (ops[0] == ops[last] and ops[0] <= OP_Z)
+        or (ops[0] == OP_T0 and ops[last] == OP_T1 and friction.shape[0] == 0 and drag.shape[0] == 0)
+    )
+    for b in range(states.shape[0]):
+        s = states[b]
+        for step in range(n):
+            for p in range(last + 1):
+                if fuse and p == last and step < n - 1:
+                    continue  # taken with the next step's first sub-flow
+                frac = fracs[p] + fracs[last] if fuse and p == 0 and step > 0 else fracs[p]
+                op, h = ops[p], frac * dt
+                if op <= OP_Z:
+                    _rotate(s, op, h * inv[op] * s[9 + op])
+                elif op == OP_T0:
+                    _kick(s, h, gravity)
+                    _dissipate(s, h, inv, friction, drag)
+                    if has_zero:
+                        _hold_zero_axes(s, zero)
+                elif op == OP_T1:
+                    _dissipate(s, h, inv, friction, drag)
+                    _kick(s, h, gravity)
+                    if has_zero:
+                        _hold_zero_axes(s, zero)
+                else:
+                    a = h * sym[1]
+                    _right_exp(s, a * s[9], a * s[10], a * s[11])
+                    _rotate(s, ax, h * sym[2] * s[9 + ax])
+    return states
+
+
+@njit(cache=True)
+def _rates(s, inv, gravity, friction, drag, out):
+    """ω (out[0:3]) and dL/dt = L × ω + τ (out[3:6]) of a state."""
+    l0, l1, l2 = s[9], s[10], s[11]
+    w0, w1, w2 = inv[0] * l0, inv[1] * l1, inv[2] * l2
+    d0, d1, d2 = l1 * w2 - l2 * w1, l2 * w0 - l0 * w2, l0 * w1 - l1 * w0
+    for g in range(gravity.shape[0]):
+        g0, g1, g2 = gravity[g, 0], gravity[g, 1], gravity[g, 2]
+        d0 -= g1 * s[8] - g2 * s[7]
+        d1 -= g2 * s[6] - g0 * s[8]
+        d2 -= g0 * s[7] - g1 * s[6]
+    for f in range(friction.shape[0]):
+        c, a0, a1, a2 = friction[f, 0], friction[f, 2], friction[f, 3], friction[f, 4]
+        wa = c * (a0 * friction[f, 5] * l0 + a1 * friction[f, 6] * l1 + a2 * friction[f, 7] * l2)
+        d0 -= wa * a0
+        d1 -= wa * a1
+        d2 -= wa * a2
+    for d in range(drag.shape[0]):
+        d0 -= drag[d, 0] * drag[d, 1] * l0
+        d1 -= drag[d, 0] * drag[d, 2] * l1
+    out[0], out[1], out[2], out[3], out[4], out[5] = w0, w1, w2, d0, d1, d2
+
+
+@njit(cache=True)
+def _dexpinv(u0, u1, u2, w, k):
+    """k = ω + ½ u × ω + (1/12) u × (u × ω) (dexp⁻¹ to the order RK4 needs)."""
+    w0, w1, w2 = w[0], w[1], w[2]
+    c0, c1, c2 = u1 * w2 - u2 * w1, u2 * w0 - u0 * w2, u0 * w1 - u1 * w0
+    e0, e1, e2 = u1 * c2 - u2 * c1, u2 * c0 - u0 * c2, u0 * c1 - u1 * c0
+    k[0] = w0 + 0.5 * c0 + e0 / 12.0
+    k[1] = w1 + 0.5 * c1 + e1 / 12.0
+    k[2] = w2 + 0.5 * c2 + e2 / 12.0
+
+
+@njit(cache=True)
+def run_lie_rk4(states, dt, n, inv, zero, gravity, friction, drag):
+    """``n`` Runge–Kutta–Munthe-Kaas (classical tableau) steps of ``dt`` for every body, in place."""
+    has_zero = zero[0] or zero[1] or zero[2]
+    r = np.empty(6)
+    k1, k2, k3, k4 = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    m1, m2, m3, m4 = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    st = np.empty(12)
+    for b in range(states.shape[0]):
+        s = states[b]
+        for _ in range(n):
+            h = dt
+            _rates(s, inv, gravity, friction, drag, r)
+            k1[:] = r[:3]
+            m1[:] = r[3:]
+            for stage in range(3):
+                frac = 0.5 if stage < 2 else 1.0
+                kp, mp = (k1, m1) if stage == 0 else ((k2, m2) if stage == 1 else (k3, m3))
+                u0, u1, u2 = frac * h * kp[0], frac * h * kp[1], frac * h * kp[2]
+                st[:] = s
+                _right_exp(st, u0, u1, u2)
+                for i in range(3):
+                    st[9 + i] = s[9 + i] + frac * h * mp[i]
+                _rates(st, inv, gravity, friction, drag, r)
+                kn, mn = (k2, m2) if stage == 0 else ((k3, m3) if stage == 1 else (k4, m4))
+                _dexpinv(u0, u1, u2, r[:3], kn)
+                mn[:] = r[3:]
+            h6 = h / 6.0
+            u0 = h6 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
+            u1 = h6 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
+            u2 = h6 * (k1[2] + 2.0 * k2[2] + 2.0 * k3[2] + k4[2])
+            for i in range(3):
+                s[9 + i] += h6 * (m1[i] + 2.0 * m2[i] + 2.0 * m3[i] + m4[i])
+            _right_exp(s, u0, u1, u2)
+            if has_zero:
+                _hold_zero_axes(s, zero)
+    return states
