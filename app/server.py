@@ -918,9 +918,13 @@ class App(Simulation):
 
     # ------------------------------------------------------------------ the loop
     def start(self) -> None:
-        """Start the real-time loop thread (daemon)."""
+        """Start the real-time loop thread (daemon), and compile the integrators' kernels beside it."""
         if self._thread is not None:
             return
+        from physics.integrators.warm import warm
+
+        # numba compiles (or loads from its cache) in the background: a scene's first step never waits.
+        threading.Thread(target=warm, name="rbl-warm-kernels", daemon=True).start()
         self._stop.clear()
         self._thread = threading.Thread(target=self._run, name="rbl-loop", daemon=True)
         self._thread.start()
