@@ -17,7 +17,7 @@ __all__ = ["warm"]
 
 def warm() -> float:
     """Compile or load every kernel of :mod:`physics.integrators.kernels`; returns the seconds it took."""
-    from physics.integrators import GravityTorque, LieRK4, LiePoissonStrang, SpinFriction, integrate
+    from physics.integrators import GravityTorque, LiePoissonStrang, LieRK4, SpinFriction, integrate
 
     start = time.perf_counter()
     moments = np.array([1.0, 1.0, 0.5])
