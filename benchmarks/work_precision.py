@@ -347,7 +347,7 @@ def main(argv=None) -> int:
         "the closed forms (physics.free_body, physics.heavy_top). CPU = `time.process_time`, best of 3 for runs "
         "under 0.05 s, on this machine (2 cores shared with other work: timings are noisy to ±30 %).",
         "",
-        "Families: ours (integrators, Python scalar code, one body), ours (closed form), scipy `solve_ivp` "
+        "Families: ours (integrators: compiled numba kernels, one body), ours (closed form), scipy `solve_ivp` "
         "(DOP853, RK45, Radau, LSODA; quaternion + Euler's equations), MuJoCo 4.0 (Euler, implicitfast, RK4 "
         "through `mujoco.rollout`). Ratios > 1: we are faster.",
         "",
