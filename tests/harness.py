@@ -176,10 +176,24 @@ def click(locator: Any, timeout: float = 30.0) -> None:
     locator.first.click(force=True, timeout=timeout * 1000)
 
 
-def pick_scene(page: Any, title: str) -> None:
-    """Choose a scene in the page's Scene dropdown, as a user does."""
-    click(page.locator(f"[id='{control_id(page, 'Scene')}']"))
-    click(page.get_by_role("option", name=title, exact=True))
+def pick_scene(page: Any, title: str, attempts: int = 3) -> None:
+    """Choose a scene in the page's Scene dropdown, as a user does.
+
+    A panel that re-renders just as the dropdown opens (a frame's readouts, a loaded machine) can close
+    it again: the dropdown is reopened, up to ``attempts`` times, as a user would.
+    """
+    option = page.get_by_role("option", name=title, exact=True).first
+    for attempt in range(attempts):
+        click(page.locator(f"[id='{control_id(page, 'Scene')}']"))
+        try:
+            option.wait_for(state="visible", timeout=10_000)
+        except Exception:  # noqa: BLE001 - the list closed again: reopen it
+            if attempt == attempts - 1:
+                raise
+            page.keyboard.press("Escape")
+            continue
+        option.click(force=True, timeout=30_000)
+        return
 
 
 def slider_by_label(page: Any, label: str) -> Any:
