@@ -1,8 +1,10 @@
-"""The hard cases of the work-precision benchmark, each with its exact reference solution.
+"""The hard cases of the work-precision benchmark, each with its reference solution.
 
 A case is a rigid body about a fixed point (free body: its centre of mass) with an initial attitude
-``R0`` (body to space), body angular momentum ``L0``, a final time ``t_end`` and the exact final state from
-the closed forms (:class:`physics.free_body.FreeBody`, :class:`physics.heavy_top.HeavyTop`).
+``R0`` (body to space), body angular momentum ``L0``, a final time ``t_end``, its torques (gravity, spin
+friction, transverse air drag) and a reference final state: the closed forms
+(:class:`physics.free_body.FreeBody`, :class:`physics.heavy_top.HeavyTop`) where they exist, else a Taylor
+series in extended precision (:mod:`benchmarks.taylor`), cross-checked and stated with the case.
 """
 
 from __future__ import annotations
@@ -29,12 +31,17 @@ class Case:
     moments : ndarray (3,)
         Principal moments about the fixed point, kg m².
     mass, com : float, ndarray (3,)
-        Mass (kg) and centre of mass in body axes (m) for gravity; ``mass = 0`` means no torque.
+        Mass (kg) and centre of mass in body axes (m) for gravity; ``mass = 0`` means no gravity.
+    friction, friction_axis : float, ndarray (3,)
+        Spin friction ``τ = −c (ω · a) a`` (c in N m s) about the unit body axis ``a`` (default z).
+    drag : float
+        Transverse air drag ``τ_body = −c_air (ω1, ω2, 0)``, N m s.
     R0 : ndarray (3, 3); L0 : ndarray (3,)
     t_end : float
         Final time, s.
     exact : callable () -> (R (3,3), omega (3,))
-        The closed-form final state (timed as "our exact solution").
+        The closed-form final state (timed as "our exact solution"), or for a case without one
+        (``closed_form = False``) the numerical reference.
     """
 
     name: str
@@ -52,11 +59,43 @@ class Case:
     omega_ref: NDArray[np.float64] | None = None
     closed_form: bool = True  # False: ``exact`` is a numerical reference, not one of our solutions
     reference_note: str = ""  # how that reference was made and checked
+    reference_gaps: dict[str, float] = field(default_factory=dict)  # its distance to each cross-check
+    friction: float = 0.0
+    friction_axis: NDArray[np.float64] = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    drag: float = 0.0
 
     def reference(self):
         if self.R_ref is None:
             self.R_ref, self.omega_ref = self.exact()
         return self.R_ref, self.omega_ref
+
+    @property
+    def dissipative(self) -> bool:
+        """Friction or drag: the energy falls, so a run's energy is compared with the reference's final one."""
+        return bool(self.friction or self.drag)
+
+    def torques(self) -> list:
+        """The project's torque objects of this case (for :mod:`physics.integrators`)."""
+        from physics.heavy_body import TransverseAirDrag
+        from physics.integrators import GravityTorque, SpinFriction
+
+        out: list = []
+        if self.mass:
+            out.append(GravityTorque(self.mass, self.com))
+        if self.friction:
+            out.append(SpinFriction(self.friction, self.moments, self.friction_axis))
+        if self.drag:
+            out.append(TransverseAirDrag(self.drag, self.moments))
+        return out
+
+    def body(self):
+        """The constants of the equations for :mod:`benchmarks.taylor`."""
+        from benchmarks.taylor import Body
+
+        axis = np.asarray(self.friction_axis, dtype=float)
+        return Body(
+            self.moments, self.mass * G * np.asarray(self.com), self.friction, axis / np.linalg.norm(axis), self.drag
+        )
 
     def energy(self, R, L):
         """Kinetic + potential energy, J, for (k,3,3),(k,3) or single states."""
@@ -65,6 +104,13 @@ class Case:
         if self.mass:
             e = e + self.mass * G * (np.asarray(R)[..., 2, :] @ self.com)
         return e
+
+    def energy_reference(self) -> float:
+        """The energy a run should end with: the initial one, or the reference's final one when dissipative."""
+        if not self.dissipative:
+            return float(self.energy(self.R0, self.L0))
+        R_ref, w_ref = self.reference()
+        return float(self.energy(R_ref, self.moments * w_ref))
 
 
 def _free(name, description, moments, omega0, t_end, periods_hint=None) -> Case:
@@ -107,10 +153,63 @@ def _top(name, description, theta0, thetadot0, phidot0, psidot0, t_end, I1=1.0, 
     )
 
 
-def _asymmetric_top(name, description, moments, tilt, omega0, t_end, mass=1.0, ell=0.3) -> Case:
-    """A heavy top with three different moments (no closed form): the reference is scipy's DOP853 at
-    rtol 1e-14, cross-checked by our Yoshida 8 at fine steps (their
-    distance is stated in the case's note; the benchmark's table reads errors far above it)."""
+def _gap(R_a, w_a, R_b, w_b) -> float:
+    """max(chordal attitude angle, relative ω error) between two final states, in their own precision."""
+    d = np.asarray(R_a) - np.asarray(R_b)
+    angle = 2.0 * np.arcsin(min(1.0, float(np.sqrt(np.sum(d * d)) / np.sqrt(8.0))))
+    return max(angle, float(np.max(np.abs(np.asarray(w_a) - w_b)) / np.max(np.abs(w_b))))
+
+
+def _numerical_reference(case: Case) -> Case:
+    """Give a case without a closed form its reference (made on first use): the Taylor series of
+    :mod:`benchmarks.taylor` (order 30, long double), checked against the same series at order 24 and a
+    smaller tolerance, and against scipy's DOP853 at its rtol floor (float64). The gaps go to
+    ``case.reference_gaps`` and ``case.reference_note``; :func:`check_with_mpmath` adds mpmath's Taylor."""
+    case.closed_form = False
+    case.exact = lambda: (np.eye(3), np.zeros(3))  # not a solution of ours: nothing to time
+
+    def reference():
+        from benchmarks.peers import scipy_run
+        from benchmarks.taylor import taylor_flow
+
+        body = case.body()
+        R, L, steps = taylor_flow(body, case.R0, case.L0, case.t_end)
+        R2, L2, steps2 = taylor_flow(body, case.R0, case.L0, case.t_end, order=24, tol=1e-23)
+        w, w2 = L / case.moments, L2 / case.moments
+        with warnings.catch_warnings():  # scipy raises rtol 1e-14 to its floor 2.2e-14, and says so
+            warnings.simplefilter("ignore", UserWarning)
+            R_dop, w_dop, _ = scipy_run(case, "DOP853", 1e-14)
+        case.reference_gaps = {"taylor": _gap(R, w, R2, w2), "DOP853": _gap(R_dop, w_dop, R, w)}
+        digits = np.finfo(np.longdouble).precision
+        case.reference_note = (
+            f"reference: Taylor series of order 30 in long double ({digits} digits), {steps} steps "
+            f"(benchmarks/taylor.py); the series of order 24 at a 100x smaller tolerance ({steps2} steps) agrees "
+            f"to {case.reference_gaps['taylor']:.1e}; scipy's DOP853 at rtol 2.2e-14 (its floor, float64) is "
+            f"{case.reference_gaps['DOP853']:.1e} away (its own error"
+            + (", above the 1e-13 asked of a reference" if case.reference_gaps["DOP853"] > 1e-13 else "")
+            + ")"
+        )
+        return np.asarray(R, dtype=float), np.asarray(w, dtype=float)
+
+    case.exact = reference
+    return case
+
+
+def check_with_mpmath(case: Case, dps: int = 20) -> float:
+    """Cross-check a case's numerical reference with mpmath's Taylor integrator (``mpmath.odefun`` at ``dps``
+    digits; 10 to 20 s of CPU per case): returns the gap and adds it to the case's note."""
+    from benchmarks.taylor import mpmath_flow
+
+    R_ref, w_ref = case.reference()
+    R, L = mpmath_flow(case.body(), case.R0, case.L0, case.t_end, dps)
+    gap = _gap(R, L / case.moments, R_ref, w_ref)
+    case.reference_gaps["mpmath"] = gap
+    case.reference_note += f"; mpmath.odefun (Taylor, {dps} digits) agrees to {gap:.1e}"
+    return gap
+
+
+def _asymmetric_top(name, description, moments, tilt, omega0, t_end, mass=1.0, ell=0.3, drag=0.0) -> Case:
+    """A heavy top with three different moments (no closed form), tilted by ``tilt`` about x."""
     moments = np.asarray(moments, dtype=float)
     omega0 = np.asarray(omega0, dtype=float)
     R0 = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(tilt), -np.sin(tilt)], [0.0, np.sin(tilt), np.cos(tilt)]])
@@ -126,35 +225,9 @@ def _asymmetric_top(name, description, moments, tilt, omega0, t_end, mass=1.0, e
         mass=mass,
         com=np.array([0.0, 0.0, ell]),
         time_scale=scale,
-        closed_form=False,
+        drag=drag,
     )
-
-    def reference():
-        from benchmarks.peers import scipy_run
-        from physics.integrators import GravityTorque, Yoshida8, integrate
-        from physics.rotations import rotation_angle
-
-        with warnings.catch_warnings():  # scipy raises rtol 1e-14 to its floor 2.2e-14, and says so
-            warnings.simplefilter("ignore", UserWarning)
-            R, w, _ = scipy_run(case, "DOP853", 1e-14)
-        # Yoshida 8 at three steps: its truncation error falls as h⁸ while its round-off grows with the
-        # step count; the closest agreement is the check.
-        checks = []
-        for per_scale in (64.0, 128.0, 256.0):
-            n = int(np.ceil(per_scale * t_end / scale))
-            run = integrate(Yoshida8(moments, GravityTorque(mass, case.com)), R0, case.L0, t_end / n, n, save_every=n)
-            gap = float(rotation_angle(run.attitude[-1], R))
-            gap_w = float(np.max(np.abs(run.L_body[-1] / moments - w)) / np.max(np.abs(w)))
-            checks.append((gap, gap_w, n))
-        gap, gap_w, n = min(checks)
-        case.reference_note = (
-            f"reference: scipy DOP853 at rtol 2.2e-14 (its floor); Yoshida 8 with {n} steps agrees to {gap:.1e} rad "
-            f"and {gap_w:.1e} in ω"
-        )
-        return R, w
-
-    case.exact = reference
-    return case
+    return _numerical_reference(case)
 
 
 def all_cases(quick: bool = False) -> list[Case]:
@@ -276,6 +349,31 @@ def all_cases(quick: bool = False) -> list[Case]:
             0.5,
             [0.3, 0.0, 200.0],
             2.0,
+        ),
+    ]
+    # No closed form: dissipation. The symmetric top with spin friction (the app's preset c = 0.02 N m s,
+    # app/scenes/heavy_top.py) and the asymmetric slow top with transverse air drag.
+    friction_top = _top(
+        "top_spin_friction",
+        "heavy top I1 = 1, I3 = 0.5, Mgl = 2.94 J with spin friction c = 0.02 N m s: θ0 = 0.8, ψ̇0 = 15, t = 10 s",
+        0.8,
+        0.0,
+        0.0,
+        15.0,
+        10.0,
+    )
+    friction_top.friction = 0.02
+    cases += [
+        _numerical_reference(friction_top),
+        _asymmetric_top(
+            "body_air_drag",
+            "asymmetric heavy top I = (1, 0.8, 0.5), tilt 0.8, ω0 = (0, 0, 15), transverse air drag "
+            "c_air = 0.05 N m s, t = 10 s",
+            [1.0, 0.8, 0.5],
+            0.8,
+            [0.0, 0.0, 15.0],
+            10.0,
+            drag=0.05,
         ),
     ]
     return cases

@@ -4,10 +4,13 @@ scipy: the state is (unit quaternion q in scipy order x, y, z, w; body angular v
 equations ``I ω̇ = (I ω) × ω + τ`` and ``q̇ = ½ q ⊗ (ω, 0)`` (body-frame ω multiplies on the right,
 ``Ṙ = R hat(ω)``). The quaternion is normalised only when it is read out at the end.
 
-MuJoCo: a free joint (gravity 0) for the free body, a ball joint at the pivot for the top, the body's
-inertia set by ``diaginertia`` about its centre of mass (the pivot moments minus ``M ℓ²``). Both joints'
-``qvel`` angular velocity is in the body's local frame (MuJoCo's convention for free and ball joints;
-checked by the benchmark itself, whose MuJoCo errors converge to our exact solutions). Stepping uses
+MuJoCo: a free joint (gravity 0) for the torque-free body, a ball joint ``j`` at the pivot for a body with
+any torque, the body's inertia set by ``diaginertia`` about its centre of mass (the pivot moments minus
+``M ℓ²``). Both joints' ``qvel`` angular velocity is in the body's local frame (MuJoCo's convention for free
+and ball joints; checked by the benchmark itself, whose MuJoCo errors converge to our exact solutions).
+Spin friction and air drag are actuators on ``j`` with an affine velocity bias (no control): friction a
+``general`` actuator with gear ``(a, 0, 0, 0)``, force ``−c (a · ω)`` along ``a``; drag two, along body x and y,
+force ``−c_air ω_i`` (tests/benchmarks checks that ``qfrc_actuator`` is the project's torque). Stepping uses
 ``mujoco.rollout`` (C loop, no Python per step) in chunks.
 """
 
@@ -38,6 +41,8 @@ def scipy_run(case, method: str, rtol: float, cpu_cap: float = float("inf")):
     calls = [0]
     inv = np.where(I > 0, 1.0 / np.where(I > 0, I, 1.0), 0.0)
     mgc = case.mass * G * case.com
+    fc, dc = case.friction, case.drag
+    a0, a1, a2 = np.asarray(case.friction_axis, dtype=float) / np.linalg.norm(case.friction_axis)
 
     def rhs(t, y):
         calls[0] += 1
@@ -55,6 +60,11 @@ def scipy_run(case, method: str, rtol: float, cpu_cap: float = float("inf")):
             t0 -= mgc[1] * u2 - mgc[2] * u1
             t1 -= mgc[2] * u0 - mgc[0] * u2
             t2 -= mgc[0] * u1 - mgc[1] * u0
+        if fc:  # spin friction −c (ω · a) a
+            wa = fc * (o0 * a0 + o1 * a1 + o2 * a2)
+            t0, t1, t2 = t0 - wa * a0, t1 - wa * a1, t2 - wa * a2
+        if dc:  # transverse air drag −c_air (ω1, ω2, 0)
+            t0, t1 = t0 - dc * o0, t1 - dc * o1
         # q ⊗ (ω, 0), scalar last
         return [
             0.5 * (w * o0 + yq * o2 - z * o1),
@@ -117,6 +127,11 @@ def _quiet_mujoco():
     mujoco.set_mju_user_warning(lambda msg: None)
 
 
+def _pivoted(case) -> bool:
+    """A ball joint at the pivot (any torque) rather than a free joint (the torque-free body)."""
+    return bool(case.mass or case.friction or case.drag)
+
+
 def mujoco_model(case, integrator: str, dt: float):
     """An MjModel of the case; returns (model, data)."""
     import mujoco
@@ -124,19 +139,31 @@ def mujoco_model(case, integrator: str, dt: float):
     _quiet_mujoco()
 
     I = [float(x) for x in case.moments]
-    if case.mass:
+    actuators = ""
+    if _pivoted(case):
         ell = np.asarray(case.com, dtype=float)
-        m = case.mass
+        m = case.mass or 1.0  # without gravity: any mass at the pivot (ℓ = 0), the moments are the inertia
         # inertia about the centre of mass: pivot moments minus the parallel-axis terms (com on z)
         d2 = ell @ ell
         icm = [float(v) for v in np.asarray(I) - m * (d2 - ell * ell)]
         ell = [float(v) for v in ell]
         body = (
-            f'<body name="b" pos="0 0 0"><joint type="ball" damping="0" armature="0"/>'
+            f'<body name="b" pos="0 0 0"><joint name="j" type="ball" damping="0" armature="0"/>'
             f'<inertial pos="{ell[0]!r} {ell[1]!r} {ell[2]!r}" mass="{m!r}" '
             f'diaginertia="{icm[0]!r} {icm[1]!r} {icm[2]!r}"/></body>'
         )
-        gravity = f"0 0 {-G!r}"
+        gravity = f"0 0 {-G if case.mass else 0.0!r}"
+        gears = []
+        if case.friction:
+            a = [float(v) for v in np.asarray(case.friction_axis, dtype=float) / np.linalg.norm(case.friction_axis)]
+            gears.append((f"{a[0]!r} {a[1]!r} {a[2]!r}", float(case.friction)))
+        if case.drag:
+            gears += [("1 0 0", float(case.drag)), ("0 1 0", float(case.drag))]
+        actuators = "".join(
+            f'<general joint="j" gear="{g} 0 0 0" gainprm="0" biastype="affine" biasprm="0 0 {-c!r}"/>'
+            for g, c in gears
+        )
+        actuators = f"<actuator>{actuators}</actuator>" if actuators else ""
     else:
         body = (
             f'<body name="b" pos="0 0 0"><freejoint/>'
@@ -146,14 +173,14 @@ def mujoco_model(case, integrator: str, dt: float):
     xml = (
         f'<mujoco><option timestep="{dt!r}" integrator="{_INTEGRATORS[integrator]}" gravity="{gravity}">'
         f'<flag contact="disable" constraint="disable" energy="enable"/></option>'
-        f"<worldbody>{body}</worldbody></mujoco>"
+        f"<worldbody>{body}</worldbody>{actuators}</mujoco>"
     )
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
     q = Rotation.from_matrix(case.R0).as_quat()  # x y z w
     wq = np.array([q[3], q[0], q[1], q[2]])
     omega = case.L0 / case.moments
-    if case.mass:
+    if _pivoted(case):
         data.qpos[:] = wq
         data.qvel[:] = omega
     else:
@@ -181,7 +208,7 @@ def mujoco_run(case, integrator: str, dt: float, chunk: int = 20000):
         state = out[0, -1].copy()
         done += k
     mujoco.mj_setState(model, data, state, spec)
-    if case.mass:
+    if _pivoted(case):
         wq, w = data.qpos[0:4], data.qvel[0:3]
     else:
         wq, w = data.qpos[3:7], data.qvel[3:6]
