@@ -60,6 +60,16 @@ def _number(value: Any, what: str) -> float | int:
     return value
 
 
+def _whole(number: float, what: str) -> int:
+    """``number`` rounded for an integer control, refused if the rounded value is over 2⁵³ in magnitude
+    (a float such as 1e23 passes the range check of a control without ``min``/``max`` but would give an
+    integer msgpack cannot encode)."""
+    whole = int(round(number))
+    if abs(whole) > MAX_INT:
+        raise InputRefused(f"{what} must be between −2⁵³ and 2⁵³, got {_short(number)}")
+    return whole
+
+
 def _short(value: Any) -> str:
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "…"
@@ -100,7 +110,7 @@ def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) 
     if isinstance(current, (int, float)):
         number = _number(value, what)
         clamped = _clamp(float(number), getattr(props, "min", None), getattr(props, "max", None))
-        return {"value": int(round(clamped)) if isinstance(current, int) else float(clamped)}
+        return {"value": _whole(clamped, what) if isinstance(current, int) else float(clamped)}
     if isinstance(current, str):
         if not isinstance(value, str):
             raise InputRefused(f"{what} must be text, got {type(value).__name__}")
@@ -118,7 +128,7 @@ def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) 
         for i, (old, new) in enumerate(zip(current, value, strict=True)):
             number = float(_number(new, what))
             number = _clamp(number, None if low is None else low[i], None if high is None else high[i])
-            out.append(int(round(number)) if isinstance(old, int) else number)
+            out.append(_whole(number, what) if isinstance(old, int) else number)
         return {"value": tuple(out)}
     raise InputRefused(f"{what} cannot be changed from a browser")
 

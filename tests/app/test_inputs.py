@@ -46,6 +46,40 @@ def test_numbers_are_clamped_to_the_slider_range_and_keep_the_controls_type(gui_
         whole.remove()
 
 
+def test_an_integer_control_without_a_range_refuses_a_float_that_rounds_past_2_to_the_53(gui_app):
+    gui = gui_app.server.gui
+    count = gui.add_number("count", initial_value=5)  # an int number box with no min or max
+    try:
+        assert count._impl.props.min is None and count._impl.props.max is None
+        for huge in (1e23, -1e23, float(2**60), 2.0**53 + 2**11):
+            with pytest.raises(InputRefused, match="between −2⁵³ and 2⁵³"):
+                check_update(5, props_of(count), "count", {"value": huge})
+            # The same for an integer component of a vector control without a range.
+            with pytest.raises(InputRefused, match="between −2⁵³ and 2⁵³"):
+                check_update((1, 2), props_of(count), "pair", {"value": [huge, 1.0]})
+        out = check_update(5, props_of(count), "count", {"value": 2.0**53})  # the largest exact integer
+        assert out == {"value": MAX_INT} and isinstance(out["value"], int)
+        assert check_update((1, 2), props_of(count), "pair", {"value": [3.4, -7.6]}) == {"value": (3, -8)}
+    finally:
+        count.remove()
+
+
+def test_a_huge_float_sent_to_an_integer_box_without_a_range_leaves_other_clients_connected(gui_app):
+    app = gui_app
+    count = app.server.gui.add_number("count (test)", initial_value=5)
+    try:
+        with raw_client(app) as sender, raw_client(app) as other:
+            before = len(app.messages)
+            send_value(sender, count._impl.uuid, 1e23)
+            wait_for(lambda: any("2⁵³" in body for _, body in app.messages[before:]), what="the refusal")
+            assert count.value == 5
+            assert still_connected(other, app=app) and still_connected(sender, app=app)
+            with raw_client(app) as late:  # the value in force encodes for a browser that joins later
+                assert still_connected(late, app=app)
+    finally:
+        count.remove()
+
+
 @pytest.mark.parametrize(
     ("value", "message"),
     [
