@@ -4,6 +4,7 @@ A file holds an optional ``title`` and a list of ``[[step]]`` tables with the ke
 
     scene    = "heavy_top"                  # a scene name (required unless ``state`` is given)
     preset   = "cusps (θ̇0 = 0)"             # one of the scene's presets
+    choices  = { Body = "Solid cylinder" }  # dropdown choices, by the dropdown's label in the panel
     values   = { I1 = 0.02, friction = 0 }  # slider values under the scene's keys (SI units, README)
     caption  = "**Cusps.** ..."             # markdown shown in the panel for this step
     camera   = { position = [2, -2, 1.5], look_at = [0, 0, 0.5] }   # m
@@ -11,8 +12,8 @@ A file holds an optional ``title`` and a list of ``[[step]]`` tables with the ke
     state    = "rbl1:..."                   # a state text (the panel's "Copy state") instead of the above
 
 :func:`read_lecture` checks the file's shape (keys, types, finite numbers) and names the step and the key
-of anything wrong; what only a scene can check (a preset's name, a value in a slider's range, a possible
-body) is checked by walking every step once before the lecture starts
+of anything wrong; what only a scene can check (a preset's name, a dropdown and its choice, a value in a
+slider's range, a possible body) is checked by walking every step once before the lecture starts
 (:meth:`app.server.Simulation.load_lecture`), so nothing starts half-built. ``rigid-body-lab --lecture NAME``
 finds ``lectures/NAME.toml``.
 """
@@ -31,7 +32,7 @@ LECTURES = Path(__file__).resolve().parent.parent / "lectures"
 MAX_BYTES = 1_000_000
 """Largest lecture file read, bytes."""
 
-KEYS = ("scene", "preset", "values", "caption", "camera", "seconds", "state")
+KEYS = ("scene", "preset", "choices", "values", "caption", "camera", "seconds", "state")
 
 __all__ = ["LECTURES", "Lecture", "Step", "find_lecture", "read_lecture"]
 
@@ -42,6 +43,7 @@ class Step:
 
     scene: str | None = None
     preset: str | None = None
+    choices: dict[str, str] = field(default_factory=dict)
     values: dict[str, float] = field(default_factory=dict)
     caption: str = ""
     camera: dict[str, list[float]] | None = None
@@ -134,6 +136,12 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
     preset = raw.get("preset")
     if preset is not None and not isinstance(preset, str):
         raise ValueError(f"{where}, preset: the name of one of the scene's presets")
+    choices = raw.get("choices", {})
+    if not isinstance(choices, dict):
+        raise ValueError(f'{where}, choices: a table of dropdown choices, e.g. choices = {{ Body = "Solid cylinder" }}')
+    for key, value in choices.items():
+        if not isinstance(value, str) or not value:
+            raise ValueError(f"{where}, choices.{key}: the text of one of the dropdown's choices, got {value!r}")
     values = raw.get("values", {})
     if not isinstance(values, dict):
         raise ValueError(f"{where}, values: a table of slider values, e.g. values = {{ spin = 3.0 }}")
@@ -163,6 +171,7 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
     return Step(
         scene=scene,
         preset=preset,
+        choices=dict(choices),
         values={key: float(value) for key, value in values.items()},
         caption=caption,
         camera=camera,

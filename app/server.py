@@ -293,7 +293,8 @@ class Simulation:
             self.go_to_step(self.step_index + 1)
 
     def _apply_step(self, step: Step) -> None:
-        """Put the simulation at a step: its state or its scene from the defaults, then preset, values, camera."""
+        """Put the simulation at a step: its state or its scene from the defaults, then its dropdown choices,
+        preset, values, camera."""
         if step.state is not None:
             self.open_state(step.state)
             if step.scene is not None and self.scene is not None and self.scene.name != step.scene:
@@ -303,6 +304,17 @@ class Simulation:
             self.switch_scene(step.scene)
         scene = self.scene
         assert scene is not None
+        for label, choice in step.choices.items():  # a dropdown (the body, the axis) before the sliders
+            handle = next((h for h in self._scene_inputs if str(h.label) == label and hasattr(h, "options")), None)
+            if handle is None:
+                names = [str(h.label) for h in self._scene_inputs if hasattr(h, "options")]
+                raise ValueError(f"choices.{label}: {scene.name} has no dropdown {label!r}; its dropdowns are {names}")
+            if choice not in handle.options:
+                raise ValueError(f"choices.{label}: no choice {choice!r}; the choices are {list(handle.options)}")
+            handle.value = choice  # runs the dropdown's callback now: the scene adopts it or snaps back
+            if handle.value != choice:
+                why = self.messages[-1][1] if self.messages else "the scene refused it"
+                raise ValueError(f"choices.{label}: {choice!r} was refused: {why}")
         if step.preset is not None:
             presets = getattr(scene, "presets", None)
             names = list(presets.presets) if presets is not None else []

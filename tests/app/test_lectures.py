@@ -3,8 +3,11 @@ refused with a message that names the step and the key, before anything starts."
 
 from __future__ import annotations
 
+import math
+import re
 import tomllib
 
+import numpy as np
 import pytest
 
 from app.__main__ import main
@@ -34,12 +37,136 @@ def test_the_shipped_lecture_follows_the_lectures_order_and_every_step_shows():
             assert f"step {k + 1} of {len(lecture.steps)}" in app._lecture_text.content
             if step.preset:
                 assert app.scene.presets.last == step.preset
+            for label, choice in step.choices.items():
+                assert next(h for h in app._scene_inputs if str(h.label) == label).value == choice
             for key, value in step.values.items():
                 assert app.scene.params.values[key] == value
         app.go_to_step(len(lecture.steps) + 5)  # Next at the last step stays there
         assert app.step_index == len(lecture.steps) - 1
         app.go_to_step(-3)
         assert app.step_index == 0
+
+
+def _shows(caption: str, value: float, digits: int = 4) -> None:
+    """The caption states ``value`` to ``digits`` significant digits (as the panel's readouts print it)."""
+    text = f"{value:.{digits}g}".replace("-", "−")  # captions write the minus sign
+    assert re.search(rf"(?<![\d.]){re.escape(text)}(?![\d])", caption), f"{text} not in {caption!r}"
+
+
+def _angle(u: np.ndarray, v: np.ndarray) -> float:
+    return math.atan2(float(np.linalg.norm(np.cross(u, v))), float(u @ v))
+
+
+def test_the_shipped_captions_state_what_each_step_shows():
+    """Every number in a shipped caption is the app's own for that step, and every claim that can be
+    measured is: the moments, the parallel-axis change, the pendulum's lengths, the strike at the centre of
+    percussion, the wobble's rates and which cone lies inside which, the racket's growth, the tops'
+    turning angles, rates and the friction top's fall."""
+    lecture = read_lecture("rigid-body-motion")
+    captions = [step.caption for step in lecture.steps]
+    with running_app(start_loop=False) as app:
+        app.load_lecture(lecture)
+
+        def at(k: int):
+            app.go_to_step(k)
+            app.set_speed(1.0)
+            app.set_playing(True)
+            app.frame(1.0 / 60.0)
+            return app.scene
+
+        # 1: a solid cylinder (the dropdown's choice), I₃ = M a²/2, I₁ = I₂ = M (a²/4 + L²/12).
+        s = at(0)
+        assert s.label == "Solid cylinder" and s.props.mass == 1.0
+        a, length = 0.05, 1.0
+        np.testing.assert_allclose(s.moments, [a * a / 4 + length**2 / 12] * 2 + [a * a / 2], rtol=1e-12)
+        for value in s.moments[1:]:
+            _shows(captions[0], value)
+        assert "solid cylinder" in captions[0].lower()
+        # 2: d ⊥ the axis: the two moments about axes perpendicular to d grow by M d², the one along d stays.
+        s = at(1)
+        d = np.array([0.4, 0.0, 0.0])
+        change = np.diag(s.tensor_pivot) - np.diag(s.props.tensor)
+        np.testing.assert_allclose(change, [0.0, 0.16, 0.16], atol=1e-15)
+        _shows(captions[1], 0.16)
+        assert s.props.mass * float(d @ d) == pytest.approx(0.16)
+        for value in (*np.diag(s.props.tensor)[[0, 2]], *np.diag(s.tensor_pivot)):
+            _shows(captions[1], value)
+        # 3: ℓ = k²/a⊥ > k > a⊥, and the small-swing period.
+        s = at(2)
+        m = s.model
+        assert m.effective_length > m.radius_of_gyration > m.a_perp
+        for value in (m.effective_length, m.radius_of_gyration, m.a_perp, m.small_oscillation_period):
+            _shows(captions[2], value)
+        _shows(captions[2], 2 * math.pi * math.sqrt(m.effective_length / 9.81))
+        # 4: the strike point starts on the centre of percussion (the button's value); no blow at the pivot.
+        s = at(3)
+        assert "Move the strike point to the centre of percussion" in captions[3]
+        assert s.params.values["strike"] == round(s.model.effective_length, 3)
+        _shows(captions[3], s.params.values["strike"], 3)
+        pivot = float(np.linalg.norm(s.strike().reaction_impulse))
+        assert pivot < 5e-4 * s.params.values["impulse"]
+        _shows(captions[3], pivot, 1)
+        # 5 and 6: the rates, and which cone lies inside which.
+        for k, inside in ((4, True), (5, False)):
+            s = at(k)
+            now = s.motion.at(1.234)
+            axis, omega, L = now.attitude[:, 2], now.attitude @ now.omega, s.L_space
+            body_half, space_half, apart = _angle(axis, omega), _angle(L, omega), _angle(axis, L)
+            if inside:  # oblate: L between axis and ω, the space cone within the body cone
+                assert s.moments[2] > s.moments[0] and apart == pytest.approx(body_half - space_half, abs=1e-12)
+            else:  # prolate: ω between axis and L, the cones touch from outside
+                assert s.moments[2] < s.moments[0] and apart == pytest.approx(body_half + space_half, abs=1e-12)
+            rates = s.model.precession_rates(s.omega0)
+            _shows(captions[k], rates.body)
+            assert (rates.body < 0) == inside  # Ω against the spin for a disc
+            if inside:
+                _shows(captions[k], rates.space)  # L/I₁
+        assert "inside the body cone" in captions[5] and "outside of the space cone" in captions[5]
+        # 7: λ, the estimate of the first flip and the measured period.
+        s = at(6)
+        assert s.stability.kind == "unstable"
+        _shows(captions[6], s.stability.rate, 3)
+        _shows(captions[6], math.log(1.0 / s.eps) / s.stability.rate, 2)
+        _shows(captions[6], s.flip_period)
+        # 8-11: the tops' turning angles, rates and the threshold.
+        s = at(7)
+        _shows(captions[7], math.degrees(s.exact.theta_max), 3)
+        _shows(captions[7], s.exact.nutation_period, 3)
+        s = at(8)
+        assert s.params.values["phidot0"] < 0
+        _shows(captions[8], s.params.values["phidot0"], 3)
+        _shows(captions[8], math.degrees(s.exact.theta_max))
+        s = at(9)
+        slow = s.top.steady_precession_rates(math.radians(60.0), s.top.I3 * 10.0)[0]
+        assert s.params.values["phidot0"] == pytest.approx(slow, abs=5e-4)
+        _shows(captions[9], slow)
+        assert s.exact.theta_max - s.exact.theta_min < 1e-3
+        _shows(captions[9], s.top.mgl / (s.top.I3 * 10.0), 1)
+        s = at(10)
+        L3, threshold = s.top.I3 * s.params.values["spin"], s.top.sleeping_threshold()
+        assert L3 > threshold
+        _shows(captions[10], L3, 1)
+        _shows(captions[10], threshold)
+        _shows(captions[10], math.degrees(s.exact.theta_max))
+        # 12: L₃ passes the threshold after (I₃/c) ln(L₃/threshold), then the top falls onto its rim.
+        s = at(11)
+        c = s.params.values["friction"]
+        crossing = s.top.I3 / c * math.log(L3 / threshold)
+        _shows(captions[11], crossing, 3)
+        _shows(captions[11], c, 1)
+        app.set_speed(10.0)
+        passed = None
+        for _ in range(120):  # 10 s of simulation a frame (0.1 s of wall time × 10)
+            app.frame(0.1)
+            if passed is None and abs(s.L_body[2]) < threshold:
+                passed = app.time
+            if s.landed:
+                break
+        assert passed == pytest.approx(crossing, abs=1.0)
+        assert s.landed and app.time > crossing
+        from app.scenes.heavy_top import TOUCH
+
+        _shows(captions[11], math.degrees(TOUCH), 3)
 
 
 BAD_FILES = {
@@ -52,6 +179,8 @@ BAD_FILES = {
     ),
     "unknown scene": ('[[step]]\nscene = "orrery"', "step 1, scene: no scene 'orrery'"),
     "no scene": ('[[step]]\ncaption = "hello"', "step 1: a step needs a scene"),
+    "choices not a table": ('[[step]]\nscene = "wobble"\nchoices = "Body"', "step 1, choices: a table"),
+    "choice not text": ('[[step]]\nscene = "inertia_explorer"\nchoices = { Body = 3 }', "step 1, choices.Body"),
     "values not numbers": ('[[step]]\nscene = "wobble"\nvalues = { spin = "fast" }', "step 1, values.spin"),
     "bad camera": ('[[step]]\nscene = "wobble"\ncamera = { position = [1, 2] }', "step 1, camera"),
     "bad seconds": ('[[step]]\nscene = "wobble"\nseconds = -1', "step 1, seconds"),
@@ -72,6 +201,8 @@ def test_a_bad_file_is_refused_naming_the_step_and_the_key(tmp_path, name):
         ('scene = "wobble"\npreset = "cube"', "step 2: preset: wobble has no preset 'cube'"),
         ('scene = "wobble"\nvalues = { spin = 99.0 }', "step 2: values.spin: spin must be between"),
         ('scene = "wobble"\nvalues = { wobble = 1.0 }', "step 2: values.wobble: there is no parameter"),
+        ('scene = "wobble"\nchoices = { Body = "Box" }', "step 2: choices.Body: wobble has no dropdown 'Body'"),
+        ('scene = "inertia_explorer"\nchoices = { Body = "Cube" }', "step 2: choices.Body: no choice 'Cube'"),
         ('scene = "heavy_top"\nvalues = { I1 = 0.05, I3 = 0.5 }', "step 2: values were refused: no rigid body"),
     ],
 )
@@ -82,6 +213,23 @@ def test_what_only_a_scene_can_check_is_checked_before_the_lecture_starts(tmp_pa
     with pytest.raises(SystemExit) as info:
         main(["--lecture", path, "--port", "0"])
     assert info.value.code == 2
+
+
+def test_a_choice_the_scene_refuses_is_named(tmp_path, monkeypatch):
+    from app.scenes.inertia_explorer import InertiaExplorer
+
+    apply = InertiaExplorer.apply
+
+    def refusing(self, values):
+        if self.choice.value == "Solid sphere":
+            raise ValueError("no spheres today")
+        apply(self, values)
+
+    monkeypatch.setattr(InertiaExplorer, "apply", refusing)
+    path = _write(tmp_path, '[[step]]\nscene = "inertia_explorer"\nchoices = { Body = "Solid sphere" }\n')
+    with pytest.raises(ValueError, match="step 1: choices.Body: 'Solid sphere' was refused: no spheres today"):
+        with running_app(start_loop=False) as app:
+            app.load_lecture(read_lecture(path))
 
 
 def test_a_step_with_seconds_moves_on_by_itself_and_the_last_stays(tmp_path):
