@@ -40,3 +40,22 @@ def test_a_skip_fails_only_under_rbl_no_skip(tmp_path, strict, expected):
 
 def test_a_clean_run_passes_under_rbl_no_skip(tmp_path):
     assert _run(tmp_path, "def test_ok():\n    pass\n", strict=True) == 0
+
+
+def _marks_browser(path: Path) -> bool:
+    """The module assigns ``pytestmark`` to ``pytest.mark.browser`` (alone or in a list)."""
+    import ast
+
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "pytestmark" for t in node.targets):
+            if "pytest.mark.browser" in ast.unparse(node.value):
+                return True
+    return False
+
+
+def test_every_browser_module_is_marked_browser():
+    # `-m "not browser"` is the quick run: a browser test without the marker would run in it anyway.
+    modules = sorted((HERE / "browser").glob("test_*.py"))
+    assert modules
+    unmarked = [p.name for p in modules if not _marks_browser(p)]
+    assert not unmarked, f"missing pytestmark = pytest.mark.browser: {unmarked}"

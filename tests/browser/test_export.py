@@ -17,10 +17,13 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 from PIL import Image
 
 from app.export import export
 from tests.harness import click, free_port, image_difference, image_stats, open_page, running_app, wait_for
+
+pytestmark = pytest.mark.browser
 
 
 def _screenshot(page) -> np.ndarray:

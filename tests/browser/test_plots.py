@@ -6,7 +6,11 @@ from __future__ import annotations
 import math
 import time
 
+import pytest
+
 from tests.harness import click, open_page, pick_scene, running_app, wait_for
+
+pytestmark = pytest.mark.browser
 
 CHARTS = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(v => ({
     title: v.chart.root.querySelector('.u-title') ? v.chart.root.querySelector('.u-title').textContent : '',

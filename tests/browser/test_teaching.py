@@ -4,8 +4,12 @@ exact body and its error plot fills.
 
 from __future__ import annotations
 
+import pytest
+
 from app.scenes.tennis_racket import TennisRacket
 from tests.harness import click, control_id, open_page, pick_scene, running_app, wait_for
+
+pytestmark = pytest.mark.browser
 
 SPLIT = "Lie–Poisson splitting (order 2)"
 
