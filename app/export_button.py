@@ -2,8 +2,9 @@
 
 The click takes the browser's state text (scene, controls, time, its camera) and hands it to
 :func:`app.export.export_zip` in a thread of its own, so the clock and the other browsers go on; a
-notification in that browser shows the progress and then the download starts (viser's file download).
-At most one export runs in the server at a time; a second click meanwhile is told so.
+notification in that browser shows the progress and then the download starts (viser's file download); the
+final note (exported, refused or failed) closes by itself after :data:`app.server.NOTIFY_SECONDS`, as every
+other notification does. At most one export runs in the server at a time; a second click meanwhile is told so.
 """
 
 from __future__ import annotations
@@ -55,6 +56,8 @@ class ExportFolder:
         self.running.start()
 
     def _run(self, client: Any, text: str, seconds: float, name: str) -> None:
+        from app.server import NOTIFY_SECONDS  # (app.server imports this module)
+
         if departed(client):
             return
         try:
@@ -74,18 +77,14 @@ class ExportFolder:
             if departed(client):
                 return  # it left while the export ran: nobody to send it to
             client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
-            note.title, note.body, note.loading = (
-                "Exported",
-                f"rigid-body-lab-{name}.zip ({len(archive) // 1024} kB)",
-                False,
-            )
-            note.color = "green"
+            final = ("Exported", f"rigid-body-lab-{name}.zip ({len(archive) // 1024} kB)", "green")
         except ValueError as exc:
-            if departed(client):
-                return
-            note.title, note.body, note.loading, note.color = "Export refused", str(exc), False, "red"
+            final = ("Export refused", str(exc), "red")
         except Exception as exc:  # noqa: BLE001 - the server stays up; the browser is told
-            if departed(client):
-                return
-            note.title, note.body, note.loading = "Export failed", f"{type(exc).__name__}: {exc}", False
-            note.color = "red"
+            final = ("Export failed", f"{type(exc).__name__}: {exc}", "red")
+        if departed(client):
+            return
+        # Every update carries all the props (viser keeps the latest): the note stops loading, says how it
+        # ended and closes by itself like every other notification.
+        note.title, note.body, note.color, note.loading = final[0], final[1], final[2], False
+        note.auto_close_seconds = NOTIFY_SECONDS

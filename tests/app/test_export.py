@@ -128,3 +128,49 @@ def test_the_panel_zip_holds_the_three_files() -> None:
     archive = zipfile.ZipFile(io.BytesIO(export_zip(text, 0.5)))
     assert sorted(archive.namelist()) == ["heavy_top.csv", "heavy_top.png", "index.html"]
     assert archive.read("heavy_top.csv").startswith(b"t (s),")
+
+
+class _Client:
+    """A browser as the Export folder sees it: notifications (their final props recorded) and downloads."""
+
+    def __init__(self) -> None:
+        from types import SimpleNamespace
+
+        self._websock_connection = SimpleNamespace(get_message_buffer=lambda: SimpleNamespace(done=False))
+        self.notes: list[SimpleNamespace] = []
+        self.downloads: list[str] = []
+
+    def add_notification(self, title: str, body: str, **props):
+        from types import SimpleNamespace
+
+        note = SimpleNamespace(title=title, body=body, color=None, auto_close_seconds=None, **props)
+        self.notes.append(note)
+        return note
+
+    def send_file_download(self, name: str, content: bytes, save_immediately: bool = False) -> None:
+        self.downloads.append(name)
+
+
+@pytest.mark.parametrize(
+    "outcome, title",
+    [(b"zip", "Exported"), (ValueError("no such state"), "Export refused"), (RuntimeError("disk"), "Export failed")],
+)
+def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, outcome, title: str) -> None:
+    """The progress note ends as "Exported", "Export refused" or "Export failed", not loading, and closes after
+    NOTIFY_SECONDS like every other notification (it stayed open until clicked)."""
+    import app.export_button as export_button
+    from app.server import NOTIFY_SECONDS
+
+    def fake_export(text, seconds, progress):
+        progress(1, 2)
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
+
+    monkeypatch.setattr(export_button, "export_zip", fake_export)
+    client = _Client()
+    export_button.ExportFolder._run(None, client, "rbl1:x", 2.0, "pendulum")  # type: ignore[arg-type]
+    (note,) = client.notes
+    assert note.title == title and note.loading is False
+    assert note.auto_close_seconds == NOTIFY_SECONDS
+    assert client.downloads == (["rigid-body-lab-pendulum.zip"] if title == "Exported" else [])

@@ -21,6 +21,7 @@ import pytest
 from PIL import Image
 
 from app.export import export
+from app.server import NOTIFY_SECONDS
 from tests.harness import click, free_port, image_difference, image_stats, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser
@@ -66,5 +67,8 @@ def test_the_panel_export_button_downloads_a_zip(chromium) -> None:
         assert sorted(archive.namelist()) == ["index.html", "pendulum.csv", "pendulum.png"]
         rows = archive.read("pendulum.csv").decode().splitlines()
         assert rows[0] == "t (s),theta (rad),theta_dot (rad/s),E (J)" and len(rows) == 302  # 10 s at 30 fps
-        page.get_by_text("Exported").first.wait_for(timeout=30_000)
+        exported = page.get_by_text("Exported").first
+        exported.wait_for(timeout=30_000)
+        # It closes by itself, as every notification does (it stayed until clicked).
+        exported.wait_for(state="hidden", timeout=(NOTIFY_SECONDS + 15.0) * 1000)
         page.close()
