@@ -41,9 +41,11 @@ def _theta_grid() -> np.ndarray:
 
 
 UPRIGHT_NUDGE = 1e-3
-"""rad (0.057°): a top set exactly upright below the sleeping threshold starts this far off the vertical.
-θ = 0 is an equilibrium there, but an unstable one; a real top never stands exactly upright, and the
-nudge grows as e^{λt}, λ = √(M g ℓ/I₁ − (L₃/2I₁)²), so it topples within seconds, as the lecture says."""
+"""rad (0.057°): a top set exactly upright below the sleeping threshold, or upright with friction, starts
+this far off the vertical. θ = 0 is an equilibrium, unstable below the threshold; a real top never stands
+exactly upright, and the nudge grows as exp(λt), λ = √(M g ℓ/I₁ − (L₃/2I₁)²), so it topples within
+seconds, as the lecture says. With friction a top above the threshold sleeps until L₃ falls below it and
+then topples the same way; exactly upright it would have nothing to grow from and stand for ever."""
 
 
 def _touch_angle(mesh: trimesh.Trimesh) -> float:
@@ -65,16 +67,36 @@ TOUCH = _touch_angle(TOP_MESH)
 
 def _start(values: dict[str, float]) -> tuple[float, float, float, float]:
     """(θ0, θ̇0, φ̇0, ψ̇0) from the sliders: released at rest in θ with spin ω3 = ψ̇ + φ̇ cos θ; exactly
-    upright below the sleeping threshold, θ0 is :data:`UPRIGHT_NUDGE` instead (see :func:`_nudged`)."""
+    upright below the sleeping threshold or with friction, θ0 is :data:`UPRIGHT_NUDGE` instead (see
+    :func:`_nudged`)."""
     theta0 = UPRIGHT_NUDGE if _nudged(values) else math.radians(values["theta0"])
     return theta0, 0.0, values["phidot0"], values["spin"] - values["phidot0"] * math.cos(theta0)
 
 
+def _below_threshold(values: dict[str, float]) -> bool:
+    """L₃ = I₃ ω₃ at or below the sleeping threshold 2√(M g ℓ I₁): upright is unstable."""
+    return values["I3"] * abs(values["spin"]) <= 2.0 * math.sqrt(values["mgl"] * values["I1"])
+
+
 def _nudged(values: dict[str, float]) -> bool:
-    """True when the sliders ask for the unstable upright equilibrium: θ0 = 0 and L₃ = I₃ ω₃ at or below
-    the sleeping threshold 2√(M g ℓ I₁)."""
-    return values["theta0"] == 0.0 and values["I3"] * abs(values["spin"]) <= 2.0 * math.sqrt(
-        values["mgl"] * values["I1"]
+    """True when the sliders ask for the upright equilibrium where it is (or, with friction, will become)
+    unstable: θ0 = 0 and L₃ at or below the sleeping threshold, or θ0 = 0 with spin friction."""
+    return values["theta0"] == 0.0 and (_below_threshold(values) or values["friction"] > 0.0)
+
+
+def _nudge_words(values: dict[str, float]) -> str:
+    """The note shown at the top of the panel when the start was nudged (empty otherwise)."""
+    if not _nudged(values):
+        return ""
+    nudge = f"{math.degrees(UPRIGHT_NUDGE):.2g}°"
+    if _below_threshold(values):
+        return (
+            f"⚠ θ₀ = 0 below the sleeping threshold is an unstable equilibrium: the top starts {nudge} off "
+            "the vertical (a tiny perturbation, as any real top has) and topples."
+        )
+    return (
+        f"⚠ θ₀ = 0 with friction: the top starts {nudge} off the vertical (a tiny perturbation, as any real "
+        "top has). It sleeps until friction takes L₃ below the threshold, then topples."
     )
 
 
@@ -147,6 +169,8 @@ class HeavyTopScene(Scene):
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
+        # First in the folder, under the caption: what the scene did to the sliders' start, and why.
+        self.note = gui.add_markdown("")
         self.body = draw.BodyMesh(server, root + "/top", TOP_MESH)
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L", shaft_radius=0.035)
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω", shaft_radius=0.035)
@@ -211,7 +235,6 @@ class HeavyTopScene(Scene):
             ("E", "L_z", "L₃"),
             (draw.hex_colour("black"), draw.hex_colour("L"), draw.hex_colour("bluish_green")),
         )
-        self.note = gui.add_markdown("")  # what the scene did to the sliders' start, and why
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", TOP_MESH)
         self.traces += [self.drift, self.ghost]
         self._plot_time = 0.0
@@ -237,12 +260,7 @@ class HeavyTopScene(Scene):
         self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
-        self.note.content = (
-            f"θ₀ = 0 below the sleeping threshold is an unstable equilibrium: the top starts "
-            f"{math.degrees(UPRIGHT_NUDGE):.3f}° off the vertical, and topples."
-            if _nudged(values)
-            else ""
-        )
+        self.note.content = _nudge_words(values)
         self._start_ghost()
         self.reset()
         self.ctx.restart()

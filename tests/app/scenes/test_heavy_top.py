@@ -136,6 +136,35 @@ def test_a_top_set_upright_below_the_threshold_topples_from_a_stated_nudge(app, 
     assert tilts[0] < 0.1 and max(tilts) > 90.0
 
 
+def test_a_top_set_upright_with_friction_sleeps_then_topples_and_lies_on_the_table(app):
+    """Exactly upright and above the threshold, with spin friction: friction takes L₃ below the threshold,
+    and a top exactly upright would have nothing to fall from; it starts nudged (said at the top of the
+    panel), sleeps, then falls onto its rim."""
+    from app.scenes.heavy_top import TOP_MESH, TOUCH, UPRIGHT_NUDGE
+
+    scene = open_scene(app, "heavy_top")
+    assert scene.params.offer({"theta0": 0.0, "spin": 20.0, "phidot0": 0.0, "friction": 0.02})
+    assert scene.start[0] == UPRIGHT_NUDGE
+    assert "with friction" in scene.note.content and "0.057°" in scene.note.content
+    # The note is the first thing in the scene's folder, under the caption: above the fold.
+    assert scene.note._impl.props.order < scene.params.sliders["spin"]._impl.props.order
+    threshold = scene.top.sleeping_threshold()
+    app.set_speed(10.0)
+    tilts, lowest, crossed = [], [], None
+    for _ in range(60):  # 1 s of simulation a frame
+        app.frame(0.1)
+        tilts.append(math.degrees(math.acos(np.clip(scene.R[2, 2], -1, 1))))
+        lowest.append(float(np.min(TOP_MESH.vertices @ scene.R.T[:, 2])))
+        if crossed is None and abs(scene.L_body[2]) < threshold:
+            crossed = len(tilts)
+        if scene.landed:
+            break
+    assert crossed is not None and max(tilts[: crossed - 1]) < 1.0  # it sleeps above the threshold
+    assert scene.landed and tilts[-1] == pytest.approx(math.degrees(TOUCH), abs=1e-9)
+    assert min(lowest) >= -1e-12 and min(lowest) == pytest.approx(0.0, abs=1e-12)  # on the table, not below
+    assert "lying on the table" in scene.theta_readout.text
+
+
 def test_a_sleeping_top_set_upright_stays_upright(app):
     scene = open_scene(app, "heavy_top")
     assert scene.params.offer({"theta0": 0.0, "spin": 20.0, "phidot0": 0.0, "friction": 0.0})
