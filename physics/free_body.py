@@ -303,6 +303,22 @@ class PrecessionRates:
 # ---------------------------------------------------------------------------------------------------
 # The body
 # ---------------------------------------------------------------------------------------------------
+def _lamina_within_slack(moments: Floats) -> Floats:
+    """The moments with a largest one above the sum of the other two (inside the triangle inequality's
+    round-off slack, which :func:`physics.inertia.validate_moments` accepts) lowered to that sum.
+
+    No rigid body has ``I_max > I_j + I_k``; the closed form's constants (``n``, the amplitudes) assume it
+    and lose every digit when it fails by more than the third moment (``FreeBody([1, 1 + 1e-13, 1e-300])``
+    gave ``ω(0) = (0.5, 0.3, 3.6e127)`` for ``ω0 = (0.5, 0.3, 0.2)``). The lamina is what the slack stands for.
+    """
+    out = np.array(moments, dtype=float)
+    big = int(np.argmax(out))
+    rest = float(out[(big + 1) % 3] + out[(big + 2) % 3])
+    if out[big] > rest:
+        out[big] = rest
+    return out
+
+
 _SWAP = np.array([[0.0, 0.0, -1.0], [0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]])  # proper: exchanges 1st and 3rd
 
 
@@ -314,7 +330,10 @@ class FreeBody:
     moments : array_like, shape (3,)
         Principal moments of inertia about the centre of mass, kg m², in the order of the body axes
         (any order). Validated by :func:`physics.inertia.validate_moments` (triangle inequality; one
-        zero moment is a rod).
+        zero moment is a rod). A largest moment above the sum of the other two by less than the
+        validation's slack (1e-12 relative, round-off) is taken as that sum: the flat lamina those
+        moments round (``moments`` then holds the clamped value; with a zero or tiny third moment the
+        body is the symmetric lamina or the rod).
 
     Raises
     ------
@@ -330,7 +349,7 @@ class FreeBody:
     """
 
     def __init__(self, moments: ArrayLike) -> None:
-        self.moments = validate_moments(moments)
+        self.moments = _lamina_within_slack(validate_moments(moments))
         self._cache: tuple[bytes, dict[str, Any]] | None = None
         inertia = self.moments
         order = np.argsort(-inertia, kind="stable")

@@ -500,6 +500,35 @@ def test_bad_input_raises_with_a_clear_message(call, message):
         call()
 
 
+@pytest.mark.parametrize(
+    "moments, lamina",
+    [
+        ([1.0, 1.0 + 1e-13, 1e-300], [1.0, 1.0, 1e-300]),
+        ([1.0, 1.0 + 1e-13, 0.0], [1.0, 1.0, 0.0]),
+        ([1e-300, 1.0, 1.0 + 1e-13], [1e-300, 1.0, 1.0]),
+        ([2.0 + 1e-12, 1.0, 1.0], [2.0, 1.0, 1.0]),
+    ],
+)
+def test_moments_beyond_the_triangle_inequality_by_round_off_are_the_lamina(moments, lamina):
+    """Audit of issue 15, item 5: FreeBody([1, 1 + 1e-13, 1e-300]) gave ω(0) = (0.5, 0.3, 3.6e127) for
+    ω0 = (0.5, 0.3, 0.2), and NaN with I3 = 0. Moments above the triangle inequality within the validation's
+    round-off slack are the flat lamina they round (the largest = the sum of the other two), here symmetric."""
+    w0 = np.array([0.5, 0.3, 0.2])
+    fb = FreeBody(moments)
+    assert fb.moments.tolist() == lamina
+    times = np.array([0.0, 0.37, -0.61, 1000 * _rotation_period(w0)])
+    om, rr = fb.motion(w0, times, R_TILT)
+    assert np.array_equal(om[0], w0)
+    assert np.array_equal(fb.omega(w0, 0.0)[0], w0)
+    ref_w, ref_r = _symmetric_reference(lamina, w0, times, R_TILT)
+    assert np.max(np.linalg.norm(om - ref_w, axis=1) / np.linalg.norm(ref_w, axis=1)) < 1e-12
+    assert np.max(rotation_angle(rr, ref_r)) < 1e-10
+    l_space = np.einsum("nij,nj->ni", rr, fb.moments * om)
+    l0 = fb.angular_momentum(w0, R_TILT)
+    assert np.max(np.linalg.norm(l_space - l0, axis=1)) / np.linalg.norm(l0) < 1e-13
+    assert np.max(np.abs(0.5 * np.sum(fb.moments * om * om, axis=1) / fb.energy(w0) - 1)) < 1e-13
+
+
 def test_extreme_magnitudes_scale_exactly():
     """ω(t; c ω0) = c ω(c t; ω0): a power-of-two c is exact, so results agree bit for bit in scale;
     components 1e-214 below the others count as uniform rotation (error ~1e-214)."""
