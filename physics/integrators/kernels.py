@@ -75,20 +75,27 @@ def _kick(s, h, gravity):
 
 
 @njit(cache=True)
-def _dissipate(s, h, inv, friction, drag):
+def _dissipate(s, h, friction, drag, backwards):
     """The exact flows of the spin frictions (rows c, s, a0, a1, a2, 1/I0, 1/I1, 1/I2 of its own moments)
-    and of the transverse air drags (rows c, 1/I0, 1/I1)."""
-    for f in range(friction.shape[0]):
-        c, sf, a0, a1, a2 = friction[f, 0], friction[f, 1], friction[f, 2], friction[f, 3], friction[f, 4]
-        if sf > 0.0 and c > 0.0:
-            wa = a0 * friction[f, 5] * s[9] + a1 * friction[f, 6] * s[10] + a2 * friction[f, 7] * s[11]
-            k = math.expm1(-c * sf * h) / sf * wa
-            s[9] += k * a0
-            s[10] += k * a1
-            s[11] += k * a2
-    for d in range(drag.shape[0]):
-        for i in range(2):
-            s[9 + i] *= math.exp(-drag[d, 0] * h * drag[d, 1 + i])
+    and of the transverse air drags (rows c, 1/I0, 1/I1), in place: frictions then drags, or (``backwards``,
+    the second half of a symmetric step) drags then frictions, each in reverse order. They need not commute
+    (a friction axis off z mixes L0, L1 with L2): only this mirror order keeps the base step symmetric, so
+    that its compositions keep their order."""
+    nf, nd = friction.shape[0], drag.shape[0]
+    for q in range(nf + nd):
+        r = nf + nd - 1 - q if backwards else q
+        if r < nf:
+            c, sf, a0, a1, a2 = friction[r, 0], friction[r, 1], friction[r, 2], friction[r, 3], friction[r, 4]
+            if sf > 0.0 and c > 0.0:
+                wa = a0 * friction[r, 5] * s[9] + a1 * friction[r, 6] * s[10] + a2 * friction[r, 7] * s[11]
+                k = math.expm1(-c * sf * h) / sf * wa
+                s[9] += k * a0
+                s[10] += k * a1
+                s[11] += k * a2
+        else:
+            d = r - nf
+            for i in range(2):
+                s[9 + i] *= math.exp(-drag[d, 0] * h * drag[d, 1 + i])
 
 
 @njit(cache=True)
@@ -127,11 +134,11 @@ def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag,
                     _rotate(s, op, h * inv[op] * s[9 + op])
                 elif op == OP_T0:
                     _kick(s, h, gravity)
-                    _dissipate(s, h, inv, friction, drag)
+                    _dissipate(s, h, friction, drag, False)
                     if has_zero:
                         _hold_zero_axes(s, zero)
                 elif op == OP_T1:
-                    _dissipate(s, h, inv, friction, drag)
+                    _dissipate(s, h, friction, drag, True)
                     _kick(s, h, gravity)
                     if has_zero:
                         _hold_zero_axes(s, zero)
