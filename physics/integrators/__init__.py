@@ -44,10 +44,17 @@ Layout (one method per module, in the manner of diffrax's ``_solver/``): :mod:`.
 :mod:`.classical_rk4`; torques in :mod:`.torques`; ``integrate`` and ``advance`` in :mod:`.drivers`; the
 component state and its exact sub-flows in ``_state``; :data:`REGISTRY` lists every method by name.
 
-Speed. A step works on the twelve scalar components of ``(R, L_body)``. For one body they are Python floats
-and the step is hand-unrolled scalar arithmetic with :mod:`math` (measured here: about 4 to 8 times faster
-than numpy on 3x3 arrays, whose per-call overhead dominates); for a batch ``(n, 3, 3)``, ``(n, 3)`` the very
-same code runs on numpy arrays of shape ``(n,)``.
+Speed. The splittings and Lie RK4 with the project's torques (gravity, spin friction, the air drag of
+:mod:`physics.heavy_body`) run compiled (numba, ``cache=True``; :mod:`.kernels`, :mod:`.compiled`): a
+splitting is a *program* of sub-flows that one loop runs over a batch of bodies, rows of twelve components
+``(R row-major, L_body)``, so ``integrate`` takes ``(n, 3, 3)``, ``(n, 3)`` in one call. Measured
+(``python -m benchmarks.compile_time``, benchmarks/results/compile_time.md): 0.34 µs of CPU per Yoshida 4
+step of the friction top; the first call in a fresh environment compiles every kernel in about 6 s, a later
+process loads them from numba's cache in about 0.5 s (:func:`physics.integrators.warm.warm`, which the app
+runs in the background at start). A torque the kernels do not know (any other callable), a triaxial exact
+free flow and :class:`ClassicalRK4` run interpreted on the same component state (Python floats with
+:mod:`math`, or numpy arrays of shape ``(n,)`` for a batch): 221 µs per step with the friction top's torques
+as Python callables, about 650 times slower.
 """
 
 from __future__ import annotations
