@@ -1,8 +1,14 @@
 """``rigid-body-lab export`` and :mod:`app.export`: the files, their numbers against the physics API, refusals.
 
-The CSV is checked against an independent evaluation of the same motion by the physics package (the heavy
-top released from rest at the scene's default body), to 1e-12: both evaluate the same closed form at the
-same times, so they agree to a few ulps; the Euler angles go through atan2 and back (a few 1e-16).
+The CSV is checked against an independent evaluation of the same motion by the physics package, for every
+scene driven by a closed form (the heavy top released from rest; the wobble, the free fall and the tennis
+racket at their defaults, through ``FreeBody``; the pendulum, through ``PhysicalPendulum``), to 1e-12
+*relative*: each column's difference is divided by the size of its quantity (|ω| for the components of ω,
+|L| for L, |E| for the energy, 1 rad for angles, the height of the throw for the centre). Relative, because
+the columns range from 1e-3 (the racket's L in kg m²/s) to 10 (ω in rad/s): a fixed absolute bound would
+be loose for the one and tight for the other. Both sides evaluate the same closed forms at the same times
+(the scene one time at a time on Python floats, the test on arrays), so they agree to a few ulps; the Euler
+angles go through atan2 and back (a few 1e-16).
 """
 
 from __future__ import annotations
@@ -19,8 +25,13 @@ import pytest
 from app.__main__ import main
 from app.export import export, export_zip
 from app.scenes import scene_names
+from physics import G
 from physics.euler_angles import euler_attitude
+from physics.free_body import FreeBody
 from physics.heavy_top import HeavyTop
+from physics.inertia import solid_cylinder
+from physics.pendulum import PhysicalPendulum
+from physics.rotations import frame_from_axis
 from tests.harness import running_app
 
 CUSPS = "cusps (released from rest)"  # spin 10 rad/s, tilt 60°, φ̇0 = 0, no friction; I1 0.4, I3 0.2, M g ℓ 1
@@ -59,6 +70,104 @@ def test_heavy_top_export_matches_the_physics_api(tmp_path: Path) -> None:
     assert np.ptp(energy) < 1e-12 * abs(energy[0])
     assert np.ptp(column(header, table, "L_z (kg m^2/s)")) < 1e-12 * 2.0
     assert np.all(column(header, table, "L_3 (kg m^2/s)") == 2.0)
+
+
+RELATIVE = 1e-12
+
+
+def _close(csv_values: np.ndarray, exact: np.ndarray, size: float, what: str) -> None:
+    """Agreement to :data:`RELATIVE` of the quantity's size (see the module docstring)."""
+    error = float(np.max(np.abs(np.asarray(csv_values) - np.asarray(exact)))) / size
+    assert error < RELATIVE, f"{what}: {error:.2e} of its size"
+
+
+def _free_body_columns(header, table, moments, omega0, body_omega: bool) -> None:
+    """A torque-free export (wobble, free fall, racket) against FreeBody's closed form, L along +z at t = 0."""
+    t = column(header, table, "t (s)")
+    L_body0 = moments * omega0
+    attitude0 = frame_from_axis(L_body0).T
+    body = FreeBody(moments)
+    R, w = body.attitude(omega0, t, attitude0), body.omega(omega0, t)
+    R_csv = euler_attitude(*(column(header, table, f"{a} (rad)") for a in ("phi", "theta", "psi")))
+    _close(R_csv, R, 1.0, "attitude")
+    if body_omega:
+        omega = w
+        names = [f"omega_{k} (rad/s)" for k in "123"]
+    else:
+        omega = np.einsum("nij,nj->ni", R, w)
+        names = [f"omega_{k} (rad/s)" for k in "xyz"]
+    size = float(np.linalg.norm(omega0))
+    for k, name in enumerate(names):
+        _close(column(header, table, name), omega[:, k], size, name)
+    L = np.einsum("nij,nj->ni", R, moments * w)
+    L0 = attitude0 @ L_body0
+    np.testing.assert_allclose(L0 / np.linalg.norm(L0), [0.0, 0.0, 1.0], atol=1e-15)  # L along +z
+    for k, axis in enumerate("xyz"):
+        _close(column(header, table, f"L_{axis} (kg m^2/s)"), L[:, k], float(np.linalg.norm(L_body0)), f"L_{axis}")
+    energy = 0.5 * float(omega0 @ L_body0)
+    _close(column(header, table, "E (J)"), np.full(t.size, energy), energy, "E")
+
+
+@pytest.mark.parametrize("name", ["wobble", "free_fall"])
+def test_wobble_and_free_fall_exports_match_the_physics_api(tmp_path: Path, name: str) -> None:
+    from app.scenes.free_fall import START, VELOCITY
+
+    written = export(name, tmp_path, 2.0)
+    header, table = read_csv(written.csv)
+    # The defaults: a solid cylinder of 1 kg with I₃/I₁ = 1.6 (h² = a² (6/1.6 − 3)), its larger dimension 1 m
+    # (0.45 m in free fall), |ω| = 3 rad/s at 20° from the axis.
+    size = 0.45 if name == "free_fall" else 1.0
+    h_over_a = math.sqrt(6.0 / 1.6 - 3.0)
+    a = size / max(2.0, h_over_a)
+    moments, _ = solid_cylinder(1.0, a, a * h_over_a).principal()
+    moments = moments[[1, 2, 0]]  # the symmetry axis (the largest moment here, I₃ > I₁) as body axis 3
+    alpha = math.radians(20.0)
+    omega0 = 3.0 * np.array([math.sin(alpha), 0.0, math.cos(alpha)])
+    assert moments[2] / moments[0] == pytest.approx(1.6, rel=1e-14)
+    _free_body_columns(header, table, moments, omega0, body_omega=False)
+    t = column(header, table, "t (s)")
+    if name == "free_fall":
+        tau = t % (2.0 * VELOCITY[2] / G)
+        centre = START + VELOCITY * tau[:, None] - 0.5 * G * tau[:, None] ** 2 * np.array([0.0, 0.0, 1.0])
+        height = VELOCITY[2] ** 2 / (2.0 * G)
+        assert tau.max() > 0.9 and t.max() > 1.9  # a whole throw and the start of the next
+    else:
+        centre = np.tile([0.0, 0.0, 1.0], (t.size, 1))
+        height = 1.0
+    for k, axis in enumerate("xyz"):
+        _close(column(header, table, f"centre_{axis} (m)"), centre[:, k], height, f"centre_{axis}")
+
+
+def test_tennis_racket_export_matches_the_physics_api(tmp_path: Path) -> None:
+    from assets import mass_properties
+
+    written = export("tennis_racket", tmp_path, 3.0)
+    header, table = read_csv(written.csv)
+    # The defaults: the racket mesh (its catalogue mass), spun at 6 rad/s about axis 2 with ε = 1e-3 on the others.
+    moments, _ = mass_properties("tennis_racket").principal()
+    omega0 = np.array([6e-3, 6.0, 6e-3])
+    _free_body_columns(header, table, moments, omega0, body_omega=True)
+    w2 = column(header, table, "omega_2 (rad/s)")
+    assert w2[0] == pytest.approx(6.0) and w2.min() < 5.0  # the flip has begun within 3 s
+
+
+def test_pendulum_export_matches_the_physics_api(tmp_path: Path) -> None:
+    from app.scenes.pendulum import AXIS, HANG_HEIGHT
+    from assets import mass_properties
+
+    written = export("pendulum", tmp_path, 3.0)
+    header, table = read_csv(written.csv)
+    t = column(header, table, "t (s)")
+    # The defaults: the bat hanging from its knob at HANG_HEIGHT (its +z, knob to tip, turned down), the pivot
+    # 0.08 m below the knob, released at 30° from rest.
+    props = mass_properties("baseball_bat").transformed(np.diag([1.0, -1.0, -1.0]), [0.0, 0.0, HANG_HEIGHT])
+    bat = PhysicalPendulum(props, [0.0, 0.0, HANG_HEIGHT - 0.08], AXIS)
+    theta, theta_dot = bat.trajectory(math.radians(30.0), 0.0).at(t)
+    _close(column(header, table, "theta (rad)"), theta, 1.0, "theta")
+    _close(column(header, table, "theta_dot (rad/s)"), theta_dot, float(np.max(np.abs(theta_dot))), "theta_dot")
+    energy = bat.energy(theta, theta_dot)
+    _close(column(header, table, "E (J)"), energy, float(abs(energy[0])), "E")
+    assert theta.min() < 0.0 < theta.max()  # a whole swing
 
 
 @pytest.mark.parametrize("name", scene_names())
