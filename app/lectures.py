@@ -15,19 +15,34 @@ A file holds an optional ``title`` and a list of ``[[step]]`` tables with the ke
 of anything wrong; what only a scene can check (a preset's name, a dropdown and its choice, a value in a
 slider's range, a possible body) is checked by walking every step once before the lecture starts
 (:meth:`app.server.Simulation.load_lecture`), so nothing starts half-built. ``rigid-body-lab --lecture NAME``
-finds ``lectures/NAME.toml``.
+finds ``NAME.toml`` among the lectures shipped with the app (the ``lectures`` package, installed as package
+data).
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-LECTURES = Path(__file__).resolve().parent.parent / "lectures"
-"""Where ``--lecture NAME`` looks for ``NAME.toml``."""
+
+def _shipped_folder() -> Path:
+    """The folder of the lectures shipped with the app: the ``lectures`` package (its ``*.toml`` files are
+    package data, installed by a wheel as by an editable install). A source tree whose editable install
+    predates that package has it beside ``app/``."""
+    spec = importlib.util.find_spec("lectures")
+    if spec is not None and spec.submodule_search_locations:
+        folder = Path(next(iter(spec.submodule_search_locations)))
+        if (folder / "__init__.py").is_file() and (folder / "rigid-body-motion.toml").is_file():
+            return folder
+    return Path(__file__).resolve().parent.parent / "lectures"
+
+
+LECTURES = _shipped_folder()
+"""Where ``--lecture NAME`` looks for ``NAME.toml``: the installed ``lectures`` package."""
 
 MAX_BYTES = 1_000_000
 """Largest lecture file read, bytes."""

@@ -266,3 +266,95 @@ def test_a_step_can_be_a_state_text_and_sets_the_camera(tmp_path):
 def test_the_shipped_file_is_plain_toml():
     document = tomllib.loads(SHIPPED.read_text(encoding="utf-8"))
     assert document["title"] and len(document["step"]) >= 10
+
+
+def _main_with_a_stand_in_app(argv: list[str], monkeypatch) -> dict:
+    """``rigid-body-lab ARGV`` parsed by app.__main__.main up to the server it would start (returns what the
+    App would have been given)."""
+    import app.server
+
+    given: dict = {}
+
+    class Started(Exception):
+        pass
+
+    class StandIn:
+        def __init__(self, **kwargs):
+            given.update(kwargs)
+            raise Started
+
+    monkeypatch.setattr(app.server, "App", StandIn)
+    with pytest.raises(Started):
+        main(argv)
+    return given
+
+
+def test_the_command_line_finds_the_shipped_lecture_by_name(monkeypatch):
+    given = _main_with_a_stand_in_app(["--lecture", "rigid-body-motion", "--port", "0"], monkeypatch)
+    assert given["lecture"] == "rigid-body-motion"
+    assert read_lecture(given["lecture"]).source == str(LECTURES / "rigid-body-motion.toml")
+    assert (LECTURES / "__init__.py").is_file()  # the package whose data the wheel installs
+
+
+STAND_IN = """
+import sys
+import app.server
+from app.__main__ import main
+
+class StandIn:
+    def __init__(self, **kwargs):
+        from app.lectures import LECTURES, read_lecture
+        lecture = read_lecture(kwargs["lecture"])
+        print("APP", app.server.__file__)
+        print("LECTURE", lecture.source, len(lecture.steps))
+        sys.exit(0)
+
+app.server.App = StandIn
+main(["--lecture", "rigid-body-motion", "--port", "0"])
+"""
+
+
+def test_a_wheel_installs_the_lectures_and_the_command_line_finds_them(tmp_path):
+    """Not an editable install: the wheel built from this tree, unpacked alone on the path (its own app, its
+    own lectures, nothing from the source tree), run from another folder."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+    import zipfile
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    source = tmp_path / "source"
+    source.mkdir()
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        shutil.copy(root / name, source / name)
+    for name in ("app", "physics", "assets", "benchmarks", "lectures"):
+        shutil.copytree(root / name, source / name, ignore=shutil.ignore_patterns("__pycache__", "*.png"))
+    built = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(tmp_path / "dist"), str(source)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert built.returncode == 0, built.stderr
+    (wheel,) = (tmp_path / "dist").glob("*.whl")
+    names = zipfile.ZipFile(wheel).namelist()
+    assert "lectures/rigid-body-motion.toml" in names and "lectures/__init__.py" in names
+    site = tmp_path / "site"
+    zipfile.ZipFile(wheel).extractall(site)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    run = subprocess.run(
+        [sys.executable, "-c", STAND_IN],
+        cwd=elsewhere,
+        env={**os.environ, "PYTHONPATH": str(site)},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 0, run.stderr
+    lines = dict(line.split(" ", 1) for line in run.stdout.splitlines() if line[:3] in ("APP", "LEC"))
+    assert lines["APP"].startswith(str(site))  # the installed app, not the source tree
+    path, steps = lines["LECTURE"].rsplit(" ", 1)
+    assert path == str(site / "lectures" / "rigid-body-motion.toml") and int(steps) == 12
