@@ -14,7 +14,8 @@ only the ``value`` property may change. A refused message never reaches viser: t
 gets its control set back to the current value and one notification saying why, and nobody else hears
 of it. A clamped value is sent back to its sender too, so every browser shows the value in force.
 A browser that sends more than :data:`RATE` changes a second (after a burst of :data:`BURST`) has the
-excess dropped, so no one browser can flood the simulation everyone shares.
+excess dropped, so no one browser can flood the simulation everyone shares. Files a browser uploads are
+checked when their transfer starts, by the same function (:mod:`app.upload_guard`).
 
 This wraps one private piece of viser 1.1.1 (its handler list for ``GuiUpdateMessage``); viser is pinned,
 and ``tests/app/test_inputs.py`` sends the messages through a real websocket to prove the wrapper is in
@@ -30,6 +31,8 @@ from typing import Any
 
 import viser
 from viser import _messages
+
+from app.upload_guard import guard_uploads
 
 __all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
 
@@ -148,8 +151,11 @@ def guard_inputs(
         Whether this browser may change these controls at all: None if it may, otherwise the reason it
         may not (presenter mode: a follower without the PIN).
 
-    A GUI is guarded once: later calls for the same ``gui`` do nothing.
+    Uploads to ``gui`` are guarded with the same ``refuse`` and ``permit``
+    (:func:`app.upload_guard.guard_uploads`). A GUI is guarded once: later calls for the same ``gui`` do
+    nothing.
     """
+    guard_uploads(gui, refuse, permit)
     if getattr(gui, "_rbl_guarded", False):
         return  # one check per GUI: a browser's panel and its own simulation share client.gui
     gui._rbl_guarded = True  # type: ignore[attr-defined]

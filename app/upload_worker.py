@@ -6,11 +6,15 @@ server's memory or the simulation's frames with it: the file is first checked ag
 sizes (:mod:`app.upload_limits`, microseconds), then :func:`app.upload.body_from_upload` runs in a
 separate process whose address space is capped at :data:`MEMORY_LIMIT` and which is killed after
 :data:`TIME_LIMIT`. The server process only receives the finished body (or the reason for a refusal).
+At most :data:`READERS` workers run at once (a semaphore): 32 browsers uploading together cannot start
+32 workers of 1 GiB each; an upload that finds them all busy is refused at once (:class:`ReadersBusy`)
+and its browser is told to try again.
 """
 
 from __future__ import annotations
 
 import multiprocessing
+import threading
 from multiprocessing.connection import Connection
 from pathlib import PurePath
 from typing import Any
@@ -19,12 +23,20 @@ from app import upload
 from app.upload import NotWatertightError, UploadedBody
 from app.upload_limits import check_declared_size
 
-__all__ = ["MEMORY_LIMIT", "TIME_LIMIT", "body_in_worker"]
+__all__ = ["MEMORY_LIMIT", "TIME_LIMIT", "READERS", "ReadersBusy", "body_in_worker"]
 
 MEMORY_LIMIT = 1024 * 1024 * 1024
 """Address space a worker may use, bytes (1 GiB)."""
 TIME_LIMIT = 30.0
 """Seconds a worker may take to read one file."""
+READERS = 2
+"""Workers that may read files at once (one per core of a small server)."""
+
+_readers = threading.BoundedSemaphore(READERS)
+
+
+class ReadersBusy(ValueError):
+    """Every reader is busy with another upload: this one is refused, to be sent again shortly."""
 
 
 def _read(conn: Connection, filename: str, content: bytes, use_convex_hull: bool, memory: int) -> None:
@@ -66,6 +78,8 @@ def body_in_worker(
     ------
     NotWatertightError
         As :func:`~app.upload.body_from_upload` (with the convex hull to offer).
+    ReadersBusy
+        :data:`READERS` workers are reading other uploads (a ValueError: the message says to try again).
     ValueError
         Every other refusal, including a file over the declared-size limits, a worker that ran out of
         memory or time; the message names the file and the limit.
@@ -74,6 +88,21 @@ def body_in_worker(
     if len(content) > upload.MAX_BYTES:  # before anything else reads it (read at call time: tests lower it)
         upload.read_mesh(filename, content)
     check_declared_size(filename, content)
+    if not _readers.acquire(blocking=False):
+        raise ReadersBusy(
+            f"{name} was not read: the server is reading {READERS} other uploads just now. "
+            "Upload it again in a few seconds."
+        )
+    try:
+        return _read_in_worker(name, filename, content, use_convex_hull, memory_limit, time_limit)
+    finally:
+        _readers.release()
+
+
+def _read_in_worker(
+    name: str, filename: str, content: bytes, use_convex_hull: bool, memory_limit: int, time_limit: float
+) -> UploadedBody:
+    """One worker process reads the file (the caller holds a reader's place)."""
     context = multiprocessing.get_context("forkserver")
     receiver, sender = context.Pipe(duplex=False)
     worker = context.Process(target=_read, args=(sender, filename, content, use_convex_hull, memory_limit), daemon=True)

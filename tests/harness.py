@@ -12,7 +12,8 @@
   :func:`pick_scene` — choose a scene in the page's dropdown.
 * :func:`image_stats` — is a render blank; how much two renders differ.
 * :func:`raw_client` / :func:`send_value` / :func:`still_connected` — a websocket client speaking viser's
-  protocol without a browser (what a page's script, or a hostile one, can send).
+  protocol without a browser (what a page's script, or a hostile one, can send); :func:`send_upload`,
+  :func:`start_upload` and :func:`send_part` upload a file through it, truthfully or not.
 * :func:`open_scene` / :func:`matrix` — headless: switch to a scene and play one frame; a handle's
   attitude as a rotation matrix.
 
@@ -336,6 +337,54 @@ def click_button(ws: Any, uuid: str) -> None:
 
 def send_value(ws: Any, uuid: str, value: Any) -> None:
     ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
+
+
+UPLOAD_PART = 512 * 1024
+"""Bytes in one part of an upload, as viser's page sends them."""
+
+
+def start_upload(ws: Any, button: str, filename: str, size: int, parts: int, transfer: str | None = None) -> str:
+    """Announce an upload to the button ``button`` as the page does (``size`` and ``parts`` as declared,
+    true or not); returns the transfer's uuid."""
+    import uuid
+
+    transfer = transfer or uuid.uuid4().hex
+    ws.send(
+        msgspec.msgpack.encode(
+            {
+                "type": "FileTransferStartUpload",
+                "source_component_uuid": button,
+                "transfer_uuid": transfer,
+                "filename": filename,
+                "mime_type": "",
+                "part_count": parts,
+                "size_bytes": size,
+            }
+        )
+    )
+    return transfer
+
+
+def send_part(ws: Any, button: str, transfer: str, index: int, content: bytes) -> None:
+    """One part of an upload, as the page sends it."""
+    message = {
+        "type": "FileTransferPart",
+        "source_component_uuid": button,
+        "transfer_uuid": transfer,
+        "part_index": index,
+        "content": content,
+    }
+    ws.send(msgspec.msgpack.encode(message))
+
+
+def send_upload(ws: Any, button: str, filename: str, content: bytes, declared: int | None = None) -> str:
+    """Upload a file to the button ``button`` as the page does (start, then parts of :data:`UPLOAD_PART`);
+    ``declared`` is the size announced (default: the true one). Returns the transfer's uuid."""
+    chunks = [content[i : i + UPLOAD_PART] for i in range(0, len(content), UPLOAD_PART)]
+    transfer = start_upload(ws, button, filename, len(content) if declared is None else declared, len(chunks))
+    for index, chunk in enumerate(chunks):
+        send_part(ws, button, transfer, index, chunk)
+    return transfer
 
 
 def still_connected(ws: Any, seconds: float = 10.0, app: Any = None) -> bool:

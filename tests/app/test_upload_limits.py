@@ -100,3 +100,67 @@ def test_a_worker_out_of_memory_or_time_is_refused_and_the_server_goes_on():
     with pytest.raises(ValueError, match="took more than"):
         body_in_worker("sphere.stl", sphere, time_limit=1e-3)
     assert body_in_worker("sphere.stl", sphere).mass_properties.mass > 0  # the next upload is read as usual
+
+
+def test_an_upload_that_finds_every_reader_busy_is_refused_at_once_without_a_worker(monkeypatch):
+    from app import upload_worker
+
+    def no_worker(*_args, **_kwargs):
+        raise AssertionError("a worker was started while every reader was busy")
+
+    content = trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(file_type="stl")
+    taken = 0
+    try:
+        while upload_worker._readers.acquire(blocking=False):  # every reader busy with another upload
+            taken += 1
+        assert taken == upload_worker.READERS
+        monkeypatch.setattr(upload_worker, "_read_in_worker", no_worker)
+        start = time.monotonic()
+        with pytest.raises(upload_worker.ReadersBusy, match=r"box\.stl was not read: .* Upload it again"):
+            body_in_worker("box.stl", content)
+        assert time.monotonic() - start < 0.5  # refused at once, not queued behind the others
+    finally:
+        for _ in range(taken):
+            upload_worker._readers.release()
+    monkeypatch.undo()
+    assert body_in_worker("box.stl", content).mass_properties.mass > 0  # free again: read as usual
+
+
+def test_concurrent_uploads_run_at_most_readers_workers_at_once(monkeypatch):
+    import threading
+
+    from app import upload_worker
+
+    real = upload_worker._read_in_worker
+    running, peak, lock = [0], [0], threading.Lock()
+
+    def counted(*args, **kwargs):
+        with lock:
+            running[0] += 1
+            peak[0] = max(peak[0], running[0])
+        try:
+            return real(*args, **kwargs)
+        finally:
+            with lock:
+                running[0] -= 1
+
+    monkeypatch.setattr(upload_worker, "_read_in_worker", counted)
+    content = trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(file_type="stl")
+    outcomes: list[object] = []
+    gate = threading.Barrier(8)
+
+    def one() -> None:
+        gate.wait()
+        try:
+            outcomes.append(body_in_worker("box.stl", content))
+        except upload_worker.ReadersBusy as exc:
+            outcomes.append(exc)
+
+    threads = [threading.Thread(target=one) for _ in range(8)]  # eight browsers upload at once
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=120)
+    assert len(outcomes) == 8 and 1 <= peak[0] <= upload_worker.READERS
+    bodies = [o for o in outcomes if not isinstance(o, Exception)]
+    assert bodies and len(bodies) + sum(isinstance(o, upload_worker.ReadersBusy) for o in outcomes) == 8

@@ -1,0 +1,195 @@
+"""Uploads checked when they start, before viser keeps a single byte of them.
+
+viser keeps every part of a file transfer in memory until the last one arrives, whatever size the
+browser declared, and only then calls the upload button's callback, where the 20 MB limit used to be
+checked (:mod:`app.upload_worker`). :func:`guard_uploads` puts a check in front of viser's handler for
+``FileTransferStartUpload`` (and one in front of ``FileTransferPart``), as :func:`app.inputs.guard_inputs`
+does for a control's value. A transfer is refused at its start, before any part is stored, when
+
+* the browser may not drive the simulation (presenter mode: a follower without the PIN);
+* its declared size is over :data:`app.upload.MAX_BYTES`, or its size, part count or file name is not
+  what a page sends (:data:`MAX_PARTS`, :data:`MAX_NAME`);
+* that browser already has an upload in flight (:data:`PER_CLIENT`), or the server has
+  :data:`MAX_TRANSFERS` in flight from all browsers (a transfer unfinished after :data:`STALL_SECONDS`
+  is dropped when another starts: it holds no place for ever).
+
+A transfer already accepted is dropped the moment its parts add up to more bytes than it declared. A
+refusal goes to that browser only: its page's upload button is released (an acknowledgement of the whole
+size, so the button works again, and viser's "Uploading" notification is taken away) and it gets one
+notification saying why. Nothing else hears of it.
+
+This wraps two private pieces of viser 1.1.1 (its handler lists for the two messages, and its dict of
+transfers in flight); viser is pinned, and ``tests/app/test_upload_guard.py`` sends the messages through a
+real websocket to prove the wrapper is in place.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+import weakref
+from collections.abc import Callable
+from pathlib import PurePath
+from typing import Any
+
+import viser
+from viser import _messages
+
+from app import upload
+
+__all__ = ["MAX_TRANSFERS", "PER_CLIENT", "MAX_PARTS", "MAX_NAME", "STALL_SECONDS", "guard_uploads"]
+
+MAX_TRANSFERS = 4
+"""Uploads in flight at once from all browsers together (each holds at most 20 MB until it is complete)."""
+
+PER_CLIENT = 1
+"""Uploads in flight at once from one browser (its page sends one file at a time)."""
+
+MAX_PARTS = 1024
+"""Most parts a transfer may declare (a page sends 512 kB parts: 40 for 20 MB)."""
+
+MAX_NAME = 255
+"""Longest file name taken, characters."""
+
+STALL_SECONDS = 300.0
+"""A transfer unfinished after this long, s, is dropped when another starts (20 MB at 70 kB/s)."""
+
+_lock = threading.Lock()
+_guis: weakref.WeakSet[Any] = weakref.WeakSet()  # every guarded GUI: the in-flight count spans them all
+_started: dict[str, float] = {}  # transfer uuid -> when it was accepted (time.monotonic())
+
+
+def guard_uploads(
+    gui: viser.GuiApi, refuse: Callable[[Any, str], None], permit: Callable[[Any], str | None] | None = None
+) -> None:
+    """Check every upload that reaches ``gui`` when it starts, and every part it sends.
+
+    Parameters
+    ----------
+    gui : viser.GuiApi
+        The server's GUI (``server.gui``) or one client's (``client.gui``).
+    refuse : callable(client_id, message)
+        Tells the browser that sent a refused upload why (a notification); called on viser's event loop.
+    permit : callable(client_id) -> str or None, optional
+        Whether this browser may drive these controls at all: None if it may, otherwise why not.
+
+    A GUI is guarded once: later calls for the same ``gui`` do nothing.
+    """
+    if getattr(gui, "_rbl_uploads_guarded", False):
+        return
+    gui._rbl_uploads_guarded = True  # type: ignore[attr-defined]
+    handlers = gui._websock_interface._incoming_handlers
+    starts: list[Any] = handlers[_messages.FileTransferStartUpload]
+    parts: list[Any] = handlers[_messages.FileTransferPart]
+    # A ValueError here means viser changed: the pin test catches it.
+    start_index = starts.index(gui._handle_file_transfer_start)
+    part_index = parts.index(gui._handle_file_transfer_part)
+    original_start, original_part = starts[start_index], parts[part_index]
+    with _lock:
+        _guis.add(gui)
+
+    def start(client_id: Any, message: _messages.FileTransferStartUpload) -> None:
+        if message.source_component_uuid not in gui._gui_input_handle_from_uuid:
+            return  # another GUI's button (viser ignores it here too)
+        reason = permit(client_id) if permit is not None else None
+        if reason is None:
+            reason = _refusal(client_id, message)
+        if reason is not None:
+            _release(gui, client_id, message.source_component_uuid, message.transfer_uuid, message.size_bytes)
+            refuse(client_id, reason)
+            return
+        original_start(client_id, message)
+        with _lock:
+            _started[message.transfer_uuid] = time.monotonic()
+
+    def part(client_id: Any, message: _messages.FileTransferPart) -> None:
+        state = gui._current_file_upload_states.get(message.transfer_uuid)
+        if state is None:
+            return  # not a transfer this GUI accepted: nothing is stored (viser drops it too)
+        if state["client_id"] != client_id:
+            return  # a part for another browser's transfer
+        content = message.content
+        if not isinstance(content, bytes) or state["transferred_bytes"] + len(content) > state["total_bytes"]:
+            gui._current_file_upload_states.pop(message.transfer_uuid, None)
+            _forget(message.transfer_uuid)
+            _release(gui, client_id, message.source_component_uuid, message.transfer_uuid, state["total_bytes"])
+            name = PurePath(str(state["filename"]) or "upload").name
+            refuse(client_id, f"Upload refused: {name} sent more bytes than it declared ({state['total_bytes']:,}).")
+            return
+        original_part(client_id, message)
+        if message.transfer_uuid not in gui._current_file_upload_states:
+            _forget(message.transfer_uuid)  # complete: viser has handed it to the button's callback
+
+    starts[start_index] = start
+    parts[part_index] = part
+
+
+def _refusal(client_id: Any, message: _messages.FileTransferStartUpload) -> str | None:
+    """Why this transfer may not start, or None."""
+    size, count, filename = message.size_bytes, message.part_count, message.filename
+    if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > MAX_NAME:
+        return f"Upload refused: a file name is at most {MAX_NAME} characters of text."
+    name = PurePath(filename or "upload").name
+    if not _count(size) or not _count(count) or count > MAX_PARTS or (count == 0) != (size == 0):
+        return f"Upload refused: {name} was sent in a form this server does not take (size {size!r}, {count!r} parts)."
+    if size > upload.MAX_BYTES:  # read at call time: tests lower it
+        return (
+            f"Upload refused: {name} is {_megabytes(size)}; the limit is {_megabytes(upload.MAX_BYTES)}. "
+            "Simplify the mesh (fewer triangles) and upload it again."
+        )
+    mine, everyone = _in_flight(client_id)
+    if mine >= PER_CLIENT:
+        return f"Upload refused: {name} was sent while your previous file is still arriving; wait for it."
+    if everyone >= MAX_TRANSFERS:
+        return f"Upload refused: the server is receiving {everyone} other files; upload {name} again in a moment."
+    return None
+
+
+def _count(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 2**53
+
+
+def _megabytes(n_bytes: int) -> str:
+    return f"{n_bytes / 1024 / 1024:.1f} MB"
+
+
+def _in_flight(client_id: Any) -> tuple[int, int]:
+    """Transfers in flight (this browser's, everyone's) over every guarded GUI; stalled ones dropped."""
+    now = time.monotonic()
+    mine = everyone = 0
+    with _lock:
+        guis = list(_guis)
+    for gui in guis:
+        states = gui._current_file_upload_states
+        for transfer, state in list(states.items()):
+            with _lock:
+                started = _started.setdefault(transfer, now)
+            if now - started > STALL_SECONDS:
+                states.pop(transfer, None)
+                _forget(transfer)
+                continue
+            everyone += 1
+            mine += state["client_id"] == client_id
+    with _lock:  # transfers viser finished or dropped (a browser that left) are forgotten here
+        live = {t for gui in guis for t in list(gui._current_file_upload_states)}
+        for transfer in [t for t in _started if t not in live]:
+            del _started[transfer]
+    return mine, everyone
+
+
+def _forget(transfer: str) -> None:
+    with _lock:
+        _started.pop(transfer, None)
+
+
+def _release(gui: viser.GuiApi, client_id: Any, button: Any, transfer: Any, size: Any) -> None:
+    """Give a refused browser its upload button back: the transfer acknowledged as complete (the page
+    enables the button again) and its "Uploading" notification taken away (ours says why)."""
+    owner = gui._owner
+    client = owner if isinstance(owner, viser.ClientHandle) else owner.get_clients().get(client_id)
+    if client is None or not isinstance(button, str) or not isinstance(transfer, str):
+        return
+    total = size if _count(size) else 0
+    connection = client._websock_connection
+    connection.queue_message(_messages.FileTransferPartAck(button, transfer, total, total))
+    connection.queue_message(_messages.RemoveNotificationMessage("upload-" + transfer))
