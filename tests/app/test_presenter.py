@@ -202,3 +202,45 @@ def test_explorers_are_freed_when_they_leave(lecture):
     # Nothing kept per departed browser: no stream state, no lock, no connection in viser.
     wait_for(lambda: not app.classroom.view._clients, what="the stream state of departed browsers to go")
     assert not app.classroom._toggling and not app.server.get_clients()
+
+
+def test_a_followers_upload_is_refused_before_anything_reads_it(lecture, monkeypatch):
+    import contextlib
+    from types import SimpleNamespace
+
+    import trimesh
+
+    from app.scenes import inertia_explorer
+    from tests.harness import send_upload
+
+    app = lecture
+    app.switch_scene("inertia_explorer")
+    parsed: list[str] = []
+
+    def reader(filename, content, **_):
+        parsed.append(filename)
+        raise ValueError(f"{filename} was read (test)")
+
+    monkeypatch.setattr(inertia_explorer, "body_in_worker", reader)
+    content = trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(file_type="stl")
+    scene = app.scene
+    with contextlib.ExitStack() as stack:
+        ws, cid, panel = _join(app, stack)
+        # Through the websocket, as a page (or a script) would send it: refused when it starts.
+        before = len(app.messages)
+        send_upload(ws, scene.upload._impl.uuid, "brick.stl", content)
+        wait_for(lambda: any("following the lecturer" in b for _, b in app.messages[before:]), what="the refusal")
+        assert still_connected(ws, app=app)
+        assert not parsed and scene.uploaded is None and not app.server.gui._current_file_upload_states
+        assert "following" not in app.status.content  # to that browser only
+        # The scene's own callback asks first too (a file viser completed before the browser lost the right).
+        client = app.server.get_clients()[cid]
+        refused = scene.upload_refusals
+        scene._on_upload(SimpleNamespace(client=client, target=scene.upload))
+        assert not parsed and scene.uploaded is None
+        assert scene.upload_refusals == refused + 1 and "following the lecturer" in scene.last_upload_message
+        # A presenter's file is read.
+        _present(app, ws, panel, PIN)
+        wait_for(lambda: cid in app.classroom.presenters, what="a presenter")
+        send_upload(ws, scene.upload._impl.uuid, "brick.stl", content)
+        wait_for(lambda: parsed == ["brick.stl"], what="the presenter's file to reach the reader")
