@@ -3,6 +3,10 @@
 Gravity acts at the centre of mass, so it exerts no torque about it (lecture): the rotation is exactly
 the torque-free motion of :mod:`app.scenes.wobble`, and the centre of mass moves on
 ``r(τ) = r0 + v0 τ − ½ g τ² ẑ``. The throw repeats every flight time (τ = t mod T), the spin does not.
+
+Real time: at 1× the clock advances by the wall time between frames (:meth:`app.server.Simulation.frame`),
+so a throw lasts its physical flight time, 2 v0z/g = 1.02 s for a rise of 1.27 m; that is how long a real
+throw of that height takes, short as it looks (tests/app/scenes/test_free_fall.py, tests/browser/test_real_time.py).
 """
 
 from __future__ import annotations
@@ -18,6 +22,8 @@ from physics import G
 
 START = np.array([-0.9, 0.0, 0.3])  # launch point of the centre of mass (m)
 VELOCITY = np.array([1.6, 0.0, 5.0])  # launch velocity (m/s): flight time 2 v_z / g ≈ 1.02 s
+FLIGHT_TIME = 2.0 * float(VELOCITY[2]) / G  # s
+RISE = float(VELOCITY[2]) ** 2 / (2.0 * G)  # m, launch point to the top of the parabola
 
 
 @register
@@ -29,13 +35,14 @@ class FreeFall(Wobble):
     caption = (
         "**Body in free fall.** Gravity acts at the centre of mass: no torque about it, so L about the "
         "centre of mass stays fixed and the body wobbles exactly as in the torque-free scene while the "
-        "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ (the throw repeats every flight time)."
+        "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ. At 1× it runs in real time: each throw "
+        f"rises {RISE:.3g} m and lasts its flight time 2 v₀z/g = {FLIGHT_TIME:.3g} s, then starts again."
     )
     camera = ((0.4, -3.3, 1.5), (0.0, 0.0, 0.9))
     size = 0.45
 
     def build(self) -> None:
-        self.flight_time = 2.0 * VELOCITY[2] / G
+        self.flight_time = FLIGHT_TIME
         tau = np.linspace(0.0, self.flight_time, 80)
         path = START + VELOCITY * tau[:, None] - 0.5 * G * tau[:, None] ** 2 * np.array([0.0, 0.0, 1.0])
         self.ctx.server.scene.add_line_segments(
