@@ -55,3 +55,51 @@ def test_the_effective_potential_survives_reset_preset_and_sliders(chromium) -> 
         pick_scene(page, "Heavy top")
         wait_for(lambda: _drawn(page, title), 30, what="the U(θ) plot back")
         page.close()
+
+
+def _restarted_and_drawn(page, title: str, change) -> None:
+    """Make a change that restarts a plot's data; wait until the page shows it restarted (fewer points or an
+    earlier newest time) and then drawn again: data and a finite x scale. A plot that went blank (viser's
+    client dropping its auto x scale) fails one wait or the other."""
+    wait_for(lambda: (c := _chart(page, title)) and c["points"] >= 8, 30, what=f"{title!r} to fill")
+    before = _chart(page, title)
+    change()
+
+    def restarted() -> bool:
+        chart = _chart(page, title)
+        if chart is None:
+            return False
+        newest = chart["x"][1]
+        return chart["points"] < before["points"] or (newest is not None and newest < before["x"][1])
+
+    wait_for(restarted, 30, what=f"{title!r} to restart")
+    wait_for(lambda: _drawn(page, title), 30, what=f"{title!r} drawn again")
+
+
+def test_the_racket_and_drift_plots_survive_reset_choices_presets_and_sliders(chromium) -> None:
+    omega, drift = "ω in body axes", "Invariants"
+    with running_app("tennis_racket") as app:
+        page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
+        for title in (omega, drift):
+            wait_for(lambda title=title: _drawn(page, title), 30, what=f"the {title!r} plot")
+
+        def locked(action):
+            def run() -> None:
+                with app.lock:
+                    assert action() is not False
+
+            return run
+
+        for title in (omega, drift):
+            _restarted_and_drawn(page, title, lambda: click(page.get_by_role("button", name="Reset")))
+            _restarted_and_drawn(page, title, locked(lambda: app.scene.params.offer({"spin": 8.0})))
+            # The racket's presets are its dropdowns: the axis it spins about, the body.
+            axis = "1 — largest moment" if app.scene.axis.value != "1 — largest moment" else "3 — smallest moment"
+            _restarted_and_drawn(page, title, locked(lambda axis=axis: setattr(app.scene.axis, "value", axis)))
+        # A preset proper: the wobble's drift plot.
+        pick_scene(page, "Torque-free wobble")
+        wait_for(lambda: getattr(app.scene, "name", None) == "wobble", 30, what="the wobble")
+        wait_for(lambda: _drawn(page, drift), 30, what="the wobble's drift plot")
+        _restarted_and_drawn(page, drift, locked(lambda: app.scene.presets.choose("disc (oblate)")))
+        _restarted_and_drawn(page, drift, locked(lambda: app.scene.presets.choose("rod-like (prolate)")))
+        page.close()
