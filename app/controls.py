@@ -4,9 +4,11 @@ All of them are made inside a scene's ``build()`` so they land in the scene's fo
 callbacks run through ``ctx.guarded`` (under the simulation lock; an exception is shown to the user).
 
 :class:`ParameterPanel` is the heart of "bad input is refused": a slider change is offered to the
-scene's ``apply(values)`` as a *candidate* set of values; if ``apply`` raises ``ValueError`` the slider
-snaps back to the last accepted value, the user who moved it gets a notification saying why, and the
-model and the picture stay as they were.
+scene's ``apply(values)`` as a *candidate* set of values; if ``apply`` raises (``ValueError`` for an
+impossible body, or any other exception) the slider snaps back to the last accepted value, the user who
+moved it gets a notification saying why, and the model, the clock and the panel stay exactly as they
+were (:class:`Rollback`: what ``apply`` assigned, the scene's motion state, every control and text of
+the scene's folder, the time; side effects beyond those are redone by applying the accepted values again).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from typing import Any
 
 import numpy as np
 import viser
+from viser import _messages
 
 __all__ = [
     "SliderSpec",
@@ -27,6 +30,7 @@ __all__ = [
     "Gauge",
     "refusable_dropdown",
     "InvariantDrift",
+    "Rollback",
 ]
 
 
@@ -84,20 +88,21 @@ class ParameterPanel:
     def offer(self, changes: dict[str, float], client: Any = None) -> bool:
         """Offer new values (some keys); returns True if accepted. Refused: notify, snap sliders back.
 
-        Transactional: whatever ``apply`` raises, of any type, the scene's attributes are put back as they
-        were (``apply`` builds new models and assigns them; it is undone by restoring the references), the
-        sliders show the last accepted values, and the clock's Reset still works.
+        Transactional: whatever ``apply`` raises, of any type, everything is put back as it was
+        (:class:`Rollback`): the scene's attributes, its motion state, the controls and texts of its
+        folder, the clock's time; the sliders show the last accepted values, and Reset still works.
         """
         with self.ctx.lock:
-            owner = getattr(self._apply, "__self__", None)
-            before = dict(vars(owner)) if owner is not None else None
             try:
                 candidate = {**self.values, **{k: self._number(k, v) for k, v in changes.items()}}
+            except Exception as exc:  # noqa: BLE001 - a value that is no number of the range: refused
+                self.refuse(exc, client)
+                return False
+            rollback = Rollback(self.ctx, getattr(self._apply, "__self__", None), self._folder(), self._accepted())
+            try:
                 self._apply(candidate)
             except Exception as exc:  # noqa: BLE001 - any failure refuses the change, none escapes
-                if owner is not None and before is not None:
-                    vars(owner).clear()
-                    vars(owner).update(before)
+                rollback.restore(lambda: self._apply(dict(self.values)))
                 self.refuse(exc, client)
                 return False
             self.values = candidate
@@ -109,6 +114,23 @@ class ParameterPanel:
             if clear is not None:
                 clear()
             return True
+
+    def _folder(self) -> Any:
+        """The container the sliders are in (the scene's folder): what a refused change restores."""
+        first = next(iter(self.sliders.values()), None)
+        if first is None:
+            return None
+        gui = first._impl.gui_api
+        return gui._container_handle_from_uuid.get(first._impl.parent_container_id)
+
+    def _accepted(self) -> dict[str, Any]:
+        """The values in force of the controls a browser may have changed just now (uuid -> value): the
+        sliders' accepted values and the accepted choices of refusable dropdowns."""
+        accepted = {h._impl.uuid: self.values[key] for key, h in self.sliders.items()}
+        folder = self._folder()
+        for uuid, value in getattr(folder, "_rbl_choices", {}).items():
+            accepted[uuid] = value["value"]
+        return accepted
 
     def refuse(self, exc: Exception, client: Any = None) -> None:
         """Tell the browser that asked why its change was refused, and show the values in force."""
@@ -229,8 +251,9 @@ class Presets:
         try:
             # A computed preset (e.g. a steady-precession rate) may not exist for the current body.
             values = preset(dict(self.panel.values)) if callable(preset) else preset
-        except ValueError as exc:
+        except Exception as exc:  # noqa: BLE001 - of any type: refused, the dropdown shows the last one
             self.panel.refuse(exc, client)
+            self._show(self.last or self.NONE)
             return False
         self._choosing = True
         try:
@@ -276,11 +299,19 @@ def refusable_dropdown(
     """A dropdown whose choice is offered to ``apply()`` (which reads the dropdown's new value).
 
     ``apply`` refuses the choice by returning ``False`` (e.g. :meth:`ParameterPanel.offer`, which has
-    already told the browser why) or by raising ``ValueError`` (the browser that chose is told here). A
-    refused choice snaps back to the last accepted one. Returns the viser handle.
+    already told the browser why and put everything back) or by raising any exception (the browser that
+    chose is told here). A refused choice snaps back to the last accepted one. Returns the viser handle.
     """
     handle = ctx.server.gui.add_dropdown(label, options=options, initial_value=initial)
     accepted = {"value": initial}
+    # The accepted choice, for a ParameterPanel.offer of the same folder that is refused while the
+    # dropdown already shows the new one (its Rollback puts the accepted one back before re-applying).
+    gui = handle._impl.gui_api
+    folder = gui._container_handle_from_uuid.get(handle._impl.parent_container_id)
+    if folder is not None:
+        if not hasattr(folder, "_rbl_choices"):
+            folder._rbl_choices = {}
+        folder._rbl_choices[handle._impl.uuid] = accepted
 
     def on_update(event: Any) -> None:
         value = handle.value
@@ -288,8 +319,9 @@ def refusable_dropdown(
             return  # includes the snap-back below, which runs this callback again
         try:
             ok = apply()
-        except ValueError as exc:
-            ctx.notify("Refused", str(exc), client=getattr(event, "client", None), error=True)
+        except Exception as exc:  # noqa: BLE001 - of any type: refused, the dropdown snaps back
+            text = str(exc) if isinstance(exc, ValueError) else f"{type(exc).__name__}: {exc}"
+            ctx.notify("Refused", text, client=getattr(event, "client", None), error=True)
             ok = False
         if ok is False:
             handle.value = accepted["value"]
@@ -298,6 +330,135 @@ def refusable_dropdown(
 
     handle.on_update(ctx.guarded(on_update))
     return handle
+
+
+class Rollback:
+    """What a scene's ``apply`` may change, taken before it runs, and put back if it raises.
+
+    Parameters
+    ----------
+    ctx : SceneContext
+        Its clock (``time``, ``playing``; ``set_time``, ``set_playing``) is put back.
+    owner : object or None
+        The scene whose ``apply`` runs: its attributes (by reference) and its motion state
+        (``snapshot()``/``restore()``).
+    folder : viser container or None
+        Every control and text in it (and in folders within it): their properties and values.
+    accepted : dict
+        uuid -> the value in force, for the controls a browser has just changed (what they show back).
+
+    :meth:`restore` puts all of it back. If ``apply`` had changed anything before it raised, the accepted
+    values are applied again first (``reapply``), so that side effects beyond the attributes and the
+    panel (a mesh sent, a ghost restarted) match them too; then the attributes, motion, panel and clock
+    are put back exactly. The trail drawn so far may be restarted; the state is not.
+    """
+
+    def __init__(self, ctx: Any, owner: Any, folder: Any, accepted: dict[str, Any]) -> None:
+        self.ctx, self.owner = ctx, owner
+        self.attributes = dict(vars(owner)) if owner is not None else {}
+        self.motion = _call(owner, "snapshot")
+        self.clock = (getattr(ctx, "time", None), getattr(ctx, "playing", None))
+        self.accepted = accepted
+        self.panel = [(h, _props(h), accepted.get(h._impl.uuid, _value(h))) for h in _handles(folder)]
+
+    def changed(self) -> bool:
+        """Whether anything taken was changed (a control a browser set just now aside)."""
+        if self.owner is not None:
+            now = vars(self.owner)
+            if now.keys() != self.attributes.keys() or any(now[k] is not v for k, v in self.attributes.items()):
+                return True
+        if (getattr(self.ctx, "time", None), getattr(self.ctx, "playing", None)) != self.clock:
+            return True
+        for handle, props, value in self.panel:
+            if handle._impl.removed:
+                continue
+            if any(_differs(getattr(handle._impl.props, k), v) for k, v in props.items()):
+                return True
+            if handle._impl.uuid not in self.accepted and _differs(_value(handle), value):
+                return True
+        return False
+
+    def restore(self, reapply: Callable[[], object]) -> None:
+        """Put everything back; ``reapply`` applies the accepted values (run only if something changed)."""
+        changed = self.changed()
+        self._attributes()
+        self._panel()
+        if changed:
+            try:
+                reapply()
+            except Exception:  # noqa: BLE001 - it may fail as the candidate did: what follows puts it back
+                pass
+            self._attributes()
+            if self.motion is not None:
+                _call(self.owner, "restore", self.motion)
+            self._panel()
+        time, playing = self.clock
+        if time is not None and getattr(self.ctx, "time", time) != time and hasattr(self.ctx, "set_time"):
+            self.ctx.set_time(time)
+        if (
+            playing is not None
+            and getattr(self.ctx, "playing", playing) != playing
+            and hasattr(self.ctx, "set_playing")
+        ):
+            self.ctx.set_playing(playing)
+
+    def _attributes(self) -> None:
+        if self.owner is not None:
+            vars(self.owner).clear()
+            vars(self.owner).update(self.attributes)
+
+    def _panel(self) -> None:
+        """Every control and text as taken, without running a control's callbacks."""
+        for handle, props, value in self.panel:
+            if handle._impl.removed:
+                continue
+            for name, old in props.items():
+                if _differs(getattr(handle._impl.props, name), old):
+                    setattr(handle, name, old)  # viser sends the property to every browser
+            if value is not _NO_VALUE and _differs(_value(handle), value):
+                handle._impl.value = value
+                handle._impl.gui_api._websock_interface.queue_message(
+                    _messages.GuiUpdateMessage(handle._impl.uuid, {"value": value})
+                )
+
+
+_NO_VALUE = object()
+
+
+def _handles(container: Any) -> list[Any]:
+    """The GUI handles in a container and in the containers within it."""
+    found: list[Any] = []
+    for child in list(getattr(container, "_children", {}).values()):
+        if getattr(getattr(child, "_impl", None), "props", None) is not None:
+            found.append(child)
+        found.extend(_handles(child))
+    return found
+
+
+def _props(handle: Any) -> dict[str, Any]:
+    return {k: v.copy() if isinstance(v, np.ndarray) else v for k, v in vars(handle._impl.props).items()}
+
+
+def _value(handle: Any) -> Any:
+    impl = handle._impl
+    return _NO_VALUE if getattr(impl, "is_button", False) or not hasattr(impl, "value") else impl.value
+
+
+def _differs(a: Any, b: Any) -> bool:
+    if a is b:
+        return False
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return not (isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and np.array_equal(a, b))
+    try:
+        return not bool(a == b)
+    except (TypeError, ValueError):  # tuples of arrays (a plot's data): not the same object, so changed
+        return True
+
+
+def _call(owner: Any, name: str, *args: Any) -> Any:
+    """``owner.name(*args)`` if the owner has it (a Scene's snapshot/restore), else None."""
+    method = getattr(owner, name, None)
+    return method(*args) if callable(method) else None
 
 
 DRIFT_EVERY = 15

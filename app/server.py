@@ -535,6 +535,12 @@ class Simulation:
     def request_redraw(self) -> None:
         self._dirty = True
 
+    def set_time(self, t: float) -> None:
+        """Put the clock at ``t`` (s), the scene untouched (a refused change puts the time back)."""
+        with self.lock:
+            self._t = float(t)
+            self._dirty = True
+
     def restart(self) -> None:
         """t = 0 with the current parameters (the Reset button; scenes call it after a parameter change)."""
         with self.lock:
