@@ -6,7 +6,11 @@ only change parameters (through :meth:`Simulation.guarded`), and the loop is the
 the scene's model for the state and moves the kept handles (inside ``atomic()``, so a browser applies a
 frame's updates together). Values from browsers are checked on viser's event loop before any of this
 (:mod:`app.inputs`). viser's own asyncio objects are changed only on its event loop (:mod:`app.event_loop`);
-we hold none.
+we hold none. Notifications (:meth:`Simulation.notify`) are sent from callback threads, the loop and
+viser's event loop (a refused input or upload): the list of messages, the notifications shown and the
+status line are guarded by a second, plain lock (``Simulation._notice_lock``), always the innermost of
+ours (no other lock of ours is taken while it is held) and held for microseconds, so viser's event loop
+never waits for a frame or a scene switch.
 
 Presenter mode (:mod:`app.presenter`): the App is the lecture; browsers follow it read-only
 (:meth:`Simulation.refusal`), and an explorer gets a :class:`Simulation` of its own, copied with
@@ -140,7 +144,9 @@ class Simulation:
         self._switching = False
         self._last_time_text = 0.0
         self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
-        self._shown_lock = threading.Lock()  # notify runs on callback threads, the loop and viser's event loop
+        # notify runs on callback threads, the loop and viser's event loop (a refused input): the messages,
+        # the notifications shown and the status line have a lock of their own, innermost (module docstring).
+        self._notice_lock = threading.Lock()
         self._building: Scene | None = None  # the scene whose build() is running (see guarded)
         self._scene_inputs: list[Any] = []  # the scene's own controls, in the order it made them
         self._payload: Any = None  # what the current scene was handed by another (see switch_to)
@@ -499,16 +505,20 @@ class Simulation:
         """A notification to one client (the one who acted) or, without one, to every connected client.
 
         It closes by itself after :data:`NOTIFY_SECONDS`; the same notification is not sent to the same
-        browser again while the first is still showing. An error also goes to the scene's status line
-        (cleared on a scene switch and on the next accepted change).
+        browser again while the first is still showing. An error for everyone (a numerical failure, a
+        lecture step) also goes to the scene's status line (cleared on a scene switch and on the next
+        accepted change); an error for one browser (a refused input or upload) goes to the status line
+        only of a simulation that browser has to itself: the one the server draws for everyone (shared,
+        presenter) is not told of it.
         """
-        self.messages.append((title, body))
-        del self.messages[:-50]
+        with self._notice_lock:
+            self.messages.append((title, body))
+            del self.messages[:-50]
         clients = [client] if client is not None else self._clients()
         now = time.monotonic()
         for c in clients:
             key = (getattr(c, "client_id", None), title, body)
-            with self._shown_lock:
+            with self._notice_lock:
                 self._shown = {k: v for k, v in self._shown.items() if now - v < NOTIFY_SECONDS}
                 if key in self._shown:
                     continue
@@ -517,14 +527,15 @@ class Simulation:
                 c.add_notification(title, body, color="red" if error else "blue", auto_close_seconds=NOTIFY_SECONDS)
             except Exception:  # noqa: BLE001 - a client that just left must not break the caller
                 pass
-        if error and (client is None or not self.__dict__.get("classroom")):
-            # In presenter mode the status line is the lecture's: one browser's refusal is not shown there.
-            self.status.content = f"⚠ **{title}**: {body}"
+        if error and (client is None or not isinstance(self.server, viser.ViserServer)):
+            with self._notice_lock:
+                self.status.content = f"⚠ **{title}**: {body}"
 
     def clear_status(self) -> None:
         """Empty the scene's status line (a change was accepted, or the scene changed)."""
-        if self.status.content:
-            self.status.content = ""
+        with self._notice_lock:
+            if self.status.content:
+                self.status.content = ""
 
     def _refuse_input(self, client_id: Any, message: str) -> None:
         """A value a browser sent was refused by :func:`app.inputs.guard_inputs`: tell that browser."""
@@ -562,7 +573,7 @@ class Simulation:
             self.play_button.label = "Pause" if self._playing else "Play"
             self.play_button.icon = viser.Icon.PLAYER_PAUSE if self._playing else viser.Icon.PLAYER_PLAY
             if self._playing:
-                self.status.content = ""
+                self.clear_status()
 
     def step(self) -> None:
         """Pause and advance one frame's worth of simulation time (1/60 s × speed)."""

@@ -179,3 +179,50 @@ def test_a_flood_of_changes_from_one_browser_is_limited(gui_app):
             what="the flood to be limited",
         )
         assert still_connected(other, app=app) and still_connected(flooder, app=app)
+
+
+def _notifications(messages):
+    return [m["props"]["body"] for m in messages if m.get("type") == "NotificationShowMessage"]
+
+
+def test_a_refusal_goes_to_its_browser_only_and_not_into_the_shared_status_line(gui_app):
+    from tests.harness import received
+
+    app = gui_app
+    app.clear_status()
+    with raw_client(app) as sender, raw_client(app) as other:
+        received(other, 0.2)
+        send_value(sender, app.speed_slider._impl.uuid, "fast (status)")
+        wait_for(lambda: any("fast (status)" in body for _, body in app.messages), what="the refusal")
+        assert any("fast (status)" in body for body in _notifications(received(sender, 0.5)))
+        assert not _notifications(received(other, 0.5))  # the other browser hears nothing of it
+        assert app.status.content == ""  # the status line everyone shares is not told either
+        # A failure of the scene is everyone's: it is in the status line, until the clock runs again.
+        app.pause("a numerical failure (test)")
+        assert "a numerical failure (test)" in app.status.content
+        assert any("a numerical failure (test)" in body for body in _notifications(received(other, 0.5)))
+        app.set_playing(True)
+        assert app.status.content == ""
+
+
+def test_a_refusal_on_viser_s_event_loop_waits_for_the_notice_lock(gui_app):
+    """The refusal runs on viser's event loop, not under the simulation's lock: it must take the lock
+    that guards the messages and the status line (and nothing else, so it never waits for a frame)."""
+    import time
+
+    app = gui_app
+
+    def told(text):
+        return any(text in body for _, body in app.messages)
+
+    with raw_client(app) as sender:
+        with app.lock:  # a frame or a scene switch in progress does not hold the refusal up ...
+            send_value(sender, app.speed_slider._impl.uuid, "fast (locked)")
+            wait_for(lambda: told("fast (locked)"), what="the refusal while the simulation is locked")
+        with app._notice_lock:  # ... but the notice lock does: nothing is written while another holds it
+            send_value(sender, app.speed_slider._impl.uuid, "fast (notice)")
+            deadline = time.monotonic() + 0.5
+            while time.monotonic() < deadline:
+                assert not told("fast (notice)")
+                time.sleep(0.02)
+        wait_for(lambda: told("fast (notice)"), what="the refusal once the lock is free")

@@ -46,3 +46,12 @@ def test_sessions_come_and_go_without_growing(private_app):
             wait_for(lambda: len(app.sessions) == 1, what="a session")
         wait_for(lambda: not app.sessions, what="the session to be freed")
     assert app.scene is None  # the app itself holds no simulation in private mode
+
+
+def test_a_refusal_in_a_private_session_is_in_that_sessions_status_line(private_app):
+    app = private_app
+    with raw_client(app) as ws:
+        wait_for(lambda: len(app.sessions) == 1, what="the session")
+        (session,) = app.sessions.values()
+        send_value(ws, session.speed_slider._impl.uuid, "fast")
+        wait_for(lambda: "must be a number" in session.status.content, what="the refusal in its own status line")
