@@ -48,6 +48,7 @@ from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.speed import POSITION_MARKS, POSITION_STEP, SPEED_MAX, SPEED_MIN, position_of, speed_at, speed_label
 from app.states import parse_state, state_text
 from app.wire import departed as _departed
+from app.wire import resend_poses
 
 __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 
@@ -702,6 +703,7 @@ class Simulation:
                 scene.build()
         finally:
             self._building = None
+        resend_poses(self.server.scene, self.root)  # browsers keep a replaced node's pose (app.wire)
         # The scene's own adjustable controls (not buttons, not read-only readouts), for snapshot().
         self._scene_inputs = [
             h

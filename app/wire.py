@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 from viser import _messages
 
-__all__ = ["departed", "send_orientation", "send_points", "send_position"]
+__all__ = ["departed", "resend_poses", "send_orientation", "send_points", "send_position"]
 
 
 def departed(client: Any) -> bool:
@@ -78,3 +78,25 @@ def send_points(handle: Any, points: NDArray[Any]) -> None:
     points = np.array(points, dtype=np.float32)
     impl.props.points = points
     impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, {"points": points}))
+
+
+def resend_poses(scene: Any, prefix: str) -> None:
+    """Send the pose of every scene node under ``prefix`` (a scene's root) as it stands, changed or not.
+
+    A scene switch removes the old scene's nodes and adds the new scene's, often under the same names
+    (``/scene/body``, ``/scene/L``). viser coalesces a pending removal with a pending creation of the same
+    name (they share a redundancy key), so a browser sees a same-name creation, which keeps the old
+    node's pose; and a new node whose pose equals the default (identity, the origin) never sends one. The
+    explorer's box then stood turned as the wobble's cylinder was, the heavy top's L arrow started 1 m above
+    its tip. Called once a scene is built, this sends every node's own pose.
+    """
+    for name, handle in list(scene._handle_from_node_name.items()):
+        if not (name == prefix or name.startswith(prefix + "/")):
+            continue
+        impl = handle._impl
+        if impl.removed:
+            continue
+        w, x, y, z = (float(v) for v in impl.wxyz)
+        px, py, pz = (float(v) for v in impl.position)
+        impl.api._queue_scene_message(_messages.SetOrientationMessage(name, (w, x, y, z)))
+        impl.api._queue_scene_message(_messages.SetPositionMessage(name, (px, py, pz)))
