@@ -656,27 +656,44 @@ class FreeBody:
         L_body : array_like, shape (k, 3) or (3,)
             Angular momentum in body axes, kg m²/s.
         dt : float or array_like, shape (k,)
-            Time step(s), s (any sign).
+            Time step(s), s (any sign). An unbatched attitude or L_body is shared by all k states; the
+            batched arguments must agree on k (else ValueError naming them).
 
         Returns
         -------
         attitude : ndarray, shape (k, 3, 3)
         L_body : ndarray, shape (k, 3)
         """
-        r = rotation_array(attitude, "attitude").reshape(-1, 3, 3)
-        lb = vector_array(L_body, "L_body").reshape(-1, 3)
-        k = max(r.shape[0], lb.shape[0])
-        r = np.broadcast_to(r, (k, 3, 3))
-        lb = np.broadcast_to(lb, (k, 3))
-        step = np.broadcast_to(finite_array(dt, "dt"), (k,))
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(lb)) and np.all(np.isfinite(step))):
-            raise ValueError("flow needs finite attitudes, angular momenta and time steps")
+        r = rotation_array(attitude, "attitude")
+        lb = vector_array(L_body, "L_body")
+        step = finite_array(dt, "dt")
+        if step.ndim > 1:
+            raise ValueError(f"dt must be one time step or shape (k,), one per state, got shape {step.shape}")
+        # The batch size k: from whichever argument is batched; all batched ones must agree.
+        sizes = {
+            name: a.shape[0] for name, a, n in (("attitude", r, 3), ("L_body", lb, 2), ("dt", step, 1)) if a.ndim == n
+        }
+        if len(set(sizes.values())) > 1:
+            given = ", ".join(f"{name} {k}" for name, k in sizes.items())
+            raise ValueError(
+                "attitude (k, 3, 3), L_body (k, 3) and dt (k,) must hold the same number k of states where "
+                f"they are batched; got {given}"
+            )
+        if list(sizes) == ["dt"] and sizes["dt"] != 1:
+            raise ValueError(
+                f"dt has {sizes['dt']} steps for one state: dt must be one number, or shape (k,) when attitude "
+                "(k, 3, 3) or L_body (k, 3) holds k states"
+            )
+        k = next(iter(sizes.values()), 1)
+        r = np.broadcast_to(r.reshape(-1, 3, 3), (k, 3, 3))
+        lb = np.broadcast_to(lb.reshape(-1, 3), (k, 3))
+        step = np.broadcast_to(step.reshape(-1), (k,))
         zero = self.moments == 0.0
         if np.any(zero) and np.any(np.abs(lb[:, zero]) > 1e-12 * np.linalg.norm(lb, axis=1)[:, None]):
             raise ValueError("a rod has no angular momentum along its own axis: L_body must be 0 there")
         safe = np.where(self.moments > 0.0, self.moments, 1.0)
         w = np.where(self.moments > 0.0, lb / safe, 0.0)
-        om, rr = self._evaluate(w, step, r, np.arange(k), want_attitude=True)
+        om, rr = self._evaluate(w, step, r, np.arange(k), want_attitude=True, time_name="dt")
         return rr, om * self.moments
 
     def _setup_of(self, w: Floats) -> dict[str, Any]:
@@ -700,14 +717,18 @@ class FreeBody:
         which: NDArray[np.intp],
         want_attitude: bool,
         setup: dict[str, Any] | None = None,
+        time_name: str = "t",
     ) -> tuple[Floats, Floats]:
         """Evaluate the motion of initial states ``w`` (k, 3), ``r0`` (k, 3, 3) at times ``t`` (n,);
-        ``which`` (n,) says which state each time belongs to; ``setup`` is their :meth:`_setup`."""
+        ``which`` (n,) says which state each time belongs to; ``setup`` is their :meth:`_setup`;
+        ``time_name`` names the times in a refusal."""
         p = self._setup_of(w) if setup is None else setup
         # Every phase (λ t, Ω t, L t / I, |ω| t) is below |ω| t times the spread of the moments.
         spread = float(np.max(self.moments) / np.min(self.moments[self.moments > 0.0]))
         with np.errstate(over="ignore"):
-            finite_phase(4.0 * spread * float(np.max(np.abs(w), initial=0.0)) * float(np.max(np.abs(t), initial=0.0)))
+            finite_phase(
+                4.0 * spread * float(np.max(np.abs(w), initial=0.0)) * float(np.max(np.abs(t), initial=0.0)), time_name
+            )
         n = t.shape[0]
         out_w = np.empty((n, 3))
         # Without attitudes, out_r stays empty and r0 is never read.

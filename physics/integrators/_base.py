@@ -9,6 +9,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from physics.integrators._state import (
     _check_dt,
+    _check_shapes,
     _check_state,
     _from_state,
     _inverse_moments,
@@ -58,14 +59,23 @@ class _Method:
         -------
         (R, L_body) : ndarrays of the input shapes
         """
-        R, L, batched = _check_state(R, L_body)
+        from physics.integrators.drivers import _interpreted, _refuse_unstable  # (drivers imports this module)
+
+        R, L, batched = _check_state(R, L_body, ("R", "L_body"))
         dt = _check_dt(dt)
+        _refuse_unstable(self, L, dt, "L_body")
         xp = np if batched else math
-        s = self._step(_to_state(R, L), dt, xp)
+        s = _interpreted(self._step, _to_state(R, L), dt, xp, 1, self, 0)
         return _from_state(s, batched)
 
     def energy(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
-        """Kinetic plus potential energy of the conservative torques that define one, J."""
+        """Kinetic plus potential energy of the conservative torques that define one, J.
+
+        ``R`` (3, 3) and ``L_body`` (3,) give a number, (n, 3, 3) and (n, 3) one per body; any other shape is
+        refused with a ValueError that names the argument. ``R`` need not be a rotation (classical RK4's
+        leaves SO(3)).
+        """
+        R, L_body = _check_shapes(R, L_body, ("R", "L_body"))
         e = kinetic_energy(self.moments, L_body)
         for t in self.torques:
             if getattr(t, "conservative", False) and hasattr(t, "potential"):

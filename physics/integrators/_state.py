@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics.validation import rotation_array, vector_array
+from physics.validation import finite_array, rotation_array, vector_array
 
 # A state is a tuple of 12 scalars (or (n,) arrays): R row-major r00..r22, then L0, L1, L2.
 _State = tuple
@@ -26,11 +26,17 @@ def _vec3(value: ArrayLike, name: str) -> NDArray[np.float64]:
 
 
 def _moments(moments: ArrayLike) -> NDArray[np.float64]:
-    m = np.asarray(moments, dtype=float)
-    if m.shape != (3,) or not np.all(np.isfinite(m)):
-        raise ValueError(f"moments must be 3 finite principal moments in kg m², got {np.asarray(moments).tolist()}")
+    m = finite_array(moments, "moments")
+    if m.shape != (3,):
+        raise ValueError(f"moments must be 3 finite principal moments in kg m², got shape {m.shape}")
     if np.any(m < 0.0) or np.all(m == 0.0):
         raise ValueError(f"no rigid body has these moments: {m.tolist()} (negative, or all zero)")
+    with np.errstate(divide="ignore", over="ignore"):
+        if np.any((m > 0.0) & ~np.isfinite(1.0 / m)):
+            raise ValueError(
+                f"moments {m.tolist()} kg m²: each must be 0 or at least {1.0 / np.finfo(float).max:.2g} (the steps "
+                "divide by them); the motion is the same with the moments and L_body scaled up together"
+            )
     tol = 1e-12 * float(np.max(m))
     for i in range(3):
         if m[i] > m[(i + 1) % 3] + m[(i + 2) % 3] + tol:
@@ -176,26 +182,38 @@ def _right_exp(s: _State, u0, u1, u2, xp) -> tuple:
     )
 
 
-def _check_state(R, L_body):
-    R = rotation_array(R, "R0")
-    L = vector_array(L_body, "L0_body")
-    if R.shape == (3, 3) and L.shape == (3,):
-        batched = False
-    elif R.ndim == 3 and R.shape[1:] == (3, 3) and L.ndim == 2 and L.shape[1] == 3 and R.shape[0] == L.shape[0]:
-        batched = True
-    else:
+def _check_shapes(R, L_body, names):
+    """Finite ``R`` and ``L_body`` of one body ((3, 3), (3,)) or a batch ((n, 3, 3), (n, 3)), ``R`` not
+    necessarily a rotation; ``names`` are the caller's argument names, used in the messages."""
+    r_name, l_name = names
+    R = finite_array(R, r_name)
+    L = vector_array(L_body, l_name)
+    if not (R.shape == (3, 3) or (R.ndim == 3 and R.shape[1:] == (3, 3))):
+        raise ValueError(f"{r_name} must have shape (3, 3) or (n, 3, 3), got shape {R.shape}")
+    if (R.ndim == 2) != (L.ndim == 1) or (R.ndim == 3 and R.shape[0] != L.shape[0]):
         raise ValueError(
-            f"R must have shape (3, 3) or (n, 3, 3) and L_body (3,) or (n, 3) with the same n; got {R.shape}, {L.shape}"
+            f"{r_name} must have shape (3, 3) or (n, 3, 3) and {l_name} (3,) or (n, 3) with the same n; "
+            f"got {r_name} {R.shape}, {l_name} {L.shape}"
         )
-    if not (np.all(np.isfinite(R)) and np.all(np.isfinite(L))):
-        raise ValueError("the attitude R and the angular momentum L_body must be finite")
-    return R, L, batched
+    return R, L
+
+
+def _check_state(R, L_body, names=("R0", "L0_body")):
+    """Attitudes (rotations) and momenta of one body ((3, 3), (3,)) or a batch ((n, 3, 3), (n, 3)); ``names``
+    are the caller's argument names, used in the messages."""
+    r_name, l_name = names
+    R = rotation_array(R, r_name)
+    R, L = _check_shapes(R, L_body, names)
+    return R, L, R.ndim == 3
 
 
 def _check_dt(dt) -> float:
     if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)):
         raise ValueError(f"the time step dt must be one number of seconds, got {dt!r}")
-    dt = float(dt)
+    try:
+        dt = float(dt)
+    except OverflowError:  # an int beyond the float range
+        dt = math.inf
     if not math.isfinite(dt):
         raise ValueError(f"the time step dt must be a finite number of seconds, got {dt}")
     return dt

@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from physics.integrators._base import _Method
 from physics.integrators._state import _check_dt, _check_state, _from_state, _to_state
+from physics.validation import MAX_STEPS
 
 __all__ = ["advance", "Trajectory", "integrate"]
 
@@ -29,7 +30,7 @@ def advance(method: _Method, state: ArrayLike, dt: float, n_steps: int) -> NDArr
     dt : float
         Step, s.
     n_steps : int
-        Number of steps (≥ 0).
+        Number of steps, 0 to :data:`physics.validation.MAX_STEPS`.
 
     Returns
     -------
@@ -39,23 +40,106 @@ def advance(method: _Method, state: ArrayLike, dt: float, n_steps: int) -> NDArr
         raise ValueError(f"method must be an integrator instance such as LiePoissonStrang(moments), got {method!r}")
     try:
         values = np.asarray(state, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"state must be twelve numbers (R row-major, then L_body), got {state!r:.60}") from None
     if values.shape != (12,) or not np.all(np.isfinite(values)):
         raise ValueError(f"state must be twelve finite numbers (R row-major, then L_body), got shape {values.shape}")
     dt = _check_dt(dt)
-    if int(n_steps) != n_steps or n_steps < 0:
-        raise ValueError(f"n_steps must be a non-negative integer, got {n_steps}")
+    n_steps = _count(n_steps, "n_steps", 0)
+    _refuse_unstable(method, values[9:], dt, "state[9:]")
     kernel = compiled_step(method)
     if kernel is not None:
         rows = values.reshape(1, 12).copy()
-        kernel.run(rows, dt, int(n_steps))
+        for done, chunk in _chunks(n_steps, n_steps):
+            kernel.run(rows, dt, chunk)
+            _check_finite(rows, method, dt, done, chunk)
         return rows[0]
     s = tuple(float(x) for x in values)
     step = method._step
-    for _ in range(int(n_steps)):
-        s = step(s, dt, math)
+    for done, chunk in _chunks(n_steps, n_steps):
+        s = _interpreted(step, s, dt, math, chunk, method, done)
     return np.array(s)
+
+
+def _count(value: Any, name: str, minimum: int) -> int:
+    """A whole number of steps from ``minimum`` to :data:`MAX_STEPS` (an int, or a float or 0-d array with an
+    integral value)."""
+    try:
+        arr = np.asarray(value)
+    except Exception:  # noqa: BLE001 - anything numpy cannot hold is not a count
+        arr = np.asarray(None, dtype=object)
+    ok = not isinstance(value, (bool, np.bool_)) and arr.ndim == 0 and arr.dtype.kind in "iuf"
+    number = float(arr) if ok else math.nan
+    if not (ok and math.isfinite(number) and number == math.floor(number) and minimum <= number <= MAX_STEPS):
+        words = "a non-negative" if minimum == 0 else "a positive"
+        raise ValueError(
+            f"{name} must be {words} integer (a whole number from {minimum} to {MAX_STEPS:,}), got {value!r:.60}"
+        )
+    return int(arr)
+
+
+def _chunks(n_steps: int, size: int) -> Any:
+    """``(steps done before, steps in this chunk)`` for chunks of ``size`` steps that make ``n_steps``."""
+    return ((done, min(size, n_steps - done)) for done in range(0, n_steps, max(size, 1)))
+
+
+def _refuse_unstable(method: _Method, L: NDArray[np.float64], dt: float, name: str) -> None:
+    """Refuse up front a step beyond the method's stability (its ``max_rate_step``, if it states one) and an
+    angular momentum whose rate of change ``L × ω`` is beyond the float range.
+
+    The rate is the largest ``|ω|`` of the torque-free motion from ``L``, ``sqrt(2E / I_min)``
+    (``|ω|² ≤ Σ (I_i / I_min) ω_i²``), taken over the batch; a torque may speed the body up later, which the
+    check after each chunk catches (:func:`_check_finite`).
+    """
+    limit = getattr(method, "max_rate_step", None)
+    if limit is None:
+        return
+    inv = np.asarray(method._inv, dtype=float)
+    big, top = float(np.max(np.abs(L), initial=0.0)), float(np.max(inv))
+    if big == 0.0:
+        return
+    # sqrt(Σ L_i² / I_i · max 1/I) with L and 1/I scaled to 1 first: no overflow or underflow on the way.
+    with np.errstate(over="ignore"):
+        rate = big * top * math.sqrt(float(np.max(np.sum((L / big) ** 2 * (inv / top), axis=-1))))
+    if math.isfinite(rate) and rate * abs(dt) > limit:
+        raise ValueError(
+            f"dt = {dt:g} s is too large for {method.name} with the initial momentum {name} = "
+            f"{np.asarray(L).tolist()!s:.80}: the body turns at up to |ω| = {rate:.4g} rad/s (sqrt(2E/I_min)), and "
+            f"|ω|·|dt| = {rate * abs(dt):.3g} is beyond {limit:g}, the method's stability limit (RK4 diverges beyond "
+            f"2√2 ≈ 2.83 on the imaginary axis); take |dt| ≤ {limit / rate:.3g} s"
+        )
+    if not math.isfinite(rate) or big * rate > 1e306:
+        raise ValueError(
+            f"{name} = {np.asarray(L).tolist()!s:.80} is too large for these moments {method.moments.tolist()}: "
+            f"the body turns at up to |ω| = {rate:.3g} rad/s and L × ω overflows the float range; the motion "
+            "is the same with the moments and L scaled down together"
+        )
+
+
+def _diverged(method: _Method, dt: float, done: int, chunk: int) -> ValueError:
+    return ValueError(
+        f"the integration diverged: {method.name} with dt = {dt:g} s reached a state that is not finite "
+        f"between step {done} and step {done + chunk} (finite at step {done}); take a smaller dt"
+    )
+
+
+def _check_finite(rows: NDArray[np.float64], method: _Method, dt: float, done: int, chunk: int) -> None:
+    """After each chunk (not each step: the compiled loop stays as fast): no NaN or inf in the state."""
+    if not np.all(np.isfinite(rows)):
+        raise _diverged(method, dt, done, chunk)
+
+
+def _interpreted(step: Any, s: Any, dt: float, xp: Any, chunk: int, method: _Method, done: int) -> Any:
+    """``chunk`` interpreted steps; an overflow on the way (math's domain errors, numpy's warnings) is the
+    divergence the check after the chunk reports."""
+    try:
+        with np.errstate(all="ignore"):
+            for _ in range(chunk):
+                s = step(s, dt, xp)
+    except (ValueError, OverflowError, ZeroDivisionError):
+        raise _diverged(method, dt, done, chunk) from None
+    _check_finite(np.asarray(s, dtype=float), method, dt, done, chunk)
+    return s
 
 
 def compiled_step(method: _Method) -> Any:
@@ -102,7 +186,7 @@ def integrate(
     dt : float
         Step, s.
     n_steps : int
-        Number of steps (≥ 0).
+        Number of steps, 0 to :data:`physics.validation.MAX_STEPS`.
     save_every : int, keyword-only
         Save the state every this many steps (the initial state is always saved, and the final one).
 
@@ -115,24 +199,20 @@ def integrate(
         raise ValueError(f"method must be an integrator instance such as LiePoissonStrang(moments), got {method!r}")
     R, L, batched = _check_state(R0, L0_body)
     dt = _check_dt(dt)
-    if int(n_steps) != n_steps or n_steps < 0:
-        raise ValueError(f"n_steps must be a non-negative integer, got {n_steps}")
-    if int(save_every) != save_every or save_every < 1:
-        raise ValueError(f"save_every must be a positive integer, got {save_every}")
-    n_steps, save_every = int(n_steps), int(save_every)
+    n_steps = _count(n_steps, "n_steps", 0)
+    save_every = _count(save_every, "save_every", 1)
+    _refuse_unstable(method, L, dt, "L0_body")
     kernel = compiled_step(method)
     if kernel is not None:
         # Compiled: the whole batch (or the one body) as rows of 12, stepped in place between saves.
         s0 = method._project(_to_state(R, L))
         rows = np.array(s0, dtype=float).T.reshape(-1, 12) if batched else np.array([s0], dtype=float)
         saved, steps = [rows.copy()], [0]
-        done = 0
-        while done < n_steps:
-            chunk = min(save_every, n_steps - done)
+        for done, chunk in _chunks(n_steps, save_every):
             kernel.run(rows, dt, chunk)
-            done += chunk
+            _check_finite(rows, method, dt, done, chunk)
             saved.append(rows.copy())
-            steps.append(done)
+            steps.append(done + chunk)
         t = np.asarray(steps, dtype=float) * dt
         arr = np.stack(saved)  # (k, n, 12)
         if not batched:
@@ -143,14 +223,10 @@ def integrate(
     states = [s]
     steps = [0]
     step = method._step
-    done = 0
-    while done < n_steps:
-        chunk = min(save_every, n_steps - done)
-        for _ in range(chunk):
-            s = step(s, dt, xp)
-        done += chunk
+    for done, chunk in _chunks(n_steps, save_every):
+        s = _interpreted(step, s, dt, xp, chunk, method, done)
         states.append(s)
-        steps.append(done)
+        steps.append(done + chunk)
     t = np.asarray(steps, dtype=float) * dt
     if batched:
         Rs, Ls = zip(*(_from_state(x, True) for x in states))
