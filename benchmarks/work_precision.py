@@ -1,9 +1,11 @@
 """Speed against error: our integrators and closed forms against scipy ``solve_ivp`` and MuJoCo.
 
-Run ``python -m benchmarks.work_precision`` (full: 12.5 min wall measured on this 2-core machine) or with ``--quick``
-(under a minute: shorter long run, smaller per-run budget) or ``--smoke`` (a few seconds: two cases, for the
-test suite). Output in ``--out`` (default ``benchmarks/results``): ``work_precision.md`` (tables) and one
-PNG per case plus ``long_run_energy.png``.
+Run ``python -m benchmarks.work_precision`` (full: 36 min wall measured on this 2-core machine while other
+work kept its load at 4 to 9; every scipy method, and mpmath's check of each numerical reference) or with
+``--quick`` (under a minute: shorter long run, smaller per-run budget, scipy's DOP853, RK45 and LSODA only) or
+``--smoke`` (seconds: four cases, for the test suite). Output in ``--out`` (default ``benchmarks/results``):
+``work_precision.md`` (tables, with a summary of the best peer's CPU ÷ ours per case and level and the worst
+cell) and one PNG per case plus ``long_run_energy.png``.
 
 For every case (benchmarks/cases.py) and every method/setting it records, at the final time, the
 attitude error (rad, :func:`physics.rotations.rotation_angle`), the relative ω error, the relative energy
@@ -351,7 +353,8 @@ def summary_rows(results: list[tuple[Case, list[Run]]]) -> list[str]:
         for lev in LEVELS:
             ours, peer = _best(runs, lev, "ours"), _best(runs, lev, PEERS)
             sp, mj = _best(runs, lev, "scipy"), _best(runs, lev, "mujoco")
-            row.append(f"**{_ratio(peer, ours)}** (scipy {_ratio(sp, ours)}, MuJoCo {_ratio(mj, ours)})")
+            families = f" (scipy {_ratio(sp, ours)}, MuJoCo {_ratio(mj, ours)})" if ours and peer else ""
+            row.append(f"**{_ratio(peer, ours)}**{families}")
             if ours is not None and peer is not None:
                 cells.append((peer.cpu / ours.cpu, case.name, lev, peer))
             elif peer is not None:
