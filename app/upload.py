@@ -22,6 +22,7 @@ Units: meshes are taken as metres. CAD exports are usually in millimetres, so a 
 from __future__ import annotations
 
 import io
+import math
 from dataclasses import dataclass
 from pathlib import PurePath
 
@@ -112,7 +113,9 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
     if len(content) == 0:
         raise ValueError(f"{name} is empty (0 bytes): there is no mesh in it.")
     try:
-        loaded = trimesh.load(io.BytesIO(content), file_type=ext, process=True)
+        # Unprocessed: trimesh's own merging (absolute tolerance 1e-8) would weld every corner of a
+        # part smaller than 1e-8 m into one point; the vertices are merged below, at unit scale.
+        loaded = trimesh.load(io.BytesIO(content), file_type=ext, process=False)
     except MemoryError:
         raise  # not the file's form but its size: the worker's memory limit says so (app.upload_worker)
     except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable mesh"
@@ -131,12 +134,22 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
             f"{name} has {len(loaded.faces):,} triangles; the limit is {MAX_FACES:,}. "
             "Decimate the mesh and upload it again."
         )
+    stl = " (an STL file stores 32-bit numbers: sizes beyond 3.4e38 become infinite)" if ext == "stl" else ""
     if not np.all(np.isfinite(loaded.vertices)):
-        raise ValueError(f"{name} has vertices that are not finite numbers (NaN or infinity).")
-    mesh = trimesh.Trimesh(vertices=np.asarray(loaded.vertices, dtype=float), faces=loaded.faces, process=True)
+        raise ValueError(f"{name} has vertices that are not finite numbers (NaN or infinity){stl}.")
+    vertices = np.asarray(loaded.vertices, dtype=float)
+    extent = float(np.max(np.ptp(vertices, axis=0)))
+    if extent == 0.0:
+        tiny = " (an STL file stores 32-bit numbers: sizes below about 1e-38 m round to 0)" if ext == "stl" else ""
+        raise ValueError(f"{name} is too small: all its vertices are one point{tiny}. Scale it up and upload it again.")
+    # Merge duplicate corners (an STL stores each triangle's separately) on the mesh scaled by a power of
+    # two to a size of about 1, where trimesh's merge tolerance (1e-8, absolute) is relative to the size;
+    # the scaling is exact, so the vertices come back as given.
+    size_exponent = math.frexp(extent)[1]
+    mesh = trimesh.Trimesh(vertices=np.ldexp(vertices, -size_exponent), faces=loaded.faces, process=True)
     mesh.merge_vertices()
     mesh.remove_unreferenced_vertices()
-    return mesh
+    return trimesh.Trimesh(vertices=np.ldexp(mesh.vertices, size_exponent), faces=mesh.faces, process=False)
 
 
 def body_from_mesh(

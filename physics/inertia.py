@@ -19,6 +19,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -477,7 +478,15 @@ def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: floa
     ------
     ValueError
         For an empty mesh, one that is not watertight, one whose triangles are wound inconsistently (or
-        with a separate part inside out that is not a cavity), one of zero volume, or non-finite vertices.
+        with a separate part inside out that is not a cavity), one of zero volume, or non-finite vertices;
+        for a mesh so small or large that its mass or moments leave the float range ("too small"/"too
+        large", with the range: the mass and mass × size² within 1e-308..1e308).
+
+    Notes
+    -----
+    Computed on the mesh centred and scaled by a power of two to a size of about 1 m (exactly), then
+    scaled back (mass ∝ density · size³, moments ∝ mass · size²): a 1e-100 m box of 1 kg is as exact as a
+    1 m one.
     """
     import trimesh  # imported here so the rest of the module has no trimesh import cost
 
@@ -489,6 +498,68 @@ def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: floa
         raise ValueError("the mesh is empty: it has no triangles")
     if not np.all(np.isfinite(mesh.vertices)):
         raise ValueError("the mesh has vertices that are not finite numbers")
+    # Mass properties scale exactly with the size: work on the mesh moved to its bounding box's centre and
+    # scaled by a power of two (exact) to a size of about 1 m, where nothing over- or underflows and
+    # trimesh's tolerances (merging, degeneracy) mean what they say; the results are scaled back below.
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    low, high = np.min(vertices, axis=0), np.max(vertices, axis=0)
+    centre = 0.5 * low + 0.5 * high
+    with np.errstate(over="ignore"):
+        extent = float(np.max(np.abs(vertices - centre)))
+    if not np.isfinite(extent):
+        raise ValueError("the mesh is too large: its vertices span more than the float range (1.8e308 m)")
+    if extent == 0.0:
+        raise ValueError("the mesh encloses zero volume: all its vertices are one point")
+    size_exponent = math.frexp(extent)[1]  # extent in [2^(e-1), 2^e): the unit mesh's extent in [0.5, 1)
+    unit = trimesh.Trimesh(vertices=np.ldexp(vertices - centre, -size_exponent), faces=mesh.faces, process=False)
+    _from_unit_mesh_checks(unit)
+    if mass is not None:
+        total = _positive(mass, "mass")
+    else:
+        rho = _positive(density if density is not None else 1000.0, "density")
+    with np.errstate(divide="ignore", invalid="ignore"):  # trimesh divides by the volume, which may be 0
+        props = unit.mass_properties  # density 1 on the unit mesh: its mass is its volume
+    unit_volume = float(props["mass"])
+    if mass is None:
+        total = _scaled(rho * unit_volume, 3 * size_exponent, "mass (density × volume)")
+    # I = M · (Ĩ / Ṽ) · size², the centre of mass c̃ · size + centre.
+    per_mass = np.asarray(props["inertia"], dtype=float) / unit_volume
+    tensor = _scaled_tensor(per_mass * total, 2 * size_exponent)
+    com = np.ldexp(np.asarray(props["center_mass"], dtype=float), size_exponent) + centre
+    return MassProperties(total, com, tensor)
+
+
+_SIZES = "the mass (kg) and mass × size² (kg m²) must lie between 1e-308 and 1e308"
+
+
+def _scaled(value: float, exponent: int, what: str) -> float:
+    """``value · 2^exponent``, refused when it leaves the range of normal floats (it would be inf or lose
+    its digits)."""
+    try:
+        out = math.ldexp(value, exponent)
+    except OverflowError:
+        out = math.inf
+    if not (np.isfinite(out) and out >= np.finfo(float).tiny):
+        size = "large" if exponent > 0 else "small"
+        raise ValueError(
+            f"the mesh is too {size}: its {what} would be about 10^{math.log10(value) + exponent * math.log10(2):.0f}, "
+            f"outside the float range; {_SIZES}. Scale the mesh (metres), or give it another mass"
+        )
+    return out
+
+
+def _scaled_tensor(tensor: NDArray[np.float64], exponent: int) -> NDArray[np.float64]:
+    """The unit mesh's tensor (kg m², at size 1) times ``2^exponent`` (the size squared), refused when its
+    largest entry leaves the range of normal floats."""
+    largest = float(np.max(np.abs(tensor)))
+    _scaled(largest, exponent, "moments of inertia (kg m²)")
+    return np.ldexp(tensor, exponent)
+
+
+def _from_unit_mesh_checks(unit: trimesh.Trimesh) -> None:
+    """Watertight, consistently wound, not inside out in a separate part, not flat: checked on the mesh
+    scaled to about 1 m (the checks' tolerances are absolute)."""
+    mesh = unit
     if not mesh.is_watertight:
         raise ValueError(
             "the mesh is not watertight (it has holes or open edges), so it encloses no volume and has no "
@@ -499,21 +570,12 @@ def from_mesh(mesh: trimesh.Trimesh, *, mass: float | None = None, density: floa
             "the mesh's triangles are wound inconsistently (some face inward, some outward), so its "
             "volume and mass would be wrong; fix the winding (e.g. trimesh.repair.fix_winding) and try again"
         )
-    work = mesh.copy()
     with np.errstate(divide="ignore", invalid="ignore"):  # trimesh divides by the volume, which may be 0
-        volume = float(work.volume)
+        volume = float(mesh.volume)
     if volume < 0:
-        work.invert()  # inward-facing normals: the same solid, wound the other way
+        mesh.invert()  # inward-facing normals: the same solid, wound the other way (the unit mesh is a copy)
         volume = -volume
-    _check_parts_wound_alike(work)
-    scale = float(np.max(np.ptp(work.vertices, axis=0))) ** 3
+    _check_parts_wound_alike(mesh)
+    scale = float(np.max(np.ptp(mesh.vertices, axis=0))) ** 3
     if not np.isfinite(volume) or volume <= 1e-12 * max(scale, np.finfo(float).tiny):
         raise ValueError("the mesh encloses zero volume (it is flat or degenerate)")
-    if mass is not None:
-        rho = _positive(mass, "mass") / volume
-    else:
-        rho = _positive(density if density is not None else 1000.0, "density")
-    work.density = rho
-    props = work.mass_properties
-    # trimesh's inertia is about the centre of mass, axis-aligned, scaled by its density.
-    return MassProperties(float(props["mass"]), np.asarray(props["center_mass"]), np.asarray(props["inertia"]))

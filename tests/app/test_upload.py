@@ -123,3 +123,23 @@ def test_millimetre_mesh_is_scaled_to_metres():
     exact = box(2.0, EXTENTS)
     np.testing.assert_allclose(body.mass_properties.tensor, exact.tensor, rtol=0, atol=1e-6 * exact.tensor.max())
     assert "millimetres" in body.note
+
+
+def test_a_box_smaller_than_trimeshs_merge_tolerance_keeps_its_corners():
+    """Audit of issue 15, item 6: a 1e-8 m box was "not watertight: 0 edges ..." because trimesh welded its
+    corners (merge tolerance 1e-8 m); the merge now happens at unit size."""
+    mesh = trimesh.creation.box(extents=EXTENTS)
+    tiny = trimesh.Trimesh(mesh.vertices * 1e-7, mesh.faces, process=False)
+    body = body_from_upload("tiny.stl", export(tiny, "stl"), mass=2.0)
+    exact = box(2.0, np.array(EXTENTS) * 1e-7)
+    assert len(body.mesh.faces) == 12 and body.mesh.is_watertight
+    np.testing.assert_allclose(body.mass_properties.tensor, exact.tensor, rtol=0, atol=1e-6 * exact.tensor.max())
+
+
+def test_a_box_below_the_files_number_range_is_refused_as_too_small():
+    """A 1e-100 m box is 0 in an STL's 32-bit numbers: the message says it is too small, not "not watertight"."""
+    mesh = trimesh.creation.box(extents=EXTENTS)
+    with np.errstate(under="ignore"):
+        data = export(trimesh.Trimesh(mesh.vertices * 1e-100, mesh.faces, process=False), "stl")
+    with pytest.raises(ValueError, match=r"dot\.stl is too small: all its vertices are one point .*1e-38 m"):
+        body_from_upload("dot.stl", data)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import trimesh
@@ -127,6 +129,55 @@ def test_mesh_sphere_converges_to_closed_form():
 def test_mesh_density_sets_the_mass():
     body = from_mesh(trimesh.creation.box((0.1, 0.2, 0.3)), density=1000.0)
     assert body.mass == pytest.approx(6.0, rel=1e-13)
+
+
+def _box_of_size(size: float) -> trimesh.Trimesh:
+    """A 1 × 2 × 3 box scaled to ``size`` m, off the origin by (7, −1, 0.5) sizes (the scaling made here,
+    where trimesh's constructor cannot merge or drop anything)."""
+    mesh = trimesh.creation.box((1.0, 2.0, 3.0))
+    return trimesh.Trimesh(mesh.vertices * size + np.array([7.0, -1.0, 0.5]) * size, mesh.faces, process=False)
+
+
+@pytest.mark.parametrize(
+    "size, kwargs",
+    [
+        (1e-8, {}),
+        (1e-8, {"mass": 2.0}),
+        (1e-20, {"density": 1e10}),
+        (1e-100, {"mass": 1.0}),  # was mass 1 with an all-zero tensor at the default density
+        (1e100, {"mass": 1.0}),  # was "center_of_mass must be finite" after overflow warnings
+        (1e-150, {"mass": 1e150}),
+        (1e150, {"mass": 1e-150}),
+    ],
+)
+def test_tiny_and_huge_meshes_are_exact_at_every_size(size, kwargs):
+    """Audit of issue 15, item 6: from_mesh computes at unit size and scales back (mass ∝ density size³,
+    I ∝ mass size²), so a box of any size representable in floats gets the closed form to round-off."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        body = from_mesh(_box_of_size(size), **kwargs)
+    mass = kwargs["mass"] if "mass" in kwargs else kwargs.get("density", 1000.0) * 6.0 * size**3
+    assert body.mass == pytest.approx(mass, rel=1e-14)
+    exact = box(mass, (size, 2.0 * size, 3.0 * size)).tensor
+    np.testing.assert_allclose(body.tensor, exact, rtol=0, atol=1e-14 * exact.max())
+    np.testing.assert_allclose(body.center_of_mass, np.array([7.0, -1.0, 0.5]) * size, rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    "size, kwargs, message",
+    [
+        (1e-100, {}, r"too small: its moments of inertia .* about 10\^-496"),
+        (1e-160, {}, r"too small: its mass .* about 10\^-476"),
+        (1e-300, {"mass": 1.0}, r"too small: its moments of inertia"),
+        (1e100, {}, r"too large: its moments of inertia .* about 10\^504"),
+        (1e200, {"mass": 1.0}, r"too large: its moments of inertia"),
+    ],
+)
+def test_meshes_whose_mass_properties_leave_the_float_range_are_refused_with_the_range(size, kwargs, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=message + r".*between 1e-308 and 1e308"):
+            from_mesh(_box_of_size(size), **kwargs)
 
 
 def test_inverted_mesh_is_fixed_not_refused():
