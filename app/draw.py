@@ -70,7 +70,7 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "space_cone": OKABE_ITO["sky_blue"],  # space cone
     "path": (96, 96, 96),  # path of the centre of mass: dark grey
     "axes": OKABE_ITO["black"],  # principal axes e1, e2, e3 (not RGB: the quantities have those colours)
-    "body": (92, 105, 126),  # the body: slate, at least 3:1 against a white or a dark background
+    "body": (92, 105, 126),  # the body: slate, opaque, 3.7-8.0:1 light and 3.2-5.0:1 dark (docs/look.md)
     "impulse": OKABE_ITO["vermillion"],  # an impulse (strike); the pendulum shows no trace
     "reaction": OKABE_ITO["reddish_purple"],  # a constraint's reaction; the pendulum shows no torque
     "ghost": OKABE_ITO["black"],  # the body moved by an integrator: translucent, so a grey shadow body
@@ -204,7 +204,9 @@ def light(scene: Any, dark: bool = False) -> None:
     light and 0.55 π from a light above and in front (faces towards it a little brighter than the legend,
     faces away at 0.6 of it, in linear light): solid bodies keep their shading, colours keep their hue.
     Against the dark look's near-black background the faces away from the light need more: 1.15 π of
-    ambient and 0.4 π of key light keep the slate body above 3:1 (measured 3.9 to 5 in tests/browser).
+    ambient and 0.4 π of key light keep the slate body above 3:1: measured 3.2 to 5.0:1 in the dark look and
+    3.7 to 8.0:1 in the light one, every scene (docs/look.md, written by docs/look.py, checked by
+    tests/browser/test_look.py).
     """
     ambient, key = (1.15, 0.4) if dark else (0.6, 0.55)
     scene.configure_environment_map(hdri=None)

@@ -44,6 +44,7 @@ POINT_SETS = {  # name prefix -> (masses kg, positions × L)
     ),
 }
 DISPLAY_SIZE = 1.2  # m: the body is drawn scaled so its largest extent is this
+AXES_LENGTH = 0.9  # m: the drawn principal axes (e₁, e₂ at 0.8 of it), longer than half the body's largest extent
 ELLIPSOID_CAP = 4.0  # a zero moment (rod) would give an infinite ellipsoid axis: cap at 4× the smallest
 
 
@@ -110,8 +111,10 @@ class InertiaExplorer(Scene):
         self.upload_refusals = 0
         self.closed = False  # set by teardown: an upload parsed after a scene switch is dropped
         self.last_upload_message = ""
-        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.85)
-        self.frame = draw.PrincipalFrame(server, root + "/principal", length=0.7)
+        # Opaque (3:1 against what is behind it, docs/look.md); the principal axes reach past the drawn body
+        # (at most 0.6 m from its centre of mass, DISPLAY_SIZE / 2) so they show outside it.
+        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
+        self.frame = draw.PrincipalFrame(server, root + "/principal", length=AXES_LENGTH)
         self.axis_labels = [server.scene.add_label(f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
         self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=draw.COLOURS["axes"])
@@ -196,7 +199,7 @@ class InertiaExplorer(Scene):
         self.body.set_pose(np.eye(3), self.centre)
         self.frame.set_pose(axes, self.centre)
         for i, lab in enumerate(self.axis_labels):
-            lab.position = self.centre + 0.75 * axes[:, i]
+            lab.position = self.centre + 1.1 * AXES_LENGTH * axes[:, i]
         self.ellipsoid.set(moments, axes, 0.55 * DISPLAY_SIZE, self.centre)
         p_draw = self.centre + scale * pivot_offset
         self.pivot_marker.position = p_draw

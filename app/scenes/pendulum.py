@@ -66,7 +66,9 @@ class Pendulum(Scene):
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
-        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box(), opacity=0.6)  # markers show through
+        # Opaque (3:1 against what is behind it, docs/look.md); the markers are wider than the bat (0.033 m
+        # at most) so they stand out of it.
+        self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=draw.COLOURS["axes"])
         self.axle = server.scene.add_line_segments(
             root + "/axle",
@@ -79,7 +81,7 @@ class Pendulum(Scene):
         self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
         self.cop_label = server.scene.add_label(root + "/cop_label", "centre of percussion")
         self.cm_label = server.scene.add_label(root + "/cm_label", "CM")
-        self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.02, color=draw.COLOURS["impulse"])
+        self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.04, color=draw.COLOURS["impulse"])
         self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.02)
         self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.02)
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
