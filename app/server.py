@@ -966,16 +966,22 @@ class App(Simulation):
         while not self._stop.is_set():
             now = time.perf_counter()
             dt, last = now - last, now
-            for simulation in self.simulations():
-                try:
-                    simulation.frame(dt)
-                except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
-                    traceback.print_exc()
+            self._tick(dt)
             busy = time.perf_counter() - now
             # Under load (many private sessions) a tick takes longer than a frame: each session then
             # advances by the real elapsed time (the physics is exact at any step), and the loop leaves
             # the GIL to the network thread for a share of its own time, so that what was drawn is sent.
             self._stop.wait(max(period - busy, NETWORK_SHARE * busy))
+
+    def _tick(self, dt: float) -> None:
+        """One frame of every simulation. A function of its own so that its loop variable dies with it: in
+        ``_run`` it outlived the tick and kept the last session of a departed browser alive (never collected)
+        until another browser came."""
+        for simulation in self.simulations():
+            try:
+                simulation.frame(dt)
+            except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
+                traceback.print_exc()
 
     def stop(self) -> None:
         """Stop the loop and the server."""

@@ -5,6 +5,9 @@ Real websocket clients on 127.0.0.1 stand in for browsers (tests/harness.py's ra
 
 from __future__ import annotations
 
+import gc
+import weakref
+
 import pytest
 
 from app.server import Simulation
@@ -55,3 +58,41 @@ def test_a_refusal_in_a_private_session_is_in_that_sessions_status_line(private_
         (session,) = app.sessions.values()
         send_value(ws, session.speed_slider._impl.uuid, "fast")
         wait_for(lambda: "must be a number" in session.status.content, what="the refusal in its own status line")
+
+
+def _collected(ref: weakref.ref) -> bool:
+    """The object ``ref`` points at is gone after a full collection (the loop may hold it for one tick)."""
+    gc.collect()
+    return ref() is None
+
+
+def _the_session(app) -> tuple[weakref.ref, weakref.ref]:
+    """Weak references to the one session of ``app`` and its scene, once the loop has drawn it a few times."""
+    wait_for(lambda: len(app.sessions) == 1, what="the session")
+    wait_for(lambda: next(iter(app.sessions.values()), None).frames > 3, what="the session to run")
+    session = next(iter(app.sessions.values()))
+    return weakref.ref(session), weakref.ref(session.scene)
+
+
+def test_a_departed_browsers_simulation_is_collected(private_app):
+    # Dropped from app.sessions is not enough: a callback, a handle or a thread that still refers to the
+    # Simulation (or its scene) keeps it alive. The loop thread did: its loop variable held the last session
+    # of a departed browser until another browser came.
+    app = private_app
+    with raw_client(app):
+        simulation, scene = _the_session(app)
+    wait_for(lambda: not app.sessions, what="the session to be dropped")
+    wait_for(lambda: _collected(simulation) and _collected(scene), timeout=10, what="the Simulation to be collected")
+
+
+def test_an_explorers_copy_is_collected_when_its_browser_leaves():
+    with running_app("heavy_top", presenter=True) as app:
+        assert app.classroom is not None
+        with raw_client(app) as ws:
+            wait_for(lambda: app.classroom._panels, what="the follower's panel")
+            # Only the button's uuid: a panel kept here would keep the browser's GUI, and so the copy, alive.
+            (explore,) = (panel.explore._impl.uuid for panel in app.classroom._panels.values())
+            send_value(ws, explore, True)
+            simulation, scene = _the_session(app)
+        wait_for(lambda: not app.sessions, what="the copy to be dropped")
+        wait_for(lambda: _collected(simulation) and _collected(scene), timeout=10, what="the copy to be collected")
