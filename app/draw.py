@@ -73,10 +73,19 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "body": (92, 105, 126),  # the body: slate, opaque, 3.7-8.0:1 light and 3.2-5.0:1 dark (docs/look.md)
     "impulse": OKABE_ITO["vermillion"],  # an impulse (strike); the pendulum shows no trace
     "reaction": OKABE_ITO["reddish_purple"],  # a constraint's reaction; the pendulum shows no torque
-    "ghost": OKABE_ITO["black"],  # the body moved by an integrator: translucent, so a grey shadow body
+    "ghost": OKABE_ITO["black"],  # the body moved by an integrator: translucent (GHOST_OPACITY), a grey shadow
+    "pivot": OKABE_ITO["black"],  # a fixed point or axle (the pendulum's), the explorer's point the tensor is about
     "ellipsoid": OKABE_ITO["yellow"],  # the inertia ellipsoid, translucent
-    "guide": (150, 150, 150),  # construction lines: spheres, equators, the separatrix, a pivot's axle
+    "guide": (150, 150, 150),  # construction lines: spheres, equators, the separatrix
 }
+
+
+GHOST_OPACITY = 0.35
+"""Opacity of the integrator's ghost body (app.ghost), and of its swatch in the legend."""
+
+SWATCH_OPACITY: dict[str, float] = {"ghost": GHOST_OPACITY}
+"""Quantities drawn translucent whose legend swatch is shown as they look (the cones and the ellipsoid have
+rims or are large enough to read at full colour)."""
 
 
 def hex_colour(name: str) -> str:
@@ -99,9 +108,10 @@ LABELS: dict[str, str] = {
     "body": "the body",
     "impulse": "J — impulse",
     "reaction": "pivot reaction",
-    "ghost": "ghost — the same body moved by the chosen integrator",
+    "ghost": "ghost (translucent) — the body moved by the integrator of “Compare with integrator”",
+    "pivot": "pivot — the fixed axle, or the point the tensor is taken about (and its lever to the CM)",
     "ellipsoid": "inertia ellipsoid (long where the moment is small)",
-    "guide": "guides (spheres, equators, separatrix, axle)",
+    "guide": "guides (the sphere the axis tip moves on, the L-sphere, equators, the separatrix)",
 }
 
 
@@ -187,10 +197,11 @@ def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
     rows = []
     for key in quantities:
         colour = _rgb_hex(COLOURS[key])
+        opacity = f";opacity:{SWATCH_OPACITY[key]}" if key in SWATCH_OPACITY else ""
         rows.append(
             f'<div style="display:flex;align-items:center;gap:6px;font-size:0.85em;margin:1px 0">'
-            f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{colour}"></span>'
-            f"{LABELS[key]}</div>"
+            f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{colour}{opacity}">'
+            f"</span>{LABELS[key]}</div>"
         )
     return '<div class="rbl-legend">' + "".join(rows) + "</div>"
 

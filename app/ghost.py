@@ -75,7 +75,7 @@ class IntegratorGhost:
     def __init__(self, ctx: Any, name: str, mesh: trimesh.Trimesh) -> None:
         self.ctx = ctx
         gui = ctx.server.gui
-        self.body = draw.BodyMesh(ctx.server, name, mesh, colour=draw.COLOURS["ghost"], opacity=0.35)
+        self.body = draw.BodyMesh(ctx.server, name, mesh, colour=draw.COLOURS["ghost"], opacity=draw.GHOST_OPACITY)
         self.body.handle.visible = False
         self.choice = gui.add_dropdown("Compare with integrator", options=tuple(METHODS), initial_value="none")
         low, high, resolution, default = STEP

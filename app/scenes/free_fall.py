@@ -31,7 +31,7 @@ class FreeFall(Wobble):
     name = "free_fall"
     title = "Body in free fall"
     order = 30
-    quantities = ("L", "omega", "body_cone", "space_cone", "trace", "axes", "path")
+    quantities = ("L", "omega", "body_cone", "space_cone", "trace", "axes", "path", "ghost")
     caption = (
         "**Body in free fall.** Gravity acts at the centre of mass: no torque about it, so L about the "
         "centre of mass stays fixed and the body wobbles exactly as in the torque-free scene while the "

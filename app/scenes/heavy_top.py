@@ -137,6 +137,9 @@ def _on_the_table(R: np.ndarray, L_body: np.ndarray, landed: bool) -> tuple[np.n
     return R, np.zeros(3), True
 
 
+THETA_BETWEEN = "θ turns between (°)"  # the exact top: its two turning angles
+THETA_NOW = "θ now (°)"  # the friction top: no turning points, its tilt now (and whether it lies on the table)
+
 SLEEPING_TILT = math.radians(5.0)
 """Within this tilt of the vertical a top above the threshold is said to sleep (it stands, barely moving)."""
 
@@ -155,7 +158,7 @@ class HeavyTopScene(Scene):
     name = "heavy_top"
     title = "Heavy top"
     order = 10
-    quantities = ("L", "omega", "torque", "trace")
+    quantities = ("L", "omega", "torque", "trace", "guide", "ghost")
     caption = (
         "**Heavy symmetric top** on a fixed tip. Gravity's torque τ = ℓ ê₃ × (−M g ẑ) is horizontal, so "
         "L_z and L₃ are conserved and θ moves in the effective potential "
@@ -228,7 +231,7 @@ class HeavyTopScene(Scene):
         )
         self.precession_readout = controls.Readout(self.ctx, "precession ⟨φ̇⟩ (rad/s)")
         self.nutation_readout = controls.Readout(self.ctx, "nutation period (s)")
-        self.theta_readout = controls.Readout(self.ctx, "θ between (°)", fmt="{}")
+        self.theta_readout = controls.Readout(self.ctx, THETA_BETWEEN, fmt="{}")
         self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
         self.drift = controls.InvariantDrift(
             self.ctx,
@@ -382,6 +385,10 @@ class HeavyTopScene(Scene):
         size = float(np.linalg.norm(L))
         return {"E": (energy, abs(energy) + top.mgl), "L_z": (float(L[2]), size), "L₃": (float(L_body[2]), size)}
 
+    def _theta_label(self, label: str) -> None:
+        if self.theta_readout.handle.label != label:
+            self.theta_readout.handle.label = label
+
     def _readouts(self, state: dict[str, Any]) -> None:
         top = self.top
         L3 = float(state["L_body"][2])
@@ -391,22 +398,22 @@ class HeavyTopScene(Scene):
         self.gauge.set(
             abs(L3),
             threshold,
-            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g}: " + _sleeping_words(abs(L3) > threshold, theta),
+            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: " + _sleeping_words(abs(L3) > threshold, theta),
         )
         now = time.monotonic()
         friction = self.values["friction"] > 0.0
         if friction:
             self.precession_readout.set("— (friction: no fixed rate)")
             self.nutation_readout.set("—")
+            self._theta_label(THETA_NOW)
             self.theta_readout.set(
-                f"lying on the table at {math.degrees(theta):.4g}"
-                if state["landed"]
-                else f"now {math.degrees(theta):.4g}"
+                f"{math.degrees(theta):.4g}, lying on the table" if state["landed"] else f"{math.degrees(theta):.4g}"
             )
         else:
             sol = self.exact
             self.precession_readout.set(sol.precession_rate)
             self.nutation_readout.set(sol.nutation_period)
+            self._theta_label(THETA_BETWEEN)
             self.theta_readout.set(f"{math.degrees(sol.theta_min):.4g} and {math.degrees(sol.theta_max):.4g}")
         if now - self._plot_time < 1.0 / PLOT_HZ and self._curve_key is not None:
             return

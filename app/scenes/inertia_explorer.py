@@ -94,12 +94,14 @@ class InertiaExplorer(Scene):
     name = "inertia_explorer"
     title = "Inertia explorer"
     order = 50  # after the frame's scenes: the heavy top stays the first thing a user sees
-    quantities = ("body", "axes", "ellipsoid")
+    quantities = ("body", "axes", "ellipsoid", "pivot")
     caption = (
-        "**The inertia tensor.** Pick a body (1 kg) or upload your own mesh. The axes at the centre of mass are "
-        "the principal axes (labelled 1, 2, 3 with I₁ ≥ I₂ ≥ I₃); the translucent ellipsoid is the "
-        "inertia ellipsoid xᵀ I x = const (long where I is small). Move the pivot: the tensor about it is "
-        "I(a) = I_CM + M (a² δ − a aᵀ) (parallel-axis theorem)."
+        "**The inertia tensor.** Pick a body (the shapes weigh 1 kg, the meshes their real mass, "
+        f"{min(a.mass for a in ASSETS.values()):.2g} to {max(a.mass for a in ASSETS.values()):.2g} kg) "
+        "or upload your own mesh. The axes at the centre of mass are the principal axes (labelled 1, 2, 3 "
+        "with I₁ ≥ I₂ ≥ I₃); the translucent ellipsoid is the inertia ellipsoid xᵀ I x = const (long where I "
+        "is small). Move the pivot by d from the centre of mass: the tensor about it is "
+        "I(d) = I_CM + M (d² δ − d dᵀ) (parallel-axis theorem)."
     )
     camera = ((2.4, -2.4, 2.0), (0.0, 0.0, 1.0))
     centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass is drawn (m)
@@ -117,12 +119,12 @@ class InertiaExplorer(Scene):
         self.frame = draw.PrincipalFrame(server, root + "/principal", length=AXES_LENGTH)
         self.axis_labels = [server.scene.add_label(f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
         self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
-        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=draw.COLOURS["axes"])
+        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=draw.COLOURS["pivot"])
         self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)
         self.lever = server.scene.add_line_segments(
             root + "/lever",
             points=np.zeros((1, 2, 3), dtype=np.float32),
-            colors=draw.COLOURS["axes"],
+            colors=draw.COLOURS["pivot"],
             thickness=2.0,
             thickness_units="screen",
         )
@@ -158,7 +160,7 @@ class InertiaExplorer(Scene):
         self.spin_button = gui.add_button("Spin it (torque-free)")
         self.spin_button.on_click(self.ctx.guarded(self._spin_it))
         self.moments_readout = controls.Readout(self.ctx, "I₁ ≥ I₂ ≥ I₃ at the CM (kg m²)", fmt="{}")
-        self.pivot_readout = controls.Readout(self.ctx, "principal moments about the pivot", fmt="{}")
+        self.pivot_readout = controls.Readout(self.ctx, "principal moments about the pivot (kg m²)", fmt="{}")
         self.note = gui.add_markdown("")
         self.tensor_md = gui.add_markdown("")
         self._last_choice = self.choice.value
@@ -217,8 +219,8 @@ class InertiaExplorer(Scene):
             + tensor_markdown(props.tensor, "Tensor about the centre of mass")
         )
         self.note.content = (
-            f"**{label}**, {props.mass:g} kg; drawn at {scale:.3g}× its size. "
-            f"Pivot {np.linalg.norm(pivot_offset):.3g} m from the CM: M a² = "
+            f"**{label}**, {props.mass:.4g} kg; drawn at {scale:.4g}× its size. "
+            f"Pivot d = {np.linalg.norm(pivot_offset):.4g} m from the CM: M d² = "
             f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m²."
         )
         self._last_choice = self.choice.value

@@ -55,12 +55,12 @@ class Pendulum(Scene):
     name = "pendulum"
     title = "Physical pendulum & centre of percussion"
     order = 55
-    quantities = ("impulse", "reaction", "path")
+    quantities = ("impulse", "reaction", "path", "pivot")
     caption = (
         "**Physical pendulum.** About a fixed axis I = I_cm + M a⊥² = M k², and the body swings like a simple "
         "pendulum of length ℓ = k²/a⊥ (ℓ > k > a⊥). **Strike it** (arrow J): the pivot must push back (arrow "
         "'pivot') unless the blow lands at the centre of percussion, ℓ below the pivot — the bat's sweet spot, "
-        "where your hands feel no sting."
+        "where your hands feel no sting. The button under *Strike!* moves the strike point there."
     )
     camera = ((2.3, -0.8, 1.6), (0.0, 0.0, 1.45))
 
@@ -69,11 +69,11 @@ class Pendulum(Scene):
         # Opaque (3:1 against what is behind it, docs/look.md); the markers are wider than the bat (0.033 m
         # at most) so they stand out of it.
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
-        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=draw.COLOURS["axes"])
+        self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.03, color=draw.COLOURS["pivot"])
         self.axle = server.scene.add_line_segments(
             root + "/axle",
             points=np.zeros((1, 2, 3), dtype=np.float32),
-            colors=draw.COLOURS["axes"],
+            colors=draw.COLOURS["pivot"],
             thickness=4.0,
             thickness_units="screen",
         )

@@ -102,10 +102,10 @@ class TennisRacket(Scene):
     name = "tennis_racket"
     title = "Tennis racket: the intermediate axis"
     order = 60
-    quantities = ("L", "omega", "trace", "polhode", "guide")
+    quantities = ("L", "omega", "trace", "axes", "polhode", "guide", "ghost")
     caption = (
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
-        "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like e^{λt}, "
+        "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like exp(λt), "
         "λ = Ω √((I₁ − I₂)(I₂ − I₃)/(I₁ I₃)), and the body flips over and back, again and again. L stays fixed. "
         "Left: L seen from the body, on the L-sphere, with the polhode and the separatrix (see the legend). "
         "A body with two equal moments (a cylinder from the explorer) has no intermediate axis: it precesses "
@@ -194,7 +194,9 @@ class TennisRacket(Scene):
         self.moments_readout = controls.Readout(self.ctx, "I₁, I₂, I₃ (kg m²)", fmt="{}")
         self.stability_readout = controls.Readout(self.ctx, "lecture: this axis is", fmt="{}")
         self.rate_readout = controls.Readout(self.ctx, "growth rate λ (1/s)")
-        self.first_flip_readout = controls.Readout(self.ctx, "lecture's first flip ≈ ln(1/ε)/λ (s)")
+        self.first_flip_readout = controls.Readout(
+            self.ctx, "first flip, estimated from the linear growth: ln(1/ε)/λ (s)"
+        )
         self.period_readout = controls.Readout(self.ctx, "measured flip period (s)")
         self.plot = gui.add_uplot(
             data=(np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2)),

@@ -45,12 +45,12 @@ class Wobble(Scene):
     name = "wobble"
     title = "Torque-free wobble"
     order = 20
-    quantities: ClassVar[tuple[str, ...]] = ("L", "omega", "body_cone", "space_cone", "trace", "axes")
+    quantities: ClassVar[tuple[str, ...]] = ("L", "omega", "body_cone", "space_cone", "trace", "axes", "ghost")
     caption = (
         "**Torque-free symmetric body.** L is fixed in space. In the body, ω turns about the symmetry axis "
         "at Ω = ω₃ (I₁ − I₃)/I₁; in space the axis turns about L at φ̇ = L/I₁. The body cone (about the "
         "axis) rolls on the space cone (about L) along ω. I₃/I₁ < 1: prolate (rod-like), > 1: oblate (disc). "
-        "Arrows are drawn 1 m long per unit of their initial size."
+        "The arrows L and ω keep their lengths (|L| and |ω| are constant here): both are drawn 1.1 m long."
     )
     camera = ((2.2, -2.2, 1.9), (0.0, 0.0, 1.15))
     centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass sits (m)

@@ -54,12 +54,23 @@ def test_every_node_is_drawn_in_the_legend_colours(app, name):
         assert arrow.quantity in scene.quantities, f"{arrow.quantity} is drawn but not in the legend"
     for piece in _parts(scene, (draw.Trace, draw.Cone)):
         assert piece.quantity in scene.quantities, f"{piece.quantity} is drawn but not in the legend"
+    # Every piece drawn has its legend entry: the principal axes, the integrator's ghost, and any node in a
+    # colour that only some quantities have (black: the axes, the ghost or a pivot; grey: guides or a path).
+    if _parts(scene, draw.PrincipalFrame) or hasattr(scene, "frame"):
+        assert "axes" in scene.quantities, "principal axes drawn but not in the legend"
+    if hasattr(scene, "ghost"):
+        assert "ghost" in scene.quantities, "the integrator's ghost is not in the legend"
+    holders: dict[tuple[int, int, int], set[str]] = {}
+    for quantity, colour in draw.COLOURS.items():
+        holders.setdefault(colour, set()).add(quantity)
     allowed = set(draw.COLOURS.values()) | {draw.instance_colour(q) for q in draw.COLOURS}
     for node, handle in app.server.scene._handle_from_node_name.items():
         if not node.startswith(app.root):
             continue
         for colour in _colours_of(handle):
             assert colour in allowed, f"{node} is drawn in {colour}, not in the palette"
+            if colour in holders and colour != draw.COLOURS["body"]:
+                assert holders[colour] & set(scene.quantities), f"{node}: {sorted(holders[colour])} not in the legend"
 
 
 @pytest.mark.parametrize("quantity", sorted(draw.COLOURS))
