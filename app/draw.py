@@ -197,7 +197,14 @@ def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
     rows = []
     for key in quantities:
         colour = _rgb_hex(COLOURS[key])
-        opacity = f";opacity:{SWATCH_OPACITY[key]}" if key in SWATCH_OPACITY else ""
+        # A translucent quantity: its colour at its opacity inside an outline of the full colour (the ghost's
+        # swatch would otherwise be the guides' grey).
+        opacity = (
+            f";background:rgba({','.join(str(c) for c in COLOURS[key])},{SWATCH_OPACITY[key]})"
+            f";box-shadow:inset 0 0 0 1px {colour}"
+            if key in SWATCH_OPACITY
+            else ""
+        )
         rows.append(
             f'<div style="display:flex;align-items:center;gap:6px;font-size:0.85em;margin:1px 0">'
             f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{colour}{opacity}">'
