@@ -36,13 +36,20 @@ def resident_mb() -> float:
     return pages * os.sysconf("SC_PAGE_SIZE") / 1e6
 
 
-def simulations_alive() -> int:
+def simulations_alive(settle: float = 5.0) -> int:
     """How many :class:`app.server.Simulation` objects (sessions and explorers' copies, not the App) are
-    alive after a full collection."""
+    alive after a full collection. A copy can still be in the making for a browser that pressed "Explore"
+    just before it left (a worker thread builds it, then drops it): up to ``settle`` seconds are given for
+    the count to fall to 0, and the last count is returned."""
     from app.server import Simulation
 
-    gc.collect()
-    return sum(1 for o in gc.get_objects() if type(o) is Simulation)
+    deadline = time.monotonic() + settle
+    while True:
+        gc.collect()
+        alive = sum(1 for o in gc.get_objects() if type(o) is Simulation)
+        if alive == 0 or time.monotonic() >= deadline:
+            return alive
+        time.sleep(0.5)
 
 
 def _join(app: Any, stack: contextlib.ExitStack) -> tuple[Any, Any]:
@@ -134,7 +141,8 @@ def _write(args: argparse.Namespace, rows: list[str], minutes: float) -> None:
                 f"`{command}`: 1 to 4 websocket clients at a time join, read for 0.5 to 2 s{what}, and leave; "
                 f"the heavy top plays throughout. Sampled every {args.every:g} s and at the end, after everyone "
                 "left. Simulations alive: Simulation objects (sessions, explorers' copies) still alive after a "
-                "full garbage collection (0 when every departed browser's simulation was freed).",
+                "full garbage collection, given up to 5 s for one still being built for a browser that just left "
+                "(0 when every departed browser's simulation was freed).",
                 "",
                 f"Resident memory: {rss[0]:.1f} MB at the first sample, {rss[-1]:.1f} MB at the last, "
                 f"{max(rss):.1f} MB at most.",
