@@ -40,10 +40,21 @@ reducing ``u`` modulo the period ``4K`` and, above ``K/2``, shifting by the quar
 ``ellipj`` takes only ``m`` and is wrong near ``m = 1`` for large arguments (scipy issue 8480). The
 separatrix itself (``m = 1``) uses ``tanh``/``sech`` and the elementary ``Π(n; ·|1)``.
 
-Measured against 30-digit mpmath (``python -m tests.physics.test_free_body_reference`` prints the table;
-tests/physics/test_free_body.py asserts the bounds), over ±1,000 rotation periods ``2π/|ω0|``: the relative
-error of ω is at most 3e-13 and the attitude error at most 3e-12 rad in every regime, including
-``1 − m`` = 2e-6, 1e-10, 2e-14 and exactly 0, near-symmetric (``ΔI/I = 1e-12``), lamina, rod, sphere;
+Each ``G_x`` is a quadratic form in two components of ω and is formed from that pair scaled by a power of
+two to order 1, so no square underflows: a push ``ε`` off the intermediate axis has ``1 − m ∝ ε²``, which
+leaves the float range below ``ε ≈ 1e-154``. The complementary modulus ``k' = √(1 − m) ∝ ε`` is kept
+instead, with its logarithm exact in the exponent, and within ``1 − m < 1e-40`` of the separatrix the
+motion is evaluated as what it is to double precision there, the separatrix's pulses ``2K`` apart with
+``K = ln(4/k')``, ``cn(K − w) = k' sinh w``, ``dn(K − w) = k' cosh w`` (see ``_LOG_KP_DEEP``). Only ω
+exactly along a principal axis is uniform rotation (until issue 15 a component below 1e-140 of the largest
+counted as 0: a push of 1e-150 about the intermediate axis reversed ω after ~1000 s).
+
+Measured against mpmath at 30 digits, and near the separatrix at 30 more than ``1 − m`` has zeros
+(``python -m tests.physics.test_free_body_reference`` prints the table; tests/physics/test_free_body.py
+asserts the bounds), over ±1,000 rotation periods ``2π/|ω0|``: the relative error of ω is at most 3e-13
+and the attitude error at most 3e-12 rad in every regime, including ``1 − m`` = 2e-6, 1e-10, 2e-14,
+1e-40, 1e-140, 1e-300, 3e-320 and 3e-600 (below the float range) and exactly 0, near-symmetric
+(``ΔI/I = 1e-12``), lamina, rod, sphere;
 ``|L_space|`` and ``E`` are constant to 2e-15 relative and ``R`` is orthonormal to 2e-15. The error
 grows like ``eps × (phase)``, the rounding of ``λ t`` itself.
 
@@ -139,17 +150,19 @@ def _sn_cn_dn_near_one(w: Floats, mc: Floats) -> tuple[Floats, Floats, Floats]:
     its full relative precision however small ``mc`` is (down to the smallest double), with no underflow
     (``sech w ≥ sech(K/2) ≈ (√mc/4)^{1/2}``).
     """
-    # For mc > 0, w ≤ K/2 < 187; the cap only keeps the separatrix's own (mc = 0, w unbounded) entries
-    # finite until _reduced_jacobi replaces them with tanh and sech.
-    w = np.clip(w, 0.0, 300.0)
+    # For mc > 0, w ≤ K/2 < 373 (K < 745 down to the smallest 1 − m, see _LOG_KP_DEEP); the cap only keeps the
+    # separatrix's own (mc = 0, w unbounded) entries finite until _reduced_jacobi replaces them with tanh
+    # and sech. mc · sinh · cosh is taken as (mc sinh) cosh: sinh · cosh alone overflows above w ≈ 355.
+    w = np.clip(w, 0.0, 700.0)
     ch = np.cosh(w)
     sh = np.sinh(w)
     th = np.tanh(w)
     se = 1.0 / ch
     quarter = 0.25 * mc
-    s = th + quarter * (sh * ch - w) * se * se
-    c = se * (1.0 - quarter * (sh * ch - w) * th)
-    d = se * (1.0 + quarter * (sh * ch + w) * th)
+    shch = (quarter * sh) * ch
+    s = th + (shch - quarter * w) * se * se
+    c = se * (1.0 - (shch - quarter * w) * th)
+    d = se * (1.0 + (shch + quarter * w) * th)
     return s, c, d
 
 
@@ -183,14 +196,16 @@ def _sn_cn_dn_landen(w: Floats, m: Floats, mc: Floats, ladder: Ladder) -> tuple[
 
 
 def _reduced_jacobi(
-    u: Floats, m: Floats, mc: Floats, kk: Any, ladder: Ladder
+    u: Floats, m: Floats, mc: Floats, kk: Any, ladder: Ladder, kp: Any = None
 ) -> tuple[Floats, Floats, Floats, Floats, Floats]:
     """Jacobi functions of ``u`` reduced to ``v = u − 2 K j`` in ``[−K, K]``.
 
     Returns ``(j, v, sn(v), cn(v), dn(v))``; ``sn(u) = (−1)^j sn(v)``, ``cn(u) = (−1)^j cn(v)``,
-    ``dn(u) = dn(v)``. On the separatrix (``mc == 0``, ``K = ∞``) ``j = 0`` and tanh/sech are used.
+    ``dn(u) = dn(v)``. On the separatrix (``K = ∞``) ``j = 0`` and tanh/sech are used. ``kp`` is the
+    complementary modulus ``√(1 − m)`` (default ``√mc``); pass it when ``mc`` underflows (below 1e-308 it
+    is 0 while ``kp`` is not, and only ``K`` then says that the motion is not on the separatrix).
     """
-    sep = mc == 0.0
+    sep = ~np.isfinite(kk)
     kfin = np.where(sep, 1.0, kk)
     j = np.where(sep, 0.0, np.rint(u / (2.0 * kfin)))
     v = u - 2.0 * kfin * j
@@ -200,13 +215,27 @@ def _reduced_jacobi(
     s, c, d = _sn_cn_dn_small(w, m, mc, ladder)
     # Quarter-period shift sn(K − w) = cd w, cn(K − w) = √mc sd w, dn(K − w) = √mc nd w keeps cn's
     # relative accuracy near its zero.
-    r = np.sqrt(mc)
-    s, c, d = np.where(flip, c / d, s), np.where(flip, r * s / d, c), np.where(flip, r / d, d)
+    r = np.sqrt(mc) if kp is None else kp
+    s, c, d = np.where(flip, c / d, s), np.where(flip, r * (s / d), c), np.where(flip, r / d, d)
     if np.any(sep):
         th, sh = np.tanh(a), 1.0 / np.cosh(np.minimum(a, 710.0))
         s, c, d = np.where(sep, th, s), np.where(sep, sh, c), np.where(sep, sh, d)
     s = np.copysign(s, v)
     return j, v, s, c, d
+
+
+# Within 1 − m < 1e-40 of the separatrix (k' < 1e-20) the motion is, to double precision, a train of the
+# separatrix's pulses 2K apart: sn = tanh, cn = dn = sech up to K/2 from a pulse's centre, and past it
+# cn(K − w) = k' sinh w, dn(K − w) = k' cosh w, sn = 1 (the neglected terms are below k'/4 relative); the
+# excess Q is the separatrix's, continued by (K − |v|)/(1 − n) near ±K, and K = ln(4/k') (its error is of
+# order k'² K). Only k' enters, through its logarithm: nothing underflows, down to 1 − m far below 1e-308
+# (a push of 1e-160 off the intermediate axis has 1 − m ≈ 1e-320). See _third_kind_excess and _setup.
+_LOG_KP_DEEP = math.log(1e-20)
+
+
+def _pair_exponent(x: Floats, y: Floats) -> NDArray[np.int_]:
+    """``e`` with ``max(|x|, |y|) 2^-e`` in [0.5, 1) (0 where both are 0): the pair scaled to order 1."""
+    return np.asarray(np.frexp(np.maximum(np.abs(x), np.abs(y)))[1], dtype=int)
 
 
 def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[Floats, Floats, Floats]:
@@ -426,8 +455,10 @@ class FreeBody:
     def elliptic_parameter(self, omega0: ArrayLike) -> tuple[float, float]:
         """The parameter ``m`` of the Jacobi functions and ``1 − m`` (computed without cancellation).
 
-        ``1 − m = 0`` on the separatrix ``L² = 2 E I2``; ``m = 0`` for a symmetric or spherical body
-        and for uniform rotation about a principal axis.
+        ``1 − m = 0`` on the separatrix ``L² = 2 E I2`` (and where it is below the float range, 1e-308: a
+        push below about 1e-154 off the intermediate axis; the motion still uses its exact size, see
+        :meth:`period`); ``m = 0`` for a symmetric or spherical body and for uniform rotation about a
+        principal axis.
 
         Parameters
         ----------
@@ -452,7 +483,7 @@ class FreeBody:
         p = self._setup(w[None, :])
         kind = p["kind"][0]
         if kind == 2:
-            return float(4.0 * p["K"][0] / abs(p["lam"][0])) if p["mc"][0] > 0 else np.inf
+            return float(4.0 * p["K"][0] / abs(p["lam"][0]))  # K = ∞ on the separatrix
         if kind == 1 and p["Omega"][0] != 0.0:
             return float(2.0 * np.pi / abs(p["Omega"][0]))
         return np.inf
@@ -474,22 +505,27 @@ class FreeBody:
             p["Omega"] = w[:, s] * (i_perp - i_s) / i_perp
             p["i_perp"] = i_perp
             return p
-        # Work with ω scaled by a power of two (exact) so that squares neither underflow nor overflow;
-        # a component below 1e-140 of the largest counts as zero (uniform rotation to that accuracy).
+        # Work with ω scaled by a power of two (exact) to a largest component of order 1. Only ω exactly
+        # along one principal axis is uniform rotation: however small the other components, the motion
+        # leaves it (about the intermediate axis, after ln(1/push)/rate seconds), see _deep.
         biggest = np.max(np.abs(w), axis=1)
         scale = np.where(biggest > 0.0, np.exp2(np.floor(np.log2(np.where(biggest > 0.0, biggest, 1.0)))), 1.0)
         ws = (w @ self._q_sort.T) / scale[:, None]
-        nonzero = np.count_nonzero(np.abs(ws) > 1e-140, axis=1)
+        nonzero = np.count_nonzero(ws, axis=1)
         ell = nonzero > 1
         p["kind"][ell] = 2
         if not np.any(ell):
             return p
         i1, i2, i3 = self._sorted
         ws_e = ws[ell]
-        # Sign of L² − 2 E I2 (double-double) picks the axis the motion circulates around.
+        # Sign of L² − 2 E I2 (double-double, on the pair (ω1, ω3) scaled to order 1) picks the axis the
+        # motion circulates around.
         d12 = _two_sum(i1, -i2)
         d32 = _two_sum(i3, -i2)
-        g_mid = _dd_add(_dd_term(i1, d12, ws_e[:, 0]), _dd_term(i3, d32, ws_e[:, 2]))
+        e_mid = _pair_exponent(ws_e[:, 0], ws_e[:, 2])
+        g_mid = _dd_add(
+            _dd_term(i1, d12, np.ldexp(ws_e[:, 0], -e_mid)), _dd_term(i3, d32, np.ldexp(ws_e[:, 2], -e_mid))
+        )
         swap = g_mid[0] < 0.0
         q_can = np.where(swap[:, None, None], _SWAP @ self._q_sort, self._q_sort)
         sc = scale[ell]
@@ -501,17 +537,34 @@ class FreeBody:
         dab = _two_sum(ia, -ib)
         dac = _two_sum(ia, -ic)
         dbc = _two_sum(ib, -ic)
-        # G_b = L² − 2E I_b, G_a = 2E I_a − L², G_c = L² − 2E I_c; signed like (I_a − I_b).
-        gb = g_mid[0] + g_mid[1]
-        ga_dd = _dd_add(_dd_term(ib, dab, wb), _dd_term(ic, dac, wcc))
-        gc_dd = _dd_add(_dd_term(ia, dac, wa), _dd_term(ib, dbc, wb))
-        ga, gc = ga_dd[0] + ga_dd[1], gc_dd[0] + gc_dd[1]
+        # G_b = L² − 2E I_b, G_a = 2E I_a − L², G_c = L² − 2E I_c; signed like (I_a − I_b). Each is a
+        # quadratic form in two components of ω: it is formed (double-double) from that pair scaled by
+        # 2^-e_x to order 1, G_x = G̃_x 4^e_x, so that no square underflows however small the pair.
+        # G_b is the L² − 2E I2 above (the same pair, scaled alike).
+        e_b, e_a, e_c = e_mid, _pair_exponent(wb, wcc), _pair_exponent(wa, wb)
+        gb_dd = g_mid
+        ga_dd = _dd_add(_dd_term(ib, dab, np.ldexp(wb, -e_a)), _dd_term(ic, dac, np.ldexp(wcc, -e_a)))
+        gc_dd = _dd_add(_dd_term(ia, dac, np.ldexp(wa, -e_c)), _dd_term(ib, dbc, np.ldexp(wb, -e_c)))
+        gb, ga, gc = gb_dd[0] + gb_dd[1], ga_dd[0] + ga_dd[1], gc_dd[0] + gc_dd[1]
         dab_f, dac_f, dbc_f = dab[0] + dab[1], dac[0] + dac[1], dbc[0] + dbc[1]
-        m = np.clip(dbc_f * ga / (dab_f * gc), 0.0, 1.0)
-        mc = np.clip(dac_f * gb / (dab_f * gc), 0.0, 1.0)
-        energy2 = np.sum(self._sorted * ws_e * ws_e, axis=1)
+        with np.errstate(under="ignore"):  # a ratio below the float range is 0 to double precision
+            # G_a / G_c and G_b / G_c as (scaled ratio) · 4^(exponent difference).
+            ratio_a = np.ldexp(ga / gc, 2 * (e_a - e_c))
+            m = np.clip(dbc_f / dab_f * ratio_a, 0.0, 1.0)
+            mc = np.clip(np.ldexp(dac_f * gb / (dab_f * gc), 2 * (e_b - e_c)), 0.0, 1.0)
+            # The complementary modulus k' = √(1 − m) = k̃' 2^(e_b − e_c) without forming 1 − m: it is of the
+            # order of the push off the intermediate axis, 1 − m of its square (below 1e-308 for a push
+            # below 1e-154); log k' is exact in the exponent.
+            kp_scaled = np.sqrt(np.clip(dac_f * gb / (dab_f * gc), 0.0, None))
+            kp = np.ldexp(kp_scaled, e_b - e_c)
+        sep = gb == 0.0
+        with np.errstate(divide="ignore"):
+            log_kp = np.log(kp_scaled) + (e_b - e_c) * math.log(2.0)
+        deep = ~sep & (log_kp < _LOG_KP_DEEP)
         ang = np.sqrt(np.sum((self._sorted * ws_e) ** 2, axis=1))
-        lam_abs = np.sqrt(dab_f * gc / (ia * ib * ic))
+        sqrt_gc = np.sqrt(np.abs(gc)) * np.ldexp(1.0, e_c)
+        sqrt_ga = np.sqrt(np.abs(ga)) * np.ldexp(1.0, e_a)
+        lam_abs = np.sqrt(dab_f * gc / (ia * ib * ic)) * np.ldexp(1.0, e_c)
         pa = np.where(wa < 0.0, -1.0, 1.0)
         lam = -pa * np.sign(dab_f) * lam_abs
         # Initial phase: sn, cn, dn at u0 read off ω0 (normalised so sn² + cn² = 1 exactly).
@@ -519,27 +572,50 @@ class FreeBody:
         xc = np.sqrt(np.abs(ic * dac_f)) * wcc
         h = np.hypot(xb, xc)
         s0, c0 = xb / h, xc / h
-        d0 = np.sqrt(np.abs(ia * dac_f)) * np.abs(wa) / np.sqrt(np.abs(gc))
-        kk = np.where(mc > 0.0, ellipkm1(np.where(mc > 0.0, mc, 0.5)), np.inf)
+        d0 = np.sqrt(np.abs(ia * dac_f)) * np.abs(wa) / sqrt_gc
+        with np.errstate(divide="ignore"):
+            kk = np.where(sep, np.inf, np.where(deep, math.log(4.0) - log_kp, ellipkm1(np.where(sep | deep, 0.5, mc))))
         # On the separatrix cn = sech > 0 never changes sign: the branch with ω_c < 0 is
         # ω_c = −A_c sech u, which Euler's equations pair with −λ.
-        flip_c = (mc == 0.0) & (c0 < 0.0)
+        flip_c = sep & (c0 < 0.0)
         c0 = np.where(flip_c, -c0, c0)
         lam = np.where(flip_c, -lam, lam)
         pc = np.where(flip_c, -1.0, 1.0)
-        v0 = s0 * elliprf(c0 * c0, d0 * d0, 1.0)
+        with np.errstate(all="ignore"):  # R_F's arguments underflow where deep: that branch is not used there
+            v0 = s0 * elliprf(c0 * c0, d0 * d0, 1.0)
+        if np.any(deep):
+            # Where deep, sn = tanh, cn = dn = sech up to |v| = K/2 (dn(K/2) = √k'), and past it
+            # cn(K − w) = k' sinh w, dn(K − w) = k' cosh w: |v0| = asinh(|s0/c0|), or K − asinh(|c0|/(|s0| k')).
+            # |c0|/k' and d0²/k' are formed from the pair (ω_a, ω_c) scaled by 2^-e_b: the push and k' are
+            # both of its order, and may be below the float range.
+            with np.errstate(all="ignore"):
+                xc_scaled = np.sqrt(np.abs(ic * dac_f)) * np.ldexp(wcc, -e_b)
+                d0_scaled = np.sqrt(np.abs(ia * dac_f)) * np.abs(np.ldexp(wa, -e_b)) / sqrt_gc
+                past_half = np.ldexp(d0_scaled * d0_scaled, e_b + e_c) <= kp_scaled
+                c0_over_kp = np.ldexp(np.abs(xc_scaled) / (h * kp_scaled), e_c)
+                v_deep = np.where(
+                    past_half, kk - np.arcsinh(c0_over_kp / np.abs(s0)), np.arcsinh(np.abs(s0) / np.abs(c0))
+                )
+            v0 = np.where(deep, np.copysign(v_deep, s0), v0)
         u0 = np.where(c0 >= 0.0, v0, np.where(s0 >= 0.0, 2.0 * kk, -2.0 * kk) - v0)
         # Pole of the frame B: the axis L̂ stays farther from (compare at sn = 0, where
         # (I_a A_a)² + (I_c A_c)² = L²). Pole a: ψ̇ = L/I_c + L (I_a − I_c) n / (I_a I_c) · sn²/(1 − n sn²)
         # with n = −I_a (I_b − I_c) / (I_c (I_a − I_b)); pole c: ψ̇ = L/I_a + L κ sn²/(1 − n' sn²) with
         # κ = G_a (I_a − I_c) / (I_a² G_c) and n' = −I_c G_a / (I_a G_c). Both n ≤ 0 and bounded rates.
-        pole_c = ia * np.sqrt(np.abs(gc / (ia * dac_f))) > ic * np.sqrt(np.abs(ga / (ic * dac_f)))
+        amp_a = sqrt_gc / np.sqrt(np.abs(ia * dac_f))
+        amp_b = sqrt_ga / np.sqrt(np.abs(ib * dab_f))
+        amp_c = sqrt_ga / np.sqrt(np.abs(ic * dac_f))
+        pole_c = ia * amp_a > ic * amp_c
         n_a = -ia * dbc_f / (ic * dab_f)
-        n = np.where(pole_c, -ic * ga / (ia * gc), n_a)
+        n = np.where(pole_c, -ic * ratio_a / ia, n_a)
         rate0 = np.where(pole_c, 1.0 / ia, 1.0 / ic)
         # coef multiplies Q(u) = ∫ sn²/(1 − n sn²) du; it is L/λ times the coefficient of that term.
-        coef = np.where(pole_c, ga * dac_f / (ia * ia * gc), dac_f * n_a / (ia * ic)) * ang / lam
-        jc = np.where(mc > 0.0, _elliprj(0.0, np.where(mc > 0.0, mc, 1.0), 1.0, 1.0 - n), 0.0)
+        coef = np.where(pole_c, ratio_a * dac_f / (ia * ia), dac_f * n_a / (ia * ic)) * ang / lam
+        # Q(K) over R_J(0, 1 − m, 1, 1 − n) / 3; where deep, the separatrix's Q at K (see _third_kind_excess).
+        with np.errstate(all="ignore"):
+            jc = np.where(sep | deep, 0.0, _elliprj(0.0, np.where(sep | deep, 1.0, mc), 1.0, 1.0 - n))
+        if np.any(deep):
+            jc = np.where(deep, 3.0 * _sep_excess(np.where(deep, kk, 0.0), n), jc)
         p.update(
             ell=ell,
             q_can=q_can,
@@ -548,28 +624,20 @@ class FreeBody:
             ic=ic,
             m=m,
             mc=mc,
+            kp=kp,
+            deep=deep,
             K=kk,
             lam=lam * sc,
             u0=u0,
             n=n,
             Jc=jc,
-            amp=sc[:, None]
-            * np.stack(
-                [
-                    pa * np.sqrt(np.abs(gc / (ia * dac_f))),
-                    np.sqrt(np.abs(ga / (ib * dab_f))),
-                    pc * np.sqrt(np.abs(ga / (ic * dac_f))),
-                ],
-                axis=1,
-            ),
+            amp=sc[:, None] * np.stack([pa * amp_a, amp_b, pc * amp_c], axis=1),
             L=ang * sc,
-            E2=energy2 * sc * sc,
             pole_c=pole_c,
             rate0=rate0,
             coef=coef,
         )
-        sep = mc == 0.0
-        p["ladder"] = _landen_ladder(np.where(sep, 0.0, m), np.where(sep, 1.0, mc))
+        p["ladder"] = _landen_ladder(np.where(sep | deep, 0.0, m), np.where(sep | deep, 1.0, mc))
         p["P0"] = _third_kind_excess(p, np.arange(len(m)), u0)
         return p
 
@@ -784,7 +852,7 @@ class FreeBody:
         m, mc, kk = p["m"][e], p["mc"][e], p["K"][e]
         roots, scale = p["ladder"]
         ladder = ([q[e] for q in roots], scale[e])
-        j, v, s, c, d = _reduced_jacobi(u, m, mc, kk, ladder)
+        j, v, s, c, d = _reduced_jacobi(u, m, mc, kk, ladder, p["kp"][e])
         sign = 1.0 - 2.0 * np.mod(j, 2.0)
         amp = p["amp"][e]
         wc = np.stack([amp[:, 0] * d, amp[:, 1] * sign * s, amp[:, 2] * sign * c], axis=1)
@@ -888,18 +956,32 @@ def _third_kind_excess(
     n, m, mc, kk, jc = p["n"][e], p["m"][e], p["mc"][e], p["K"][e], p["Jc"][e]
     if reduced is None:
         roots, scale = p["ladder"]
-        reduced = _reduced_jacobi(u, m, mc, kk, ([q[e] for q in roots], scale[e]))
+        reduced = _reduced_jacobi(u, m, mc, kk, ([q[e] for q in roots], scale[e]), p["kp"][e])
     j, v, s, c, d = reduced
-    out = (2.0 * j * jc + s**3 * _elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
-    sep = mc == 0.0
-    if np.any(sep):
-        rn = np.sqrt(-n)
-        th = np.tanh(u)
-        x = rn * th
-        small = np.abs(x) < 1e-8
-        atan_over = np.where(small, th * (1.0 - x * x / 3.0), np.arctan(x) / np.where(small, 1.0, rn))
-        out = np.where(sep, (u - atan_over) / (1.0 - n), out)
+    deep = p["deep"][e]
+    with np.errstate(all="ignore"):  # R_J's arguments underflow where deep: that branch is not used there
+        out = (2.0 * j * jc + s**3 * _elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
+    sep = ~np.isfinite(kk)
+    if np.any(sep | deep):
+        # The separatrix, and within 1 − m < 1e-40 of it (see _deep): pulses of the separatrix's Q.
+        a = np.abs(np.where(sep, u, v))
+        pulse = _sep_excess(a, n)
+        kfin = np.where(sep, 0.0, kk)
+        far = ~sep & (a > 0.5 * kfin)
+        near_k = (jc / 3.0) - (kfin - a) / (1.0 - n)  # Q(K) − (K − |v|)/(1 − n), sn = 1 there
+        local = np.copysign(np.where(far, near_k, pulse), np.where(sep, u, v))
+        out = np.where(sep | deep, np.where(sep, 0.0, 2.0 * j * jc / 3.0) + local, out)
     return np.asarray(out, dtype=float)
+
+
+def _sep_excess(a: Floats, n: Floats) -> Floats:
+    """``Q(a) = [a − atan(√−n tanh a)/√−n] / (1 − n)``, ``a ≥ 0``: the excess on the separatrix (m = 1)."""
+    rn = np.sqrt(-n)
+    th = np.tanh(a)
+    x = rn * th
+    small = np.abs(x) < 1e-8
+    atan_over = np.where(small, th * (1.0 - x * x / 3.0), np.arctan(x) / np.where(small, 1.0, rn))
+    return np.asarray((a - atan_over) / (1.0 - n), dtype=float)
 
 
 def _frame_from_momentum(wc: Floats, ia: Floats, ib: Floats, ic: Floats, pole_c: NDArray[np.bool_]) -> Floats:

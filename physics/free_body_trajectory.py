@@ -86,8 +86,9 @@ class FreeBodyTrajectory:
         p = self._setup
         self._constants = {
             key: float(p[key][0])
-            for key in ("m", "mc", "K", "lam", "u0", "n", "Jc", "L", "rate0", "coef", "P0", "ia", "ib", "ic")
+            for key in ("m", "mc", "kp", "K", "lam", "u0", "n", "Jc", "L", "rate0", "coef", "P0", "ia", "ib", "ic")
         }
+        self._deep = bool(p["deep"][0])
         self._pole_c = bool(p["pole_c"][0])
         self._amp = [float(a) for a in p["amp"][0]]
         roots, scale = p["ladder"]
@@ -139,13 +140,13 @@ class FreeBodyTrajectory:
             return FreeBodyState(t, omega, attitude)
         k = self._constants
         u = k["lam"] * t + k["u0"]
-        j, v, s_, c_, d_ = _jacobi_one(u, k["m"], k["mc"], k["K"], self._roots, self._scale)
+        j, v, s_, c_, d_ = _jacobi_one(u, k["m"], k["mc"], k["K"], self._roots, self._scale, k["kp"])
         sign = 1.0 - 2.0 * (j % 2.0)
         a0, a1, a2 = self._amp
         wc = np.array([a0 * d_, a1 * sign * s_, a2 * sign * c_])
         omega = self._qt @ wc
         # Angle turned about L: ψ − ψ0 = L t / I_c + C [P(u) − P(u0)], P = Π(n; am u|m) − u.
-        excess = _excess_one(k, u, j, s_, c_, d_)
+        excess = _excess_one(k, u, j, v, s_, c_, d_, self._deep)
         dpsi = k["L"] * t * k["rate0"] + k["coef"] * (excess - k["P0"])
         b1, b2, b3 = _frame_rows_one(a0 * d_, a1 * sign * s_, a2 * sign * c_, k["ia"], k["ib"], k["ic"], self._pole_c)
         cp, sp = math.cos(dpsi), math.sin(dpsi)
@@ -178,9 +179,11 @@ def _expm_one(x: float, y: float, z: float) -> Floats:
     )
 
 
-def _jacobi_one(u: float, m: float, mc: float, kk: float, roots: list[float], scale: float) -> tuple[float, ...]:
+def _jacobi_one(
+    u: float, m: float, mc: float, kk: float, roots: list[float], scale: float, kp: float
+) -> tuple[float, ...]:
     """:func:`physics.free_body._reduced_jacobi` for one phase: ``(j, v, sn v, cn v, dn v)``."""
-    if mc == 0.0:  # the separatrix: K = ∞, tanh and sech
+    if kk == math.inf:  # the separatrix: K = ∞, tanh and sech
         a = abs(u)
         th, sh = math.tanh(a), 1.0 / math.cosh(min(a, 710.0))
         return 0.0, u, math.copysign(th, u), sh, sh
@@ -190,13 +193,14 @@ def _jacobi_one(u: float, m: float, mc: float, kk: float, roots: list[float], sc
     flip = a > 0.5 * kk
     w = kk - a if flip else a
     if mc <= _MC_NEAR_ONE:  # first order about m = 1 (see physics.free_body._sn_cn_dn_near_one)
-        w = min(max(w, 0.0), 300.0)
+        w = min(max(w, 0.0), 700.0)
         ch, sh, th = math.cosh(w), math.sinh(w), math.tanh(w)
         se = 1.0 / ch
         quarter = 0.25 * mc
-        s = th + quarter * (sh * ch - w) * se * se
-        c = se * (1.0 - quarter * (sh * ch - w) * th)
-        d = se * (1.0 + quarter * (sh * ch + w) * th)
+        shch = (quarter * sh) * ch
+        s = th + (shch - quarter * w) * se * se
+        c = se * (1.0 - (shch - quarter * w) * th)
+        d = se * (1.0 + (shch + quarter * w) * th)
     else:  # the ascending pass of the Landen ladder
         x = w / scale
         s, c, d = math.sin(x), math.cos(x), 1.0
@@ -205,20 +209,28 @@ def _jacobi_one(u: float, m: float, mc: float, kk: float, roots: list[float], sc
             s, c, d = (1.0 + q) * s / den, c * d / den, (1.0 - q * s * s) / den
         d = math.sqrt(mc + m * c * c)
     if flip:
-        r = math.sqrt(mc)
-        s, c, d = c / d, r * s / d, r / d
+        s, c, d = c / d, kp * (s / d), kp / d
     return j, v, math.copysign(s, v), c, d
 
 
-def _excess_one(k: dict[str, float], u: float, j: float, s: float, c: float, d: float) -> float:
+def _sep_excess_one(a: float, n: float) -> float:
+    """:func:`physics.free_body._sep_excess` of one ``a ≥ 0``."""
+    rn = math.sqrt(-n)
+    th = math.tanh(a)
+    x = rn * th
+    atan_over = th * (1.0 - x * x / 3.0) if abs(x) < 1e-8 else math.atan(x) / rn
+    return (a - atan_over) / (1.0 - n)
+
+
+def _excess_one(k: dict[str, float], u: float, j: float, v: float, s: float, c: float, d: float, deep: bool) -> float:
     """:func:`physics.free_body._third_kind_excess` at one phase."""
     n = k["n"]
-    if k["mc"] == 0.0:  # separatrix: the elementary form
-        rn = math.sqrt(-n)
-        th = math.tanh(u)
-        x = rn * th
-        atan_over = th * (1.0 - x * x / 3.0) if abs(x) < 1e-8 else math.atan(x) / rn
-        return (u - atan_over) / (1.0 - n)
+    if k["K"] == math.inf:  # separatrix: the elementary form
+        return math.copysign(_sep_excess_one(abs(u), n), u)
+    if deep:  # within 1 − m < 1e-40 of it: the separatrix's pulses 2K apart
+        a, kk = abs(v), k["K"]
+        local = k["Jc"] / 3.0 - (kk - a) / (1.0 - n) if a > 0.5 * kk else _sep_excess_one(a, n)
+        return 2.0 * j * k["Jc"] / 3.0 + math.copysign(local, v)
     x2, y2, p = c * c, d * d, 1.0 - n * s * s
     rj = float(_elliprj(x2, y2, 1.0, p)) if max(x2, y2) < 1e-150 else float(elliprj(x2, y2, 1.0, p))
     return (2.0 * j * k["Jc"] + s**3 * rj) / 3.0

@@ -240,6 +240,59 @@ def test_accuracy_closer_to_the_separatrix(name):
     assert np.max(rotation_angle(rr, ref_r)) < 1e-10
 
 
+# Issue 15, item 1, all the way down: a push off the intermediate axis, 1 − m of its square (times a ratio of
+# the moments); (name, moments, omega0, mpmath digits). The mpmath reference needs ~30 digits more than
+# 1 − m has zeros (its exponent range is unbounded, so 1 − m = 3e-320 is an ordinary number there). A push
+# of 1e-300 (1 − m ≈ 3e-600) is in the printed table (python -m tests.physics.test_free_body_reference): its
+# 640-digit reference takes 8 s.
+DEEP_REGIMES = {
+    "1-m_1e-40": ([2.0, 1.5, 1.0], [6.1e-21, 1.0, 0.0], 80),
+    "1-m_1e-40_two_components": ([2.0, 1.5, 1.0], [4e-21, -1.0, -3e-21], 80),
+    "1-m_1e-140": ([2.0, 1.5, 1.0], [6.1e-71, 1.0, 0.0], 180),
+    "1-m_1e-140_pushed_along_the_smallest": ([2.0, 1.5, 1.0], [0.0, 1.0, 6.1e-71], 180),
+    "1-m_2.7e-300_the_audit": ([2.0, 1.5, 1.0], [1e-150, 1.0, 0.0], 340),
+    "1-m_1e-300_any_order": ([1.0, 3.0, 2.0], [3e-151, -2e-151, 1.0], 340),
+    "1-m_3e-320_below_the_float_range": ([2.0, 1.5, 1.0], [1e-160, -1.0, 3e-161], 360),
+    "1-m_exactly_0": (SEP_MOMENTS, [1.0, -0.3, -1.5], 30),
+}
+
+
+@pytest.mark.parametrize("name", list(DEEP_REGIMES))
+def test_accuracy_down_to_the_separatrix_over_a_thousand_periods(name):
+    """The issue's guarantee for 1 − m from 1e-40 down to 0: ω to 1e-12 relative, R to 1e-10 rad at any
+    time up to 1,000 rotation periods. With a push of 1e-150 the motion was taken as uniform rotation and
+    ω was reversed after ~1000 s (1 − m ≈ 2.7e-300; components below 1e-140 of the largest counted as 0)."""
+    moments, w0, dps = DEEP_REGIMES[name]
+    w0 = np.asarray(w0, float)
+    big_t = 1000 * _rotation_period(w0)
+    times = np.array([0.0, 1.3, -0.29 * big_t, 0.77 * big_t, -big_t, big_t])
+    ref_w, ref_r, _ = reference_motion(moments, w0, times, R_TILT, dps=dps)
+    fb = FreeBody(moments)
+    om, rr = fb.motion(w0, times, R_TILT)
+    assert np.max(np.linalg.norm(om - ref_w, axis=1) / np.linalg.norm(ref_w, axis=1)) < 1e-12
+    assert np.max(rotation_angle(rr, ref_r)) < 1e-10
+    # The one-time path of the trajectory (floats) is the same formula.
+    motion = fb.trajectory(w0, R_TILT)
+    for k, t in enumerate(times):
+        state = motion.at(float(t))
+        assert np.max(np.abs(state.omega - om[k])) <= 1e-15 * np.linalg.norm(w0)
+        assert rotation_angle(state.attitude, rr[k]) < 1e-14
+
+
+def test_a_push_of_1e_150_about_the_intermediate_axis_tumbles():
+    """The audit's repro: ω0 = (1e-150, 1, 0) on (2, 1.5, 1) is not uniform rotation: the push grows like
+    e^{σt}, σ = sqrt((I1 − I2)(I2 − I3)/(I1 I3)) = 0.354/s, and the body turns over after about
+    ln(1e150)/σ ≈ 980 s, then again every half period 2K/λ."""
+    fb = FreeBody([2.0, 1.5, 1.0])
+    w0 = [1e-150, 1.0, 0.0]
+    m, mc = fb.elliptic_parameter(w0)
+    assert mc == pytest.approx(8.0 / 3.0 * 1e-300, rel=1e-14)
+    half = 0.5 * fb.period(w0)
+    assert half == pytest.approx(2.0 * np.log(4.0 / np.sqrt(mc)) / np.sqrt(0.125), rel=1e-14)
+    om = fb.omega(w0, [0.0, 900.0, 1100.0, 1100.0 + half])
+    assert om[0, 1] == 1.0 and om[1, 1] > 0.999 and om[2, 1] < -0.999 and om[3, 1] > 0.999
+
+
 ALL = {
     **REGIMES,
     **CLOSE_REGIMES,
@@ -530,8 +583,9 @@ def test_moments_beyond_the_triangle_inequality_by_round_off_are_the_lamina(mome
 
 
 def test_extreme_magnitudes_scale_exactly():
-    """ω(t; c ω0) = c ω(c t; ω0): a power-of-two c is exact, so results agree bit for bit in scale;
-    components 1e-214 below the others count as uniform rotation (error ~1e-214)."""
+    """ω(t; c ω0) = c ω(c t; ω0): a power-of-two c is exact, so results agree bit for bit in scale; a
+    component 2e-214 of the others is a push off the intermediate axis that grows like e^{0.35 t} (after
+    9 s still below 1e-200)."""
     fb = FreeBody([2.0, 1.5, 1.2])
     w0 = np.array([1.0, 0.2, 0.3])
     t = np.linspace(-9, 9, 7)
