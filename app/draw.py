@@ -554,7 +554,9 @@ class Cone:
             cast_shadow=False,
             receive_shadow=False,
         )
-        # A child of the cone: it follows the cone's pose and scale, so a frame moves one node, not two.
+        # A child of the cone: it follows the cone's pose, so a frame moves one node, not two. Not its scale:
+        # viser's client scales a mesh's own geometry, not the group its children hang from (BasicMesh.tsx), so
+        # the rim is given the same scale (it was drawn as the unit circle, a metre from the axis).
         self.rim = server.scene.add_line_segments(
             name + "/rim",
             points=np.stack([vertices[1:], np.roll(vertices[1:], -1, axis=0)], axis=1).astype(np.float32),
@@ -591,6 +593,7 @@ class Cone:
         if resized:  # compared with what was last sent, so a slow drift is sent once it adds up
             self._scale = (r, r, h)
             self.handle.scale = self._scale
+            self.rim.scale = self._scale
         if moved:
             send_position(self.handle, apex)
 

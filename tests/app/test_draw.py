@@ -87,6 +87,15 @@ def test_cone_points_along_its_axis_with_its_half_angle(app):
     assert math.degrees(math.atan2(r, h)) == pytest.approx(25.0, abs=1e-9)
     assert math.hypot(r, h) == pytest.approx(2.0, rel=1e-12)
     np.testing.assert_allclose(cone.handle.position, [1.0, 2.0, 3.0])
+    # The rim is the rim of this cone: viser scales a mesh's geometry but not its children, so the rim
+    # carries the same scale (it was the unit circle, a metre from the axis, whatever the cone's size).
+    np.testing.assert_allclose(cone.rim.scale, cone.handle.scale)
+    rim = np.asarray(cone.rim.points, dtype=float)[:, 0] * np.asarray(cone.rim.scale)
+    np.testing.assert_allclose(np.hypot(rim[:, 0], rim[:, 1]), r, rtol=1e-6)
+    np.testing.assert_allclose(rim[:, 2], h, rtol=1e-6)
+    cone.set(axis, math.radians(10.0), 1.0)  # a new size: both follow
+    np.testing.assert_allclose(cone.rim.scale, cone.handle.scale)
+    assert cone.rim.scale[0] == pytest.approx(math.sin(math.radians(10.0)), rel=1e-6)
     cone.set(axis, 0.0, 2.0)  # degenerate: hidden
     assert not cone.handle.visible
     assert cone.rim.name.startswith(cone.handle.name + "/")  # a child: shown, hidden and moved with the cone
