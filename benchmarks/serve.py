@@ -163,6 +163,7 @@ def _clients(port: int, n: int, seconds: float, out: Any) -> None:
 
     counts: list[list[int]] = [[0, 0] for _ in range(n)]  # bytes, messages after the warm-up
     posed: list[Counter[str]] = [Counter() for _ in range(n)]  # node -> messages setting its pose
+    lost: list[str] = ["" for _ in range(n)]  # why a client stopped reading before the end ("": it did not)
     stop = threading.Event()
     measuring = threading.Event()
 
@@ -172,7 +173,8 @@ def _clients(port: int, n: int, seconds: float, out: Any) -> None:
                 message = ws.recv(timeout=0.1)
             except TimeoutError:
                 continue
-            except Exception:  # noqa: BLE001 - a closed connection is reported as no traffic
+            except Exception as exc:  # noqa: BLE001 - a closed connection: the row says so
+                lost[i] = f"{type(exc).__name__}: {exc}"
                 return
             if measuring.is_set():
                 counts[i][0] += len(message)
@@ -195,8 +197,8 @@ def _clients(port: int, n: int, seconds: float, out: Any) -> None:
             r.join(timeout=2.0)
     out.put(
         [
-            (b / elapsed, m / elapsed, {node: k / elapsed for node, k in p.items()})
-            for (b, m), p in zip(counts, posed, strict=True)
+            (b / elapsed, m / elapsed, {node: k / elapsed for node, k in p.items()}, why)
+            for (b, m), p, why in zip(counts, posed, lost, strict=True)
         ]
     )
 
@@ -230,9 +232,12 @@ def measure(case: Case, mode: str, n_clients: int, seconds: float, state: str | 
         if mode == "private":  # a session is built as its browser connects
             while len(app.sessions) < n_clients and time.monotonic() < deadline:
                 time.sleep(0.05)
+        connected = len(app.sessions) if mode == "private" else len(app.server.get_clients())
         if case.restart and mode != "private":
             app.restart()
         problems = _problems(case, app)
+        if connected < n_clients:
+            problems.append(f"only {connected} of {n_clients} clients connected within 60 s")
         body = _body_node(app)  # now: once the clients leave, a private server has no simulation to ask
         time.sleep(WARMUP)
         cpu0, t0 = time.process_time(), time.monotonic()
@@ -244,14 +249,19 @@ def measure(case: Case, mode: str, n_clients: int, seconds: float, state: str | 
         problems += _problems(case, app)
         per_client = out.get(timeout=60 + seconds)
         child.join(timeout=10)
-    frames = [nodes.get(body, 0.0) for _, _, nodes in per_client]
-    data = [b for b, _, _ in per_client]
+    frames = [nodes.get(body, 0.0) for _, _, nodes, _ in per_client]
+    data = [b for b, _, _, _ in per_client]
+    for why, count in Counter(why for _, _, _, why in per_client if why).items():
+        problems.append(f"{count} of {n_clients} clients lost their connection ({why})")
+    silent = sum(1 for b, _, _, why in per_client if b == 0.0 and not why)
+    if silent:
+        problems.append(f"{silent} of {n_clients} clients received nothing while measured")
     return {
         "bytes_median": statistics.median(data),
         "bytes_max": max(data),
         "frames_min": min(frames),
         "frames_median": statistics.median(frames),
-        "messages_median": statistics.median(m for _, m, _ in per_client),
+        "messages_median": statistics.median(m for _, m, _, _ in per_client),
         "cpu": cpu,
         "rss_mb": max(rss),
         "body": body,
