@@ -288,7 +288,12 @@ def targets(measured: list[tuple[str, str, int, dict[str, Any]]], cores: int | N
     """The issue's targets against the rows measured: one line each, with the worst row."""
     out = ["Targets (issue 10):", ""]
     # A case whose body never moves (the inertia explorer) sends only its 10 Hz readouts: no frames to count.
-    still = {case for case, mode, n, row in measured if (mode, n) == ("shared", 1) and row["frames_median"] < 1.0}
+    # (A row that received nothing at all is not that: it is listed among the problems below.)
+    still = {
+        case
+        for case, mode, n, row in measured
+        if (mode, n) == ("shared", 1) and row["frames_median"] < 1.0 and row["messages_median"] > 0.0
+    }
     one = [(case, row) for case, mode, n, row in measured if n == 1]
     if one:
         # "at 60 frames/s": a row that ran slower is scaled up to 60 frames/s (bytes per frame × 60).

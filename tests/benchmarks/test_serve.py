@@ -73,7 +73,7 @@ def _row(kb: float, frames_min: float, frames: float | None = None) -> dict:
         "bytes_max": kb * 1e3,
         "frames_min": frames_min,
         "frames_median": frames,
-        "messages_median": frames,
+        "messages_median": frames or 10.0,  # a still body: its 10 Hz readouts
     }
 
 
@@ -95,5 +95,7 @@ def test_targets_name_the_worst_row_against_each_limit():
     )
     assert "left out of the frame rates: inertia_explorer" in text
     assert "- friction_top private 30: the top landed" in text
+    silent = targets([("free_fall", "shared", 1, {**_row(0.0, 0.0), "messages_median": 0.0})])
+    assert not any("left out" in line for line in silent)  # nothing received is no still body
     slow = targets([("heavy_top", "shared", 1, _row(100.0, 40.0))])
     assert "150.0 kB/s at 60 frames/s — met" in slow[2]  # scaled from 40 to 60 frames/s: at the limit
