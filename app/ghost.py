@@ -9,7 +9,9 @@ keeps it.
 
 The ghost steps with exactly the chosen step ``h`` (never a fraction of it): it runs to the last multiple
 of ``h`` not after the clock and is compared with the exact solution at its own time (it may lag the clock
-by less than one step). A rewind, a reset or a jump of the clock restarts it from the exact state there.
+by less than one step). A rewind, a reset or a jump of the clock restarts it from the exact state there. A
+step the method refuses for the motion (classical RK4 with |ω| h past its stability limit) or a ghost that
+diverges stops the ghost with a notification saying why; the scene goes on.
 """
 
 from __future__ import annotations
@@ -146,6 +148,14 @@ class IntegratorGhost:
         self.clear()
         self.ctx.request_redraw()
 
+    def _stop(self, exc: ValueError) -> None:
+        """The method refused the step (or diverged): the ghost goes off, the scene goes on, and the
+        browsers are told why; the dropdown says "none" until someone chooses again."""
+        name = str(self.choice.value)
+        self.choice.value = "none"  # its callback hides the ghost and its plot
+        self._changed()  # also when the callback is not run (the same value set twice)
+        self.ctx.notify("Integrator ghost stopped", f"{name}, h = {float(self.step_slider.value):g} s: {exc}")
+
     def clear(self) -> None:
         """Start again from the exact state at the next frame (a reset, a new parameter; it is in the scene's
         ``traces``)."""
@@ -168,7 +178,11 @@ class IntegratorGhost:
         # Steps counted from the start, so the ghost's time t0 + k h carries no accumulated rounding.
         n = int(math.floor((t - self.t0) / h + 1e-9)) - self.steps
         if n > 0:
-            self.state = advance(self.method, self.state, h, n)
+            try:
+                self.state = advance(self.method, self.state, h, n)
+            except ValueError as exc:  # a step the method cannot take for this motion (RK4 past its limit)
+                self._stop(exc)
+                return
             self.steps += n
             self.t = self.t0 + self.steps * h
         R_ghost, L_ghost = self.state[:9].reshape(3, 3), self.state[9:]

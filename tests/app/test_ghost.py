@@ -204,3 +204,20 @@ def test_the_plotted_error_against_code_written_here():
     assert drift > 1e-9  # RK4 is not geometric: its energy drifts
     # The plotted drift (5.0e-7) to the round-off of the states it is computed from.
     assert abs(10.0 ** latest["E"] - drift) < 1e-14, (10.0 ** latest["E"], drift)
+
+
+def test_a_step_the_method_refuses_stops_the_ghost_not_the_scene():
+    with running_app("tennis_racket", start_loop=False) as app:
+        scene = open_scene(app, "tennis_racket")
+        assert scene.params.offer({"spin": float(scene.params.sliders["spin"].max)})
+        _choose(app, scene, RK4, step=0.2)  # |ω| h far past RK4's stability limit 2√2
+        frames = app.frames
+        _run(app, 30)
+        assert app.playing and app.frames == frames + 30  # the scene was not paused
+        assert not [m for m in app.messages if m[0] == "Paused"]
+        assert app.messages[-1][0] == "Integrator ghost stopped" and "stability limit" in app.messages[-1][1]
+        assert scene.ghost.choice.value == "none" and scene.ghost.method is None
+        assert not scene.ghost.body.handle.visible
+        _choose(app, scene, BEST, step=0.01)  # another choice runs again
+        _run(app, 30)
+        assert scene.ghost.method is not None and scene.ghost.steps > 0
