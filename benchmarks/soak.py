@@ -8,7 +8,8 @@ everyone has left: the server's resident memory (``/proc/self/statm``), the sess
 left, the :class:`app.server.Simulation` objects still alive after a full garbage collection (a session
 dropped but still referred to stays alive), and the size of viser's broadcast buffer. The results file
 (``benchmarks/results/soak.md``, or ``--out``) is rewritten after every sample, so a run cut short keeps
-what it measured. Bounded by ``--minutes``; traffic to 127.0.0.1 only.
+what it measured; private mode writes ``benchmarks/results/soak_private.md``. Bounded by ``--minutes``;
+traffic to 127.0.0.1 only.
 
 Run: python -m benchmarks.soak [--minutes 60] [--mode presenter|private] [--every 60] [--out PATH]
 """
@@ -27,6 +28,7 @@ from typing import Any
 from tests.harness import drain, raw_client, running_app, send_value, wait_for
 
 RESULTS = Path(__file__).resolve().parent / "results" / "soak.md"
+RESULTS_PRIVATE = RESULTS.with_name("soak_private.md")  # private mode's own file: both soaks stay in the repo
 SEED = 20261124
 
 
@@ -79,8 +81,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--minutes", type=float, default=60.0)
     parser.add_argument("--mode", choices=["presenter", "private"], default="presenter")
     parser.add_argument("--every", type=float, default=60.0, help="seconds between samples")
-    parser.add_argument("--out", type=Path, default=RESULTS)
+    parser.add_argument("--out", type=Path, default=None, help="default: results/soak.md, soak_private.md")
     args = parser.parse_args(argv)
+    if args.out is None:
+        args.out = RESULTS if args.mode == "presenter" else RESULTS_PRIVATE
     rng = random.Random(SEED)
     rows: list[str] = []
     joins = 0
