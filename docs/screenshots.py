@@ -49,18 +49,23 @@ def main(argv: list[str] | None = None) -> None:
             print(f"{name}: {path}", flush=True)
 
 
-# The README's pictures: (file, scene, preset or None, viewport, dark look, scroll the panel to its end).
+# The README's pictures: (file, scene, preset or None, viewport, dark look, the panel scrolled to the plot
+# whose title starts with this text, or None).
 README_SHOTS = [
-    ("heavy_top.png", "heavy_top", None, (1280, 800), False, False),
-    ("heavy_top_loops.png", "heavy_top", "loops (φ̇0 = −1 × steady)", (1280, 800), False, False),
-    ("heavy_top_potential.png", "heavy_top", None, (1280, 800), False, True),
-    ("heavy_top_dark.png", "heavy_top", "waves (φ̇0 = 2 × steady)", (1024, 768), True, False),
-    ("heavy_top_phone.png", "heavy_top", None, (390, 844), False, False),
-    ("wobble.png", "wobble", None, (1280, 800), False, False),
-    ("scene_explorer.png", "inertia_explorer", None, (1280, 800), False, False),
-    ("scene_pendulum.png", "pendulum", None, (1280, 800), False, False),
-    ("scene_racket_plot.png", "tennis_racket", None, (1280, 800), False, True),
+    ("heavy_top.png", "heavy_top", None, (1280, 800), False, None),
+    ("heavy_top_loops.png", "heavy_top", "loops (φ̇0 = −1 × steady)", (1280, 800), False, None),
+    ("heavy_top_potential.png", "heavy_top", None, (1280, 800), False, "Effective potential"),
+    ("heavy_top_dark.png", "heavy_top", "waves (φ̇0 = 2 × steady)", (1024, 768), True, None),
+    ("heavy_top_phone.png", "heavy_top", None, (390, 844), False, None),
+    ("wobble.png", "wobble", None, (1280, 800), False, None),
+    ("scene_explorer.png", "inertia_explorer", None, (1280, 800), False, None),
+    ("scene_pendulum.png", "pendulum", None, (1280, 800), False, None),
+    ("scene_racket_plot.png", "tennis_racket", None, (1280, 800), False, "ω in body axes"),
 ]
+
+_SCROLL_TO_PLOT = """(title) => { for (const el of document.querySelectorAll('.u-title')) {
+    if (el.textContent.startsWith(title)) { el.scrollIntoView({block: 'start'}); return true; } }
+  return false; }"""
 
 
 def readme(out: Path, seconds: float = 6.0) -> None:
@@ -73,11 +78,8 @@ def readme(out: Path, seconds: float = 6.0) -> None:
                     assert app.scene.presets.choose(preset), preset
             time.sleep(seconds)
             page.evaluate(_CLOSE_NOTIFICATIONS)
-            if scroll:
-                page.evaluate(
-                    "() => { const p = document.querySelector('.mantine-ScrollArea-viewport');"
-                    " if (p) p.scrollTop = 1e6; }"
-                )
+            if scroll is not None:
+                assert page.evaluate(_SCROLL_TO_PLOT, scroll), f"no plot titled {scroll!r}"
             time.sleep(0.5)
             page.screenshot(path=str(out / file))
             print(f"{file}: {out / file}", flush=True)
