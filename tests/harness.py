@@ -68,9 +68,11 @@ def running_app(
     pin: str | None = None,
     state: str | None = None,
     dark: bool = False,
+    share: bool = False,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
-    127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look); stopped on exit."""
+    127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``share``: viser's share
+    button shown); stopped on exit."""
     from app.server import App
 
     app = App(
@@ -83,6 +85,7 @@ def running_app(
         pin=pin,
         state=state,
         dark=dark,
+        share=share,
     )
     try:
         yield app
