@@ -4,7 +4,6 @@ switch (viser's uPlot test points give each chart's scales in the page)."""
 from __future__ import annotations
 
 import math
-import time
 
 import pytest
 
@@ -33,22 +32,46 @@ def _drawn(page, title: str) -> bool:
     )
 
 
+SERIES = """(title) => { const v = Object.values((window.__viserTestpoints || {}).uplots || {}).find(v =>
+    v.chart.root.querySelector('.u-title') && v.chart.root.querySelector('.u-title').textContent.startsWith(title));
+    return v ? JSON.stringify(v.chart.data.slice(1)) : null; }"""
+
+
+def _changed_and_still_drawn(page, title: str, change, updates: int = 3) -> None:
+    """Make a change, then wait until the page has taken ``updates`` new versions of the plot's data (its
+    "now" point moves with θ at every refresh, so each refresh differs); the chart must be drawn after them.
+    The refreshes come after the change on the one websocket, so whatever the change sent (new scales, new
+    data) has reached the page by then: a plot that went blank fails, with no fixed sleep."""
+    change()
+    seen = [page.evaluate(SERIES, title)]
+
+    def refreshed() -> bool:
+        now = page.evaluate(SERIES, title)
+        if now != seen[-1]:
+            seen.append(now)
+        return len(seen) > updates
+
+    wait_for(refreshed, 30, what=f"{updates} refreshes of {title!r}")
+    assert _drawn(page, title), _chart(page, title)
+
+
 def test_the_effective_potential_survives_reset_preset_and_sliders(chromium) -> None:
     with running_app("heavy_top") as app:
         page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
         title = "Effective potential"
         wait_for(lambda: _drawn(page, title), 30, what="the U(θ) plot")
-        click(page.get_by_role("button", name="Reset"))
-        time.sleep(1.5)
-        assert _drawn(page, title), _chart(page, title)
-        with app.lock:
-            assert app.scene.presets.choose("loops (φ̇0 = −1 × steady)")
-        time.sleep(1.5)
-        assert _drawn(page, title), _chart(page, title)
-        with app.lock:
-            assert app.scene.params.offer({"mgl": 2.0})
-        time.sleep(1.5)
-        assert _drawn(page, title), _chart(page, title)
+        _changed_and_still_drawn(page, title, lambda: click(page.get_by_role("button", name="Reset")))
+
+        def under_lock(change):
+            def run() -> None:
+                with app.lock:
+                    assert change()
+
+            return run
+
+        preset = "loops (φ̇0 = −1 × steady)"
+        _changed_and_still_drawn(page, title, under_lock(lambda: app.scene.presets.choose(preset)))
+        _changed_and_still_drawn(page, title, under_lock(lambda: app.scene.params.offer({"mgl": 2.0})))
         pick_scene(page, "Torque-free wobble")
         wait_for(lambda: getattr(app.scene, "name", None) == "wobble", 30, what="the wobble")
         wait_for(lambda: _drawn(page, "Invariants"), 30, what="the wobble's drift plot")
