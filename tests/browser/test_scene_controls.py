@@ -76,9 +76,6 @@ BAD = [
     ("empty.stl", b"", "is empty"),
     ("garbage.stl", b"this is not an STL file, only words\n" * 20, "contains no triangles"),
     ("open.stl", open_stl(), "is not watertight"),
-    # The limit is lowered to 2 MB for this test (the server runs in this process), so the browser sends
-    # 2 MB rather than 20 MB through the websocket; the same check refuses it.
-    ("huge.stl", b"\0" * (2 * 1024 * 1024 + 1024), "the limit is 2.0 MB"),
 ]
 
 
@@ -96,6 +93,27 @@ def test_bad_upload_through_the_page_is_refused_and_the_body_stays(
     assert reason in scene.last_upload_message
     page.get_by_text(reason).first.wait_for(timeout=30_000)  # the user sees why
     assert scene.label == "brick.stl" and explorer_app.scene is scene
+
+
+def test_an_upload_over_the_limit_is_refused_when_it_starts_and_the_button_works_again(
+    explorer_app, page_and_client, monkeypatch
+):
+    # The limit is lowered to 2 MB for this test (the server runs in this process): the page announces a
+    # file of 2 MB and 1 kB, and the server refuses it before it keeps any part (app.upload_guard).
+    monkeypatch.setattr(app_upload, "MAX_BYTES", 2 * 1024 * 1024)
+    page, _ = page_and_client
+    scene = explorer_app.scene
+    refusals = scene.upload_refusals
+    upload(page, "huge.stl", b"\0" * (2 * 1024 * 1024 + 1024))
+    page.get_by_text("huge.stl is 2.0 MB; the limit is 2.0 MB").first.wait_for(timeout=30_000)  # the user sees why
+    assert scene.upload_refusals == refusals and scene.label == "brick.stl"  # the scene never received it
+    assert not explorer_app.server.gui._current_file_upload_states  # nothing of it is kept
+    # The page's button is released: viser's "Uploading" notification goes, and the next file is taken.
+    wait_for(lambda: page.get_by_text("Uploading huge.stl").count() == 0, 30, what="the upload notification to go")
+    button = page.get_by_role("button", name="Upload a mesh (STL, OBJ, PLY, GLB)").first
+    wait_for(button.is_enabled, 30, what="the upload button to be enabled again")
+    upload(page, "garbage.stl", b"this is not an STL file, only words\n" * 20)
+    wait_for(lambda: scene.upload_refusals == refusals + 1, timeout=60, what="the next upload to be read")
 
 
 def test_convex_hull_offer_and_spin_it_from_the_page(explorer_app, page_and_client):
