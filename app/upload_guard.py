@@ -62,19 +62,9 @@ _started: dict[str, float] = {}  # transfer uuid -> when it was accepted (time.m
 def guard_uploads(
     gui: viser.GuiApi, refuse: Callable[[Any, str], None], permit: Callable[[Any], str | None] | None = None
 ) -> None:
-    """Check every upload that reaches ``gui`` when it starts, and every part it sends.
-
-    Parameters
-    ----------
-    gui : viser.GuiApi
-        The server's GUI (``server.gui``) or one client's (``client.gui``).
-    refuse : callable(client_id, message)
-        Tells the browser that sent a refused upload why (a notification); called on viser's event loop.
-    permit : callable(client_id) -> str or None, optional
-        Whether this browser may drive these controls at all: None if it may, otherwise why not.
-
-    A GUI is guarded once: later calls for the same ``gui`` do nothing.
-    """
+    """Check every upload that reaches ``gui`` (a server's or a client's GUI) when it starts, and every
+    part it sends; ``refuse`` and ``permit`` are those of :func:`app.inputs.guard_inputs`, which calls this
+    (``refuse`` runs on viser's event loop). A GUI is guarded once: later calls do nothing."""
     if getattr(gui, "_rbl_uploads_guarded", False):
         return
     gui._rbl_uploads_guarded = True  # type: ignore[attr-defined]
