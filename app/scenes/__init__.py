@@ -120,6 +120,14 @@ class SceneContext(Protocol):
 
     def switch_to(self, name: str, payload: Any = None) -> None: ...
 
+    def refusal(self, client_id: Any) -> str | None:
+        """Why this browser may not drive the simulation (presenter mode's followers), or None."""
+        ...
+
+    def set_time(self, t: float) -> None: ...
+
+    def set_playing(self, playing: bool) -> None: ...
+
 
 class Scene:
     """Base class of a scene: one section of the lecture, one physics model, shared drawing pieces.

@@ -230,8 +230,7 @@ class InertiaExplorer(Scene):
     def _on_upload(self, event: Any) -> None:
         client = getattr(event, "client", None)
         # Who may drive is asked first: a follower's file is refused before anything reads it.
-        refusal = getattr(self.ctx, "refusal", None)
-        reason = refusal(client.client_id) if refusal is not None and client is not None else None
+        reason = self.ctx.refusal(client.client_id) if client is not None else None
         if reason is not None:
             with self.ctx.lock:
                 self._refuse(reason, client)
