@@ -507,7 +507,7 @@ class FreeBody:
             return p
         # Work with ω scaled by a power of two (exact) to a largest component of order 1. Only ω exactly
         # along one principal axis is uniform rotation: however small the other components, the motion
-        # leaves it (about the intermediate axis, after ln(1/push)/rate seconds), see _deep.
+        # leaves it (about the intermediate axis, after ln(1/push)/rate seconds), see _LOG_KP_DEEP.
         biggest = np.max(np.abs(w), axis=1)
         scale = np.where(biggest > 0.0, np.exp2(np.floor(np.log2(np.where(biggest > 0.0, biggest, 1.0)))), 1.0)
         ws = (w @ self._q_sort.T) / scale[:, None]
@@ -963,7 +963,7 @@ def _third_kind_excess(
         out = (2.0 * j * jc + s**3 * _elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
     sep = ~np.isfinite(kk)
     if np.any(sep | deep):
-        # The separatrix, and within 1 − m < 1e-40 of it (see _deep): pulses of the separatrix's Q.
+        # The separatrix, and within 1 − m < 1e-40 of it (see _LOG_KP_DEEP): pulses of the separatrix's Q.
         a = np.abs(np.where(sep, u, v))
         pulse = _sep_excess(a, n)
         kfin = np.where(sep, 0.0, kk)
