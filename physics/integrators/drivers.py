@@ -123,22 +123,39 @@ def _diverged(method: _Method, dt: float, done: int, chunk: int) -> ValueError:
     )
 
 
+CHECK_EVERY = 1000
+"""Steps between two checks that the saved states are finite (at least; and at the end): often enough to
+stop a diverged run early, rarely enough that the check costs nothing per step, even saving every step."""
+
+
 def _check_finite(rows: NDArray[np.float64], method: _Method, dt: float, done: int, chunk: int) -> None:
-    """After each chunk (not each step: the compiled loop stays as fast): no NaN or inf in the state."""
+    """After a chunk (not each step: the compiled loop stays as fast): no NaN or inf in the state."""
     if not np.all(np.isfinite(rows)):
         raise _diverged(method, dt, done, chunk)
 
 
-def _interpreted(step: Any, s: Any, dt: float, xp: Any, chunk: int, method: _Method, done: int) -> Any:
+def _check_saved(saved: list[Any], steps: list[int], first: int, method: _Method, dt: float, offset: int = 0) -> None:
+    """The saved states from ``saved[first]`` on (``steps[offset + k]`` for ``saved[k]``) are finite; else
+    name the chunk where the first one that is not was reached."""
+    finite = np.isfinite(np.stack(saved[first:])).reshape(len(saved) - first, -1).all(axis=1)
+    if not np.all(finite):
+        k = first + offset + int(np.argmin(finite))
+        raise _diverged(method, dt, steps[k - 1], steps[k] - steps[k - 1])
+
+
+def _interpreted(
+    step: Any, s: Any, dt: float, xp: Any, chunk: int, method: _Method, done: int, check: bool = True
+) -> Any:
     """``chunk`` interpreted steps; an overflow on the way (math's domain errors, numpy's warnings) is the
-    divergence the check after the chunk reports."""
+    divergence the check after the chunk (``check``, or the caller's) reports."""
     try:
         with np.errstate(all="ignore"):
             for _ in range(chunk):
                 s = step(s, dt, xp)
     except (ValueError, OverflowError, ZeroDivisionError):
         raise _diverged(method, dt, done, chunk) from None
-    _check_finite(np.asarray(s, dtype=float), method, dt, done, chunk)
+    if check:
+        _check_finite(np.asarray(s, dtype=float), method, dt, done, chunk)
     return s
 
 
@@ -208,11 +225,14 @@ def integrate(
         s0 = method._project(_to_state(R, L))
         rows = np.array(s0, dtype=float).T.reshape(-1, 12) if batched else np.array([s0], dtype=float)
         saved, steps = [rows.copy()], [0]
+        checked = 1
         for done, chunk in _chunks(n_steps, save_every):
             kernel.run(rows, dt, chunk)
-            _check_finite(rows, method, dt, done, chunk)
             saved.append(rows.copy())
             steps.append(done + chunk)
+            if steps[-1] - steps[checked - 1] >= CHECK_EVERY or steps[-1] == n_steps:
+                _check_saved(saved, steps, checked, method, dt)
+                checked = len(saved)
         t = np.asarray(steps, dtype=float) * dt
         arr = np.stack(saved)  # (k, n, 12)
         if not batched:
@@ -223,10 +243,14 @@ def integrate(
     states = [s]
     steps = [0]
     step = method._step
+    checked = 1
     for done, chunk in _chunks(n_steps, save_every):
-        s = _interpreted(step, s, dt, xp, chunk, method, done)
+        s = _interpreted(step, s, dt, xp, chunk, method, done, check=False)
         states.append(s)
         steps.append(done + chunk)
+        if steps[-1] - steps[checked - 1] >= CHECK_EVERY or steps[-1] == n_steps:
+            _check_saved([np.asarray(x, dtype=float) for x in states[checked:]], steps, 0, method, dt, checked)
+            checked = len(states)
     t = np.asarray(steps, dtype=float) * dt
     if batched:
         Rs, Ls = zip(*(_from_state(x, True) for x in states))
