@@ -51,8 +51,9 @@ splitting is a *program* of sub-flows that one loop runs over a batch of bodies,
 (``python -m benchmarks.compile_time``, benchmarks/results/compile_time.md): 0.34 µs of CPU per Yoshida 4
 step of the friction top; the first call in a fresh environment compiles every kernel in about 6 s, a later
 process loads them from numba's cache in about 0.5 s (:func:`physics.integrators.warm.warm`, which the app
-runs in the background at start). A torque the kernels do not know (any other callable), a triaxial exact
-free flow and :class:`ClassicalRK4` run interpreted on the same component state (Python floats with
+runs in the background at start); :class:`ClassicalRK4` has its own kernel (the app's ghost at its finest
+step). A torque the kernels do not know (any other callable) and a triaxial exact
+free flow run interpreted on the same component state (Python floats with
 :mod:`math`, or numpy arrays of shape ``(n,)`` for a batch): 221 µs per step with the friction top's torques
 as Python callables, about 650 times slower.
 """

@@ -52,6 +52,9 @@ class CompiledStep:
         self.inv = np.asarray(method._inv, dtype=float)
         self.zero = np.asarray(method.moments == 0.0, dtype=np.bool_)
         self.splitting = isinstance(method, _Splitting)
+        from physics.integrators.classical_rk4 import ClassicalRK4
+
+        self.classical = isinstance(method, ClassicalRK4)
         if self.splitting:
             program: list[Any] = method._program  # type: ignore[attr-defined]
             self.ops = np.array([_OPS.get(kind, kernels.OP_E) for kind, _ in program], dtype=np.int64)
@@ -74,7 +77,8 @@ class CompiledStep:
                 self.drag,
                 self.sym,
             )
-        return kernels.run_lie_rk4(states, dt, n, self.inv, self.zero, self.gravity, self.friction, self.drag)
+        run = kernels.run_classical_rk4 if self.classical else kernels.run_lie_rk4
+        return run(states, dt, n, self.inv, self.zero, self.gravity, self.friction, self.drag)
 
 
 def compile_method(method: _Method) -> CompiledStep | None:
@@ -83,7 +87,7 @@ def compile_method(method: _Method) -> CompiledStep | None:
     from physics.integrators.exact_free import ExactFreeSplitting
     from physics.integrators.lie_rk4 import LieRK4
 
-    if isinstance(method, ClassicalRK4) or not isinstance(method, (_Splitting, LieRK4)):
+    if not isinstance(method, (_Splitting, LieRK4, ClassicalRK4)):
         return None
     if isinstance(method, ExactFreeSplitting) and method._sym is None:
         return None

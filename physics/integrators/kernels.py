@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["OP_X", "OP_Y", "OP_Z", "OP_T0", "OP_T1", "OP_E", "run_splitting", "run_lie_rk4"]
+__all__ = ["OP_X", "OP_Y", "OP_Z", "OP_T0", "OP_T1", "OP_E", "run_splitting", "run_lie_rk4", "run_classical_rk4"]
 
 OP_X, OP_Y, OP_Z, OP_T0, OP_T1, OP_E = 0, 1, 2, 3, 4, 5
 
@@ -217,6 +217,47 @@ def run_lie_rk4(states, dt, n, inv, zero, gravity, friction, drag):
             for i in range(3):
                 s[9 + i] += h6 * (m1[i] + 2.0 * m2[i] + 2.0 * m3[i] + m4[i])
             _right_exp(s, u0, u1, u2)
+            if has_zero:
+                _hold_zero_axes(s, zero)
+    return states
+
+
+@njit(cache=True)
+def _component_rates(s, inv, gravity, friction, drag, r, out):
+    """The twelve components' rates: Ṙ = R hat(ω) (row i: r_i × ω), then dL/dt."""
+    _rates(s, inv, gravity, friction, drag, r)
+    w0, w1, w2 = r[0], r[1], r[2]
+    for i in range(0, 9, 3):
+        a, b, c = s[i], s[i + 1], s[i + 2]
+        out[i], out[i + 1], out[i + 2] = b * w2 - c * w1, c * w0 - a * w2, a * w1 - b * w0
+    out[9], out[10], out[11] = r[3], r[4], r[5]
+
+
+@njit(cache=True)
+def run_classical_rk4(states, dt, n, inv, zero, gravity, friction, drag):
+    """``n`` classical RK4 steps of ``dt`` on the twelve components of every body, in place (not geometric:
+    ``R`` is integrated as any linear ODE and leaves the rotations, as :class:`ClassicalRK4` says)."""
+    has_zero = zero[0] or zero[1] or zero[2]
+    r = np.empty(6)
+    k1, k2, k3, k4 = np.empty(12), np.empty(12), np.empty(12), np.empty(12)
+    st = np.empty(12)
+    for b in range(states.shape[0]):
+        s = states[b]
+        for _ in range(n):
+            h = dt
+            _component_rates(s, inv, gravity, friction, drag, r, k1)
+            for i in range(12):
+                st[i] = s[i] + 0.5 * h * k1[i]
+            _component_rates(st, inv, gravity, friction, drag, r, k2)
+            for i in range(12):
+                st[i] = s[i] + 0.5 * h * k2[i]
+            _component_rates(st, inv, gravity, friction, drag, r, k3)
+            for i in range(12):
+                st[i] = s[i] + h * k3[i]
+            _component_rates(st, inv, gravity, friction, drag, r, k4)
+            h6 = h / 6.0
+            for i in range(12):
+                s[i] = s[i] + h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
             if has_zero:
                 _hold_zero_axes(s, zero)
     return states

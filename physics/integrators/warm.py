@@ -17,11 +17,11 @@ __all__ = ["warm"]
 
 def warm() -> float:
     """Compile or load every kernel of :mod:`physics.integrators.kernels`; returns the seconds it took."""
-    from physics.integrators import GravityTorque, LiePoissonStrang, LieRK4, SpinFriction, integrate
+    from physics.integrators import ClassicalRK4, GravityTorque, LiePoissonStrang, LieRK4, SpinFriction, integrate
 
     start = time.perf_counter()
     moments = np.array([1.0, 1.0, 0.5])
     torques = [GravityTorque(1.0, [0.0, 0.0, 0.5]), SpinFriction(0.01, moments)]
-    for method in (LiePoissonStrang(moments, torques), LieRK4(moments, torques)):
+    for method in (LiePoissonStrang(moments, torques), LieRK4(moments, torques), ClassicalRK4(moments, torques)):
         integrate(method, np.eye(3), [0.1, 0.0, 5.0], 0.01, 2)
     return time.perf_counter() - start
