@@ -19,28 +19,45 @@ By partial fractions ``φ̇ = (α−β)/(2(1−u)) + (α+β)/(2(1+u))`` and
 ``ψ̇ = L3/I3 − β − (α−β)/(2(1−u)) + (α+β)/(2(1+u))``; each ``∫ dt/(1 ∓ u)`` is an incomplete elliptic
 integral of the third kind, evaluated through Carlson's ``R_J`` (scipy.special.elliprj).
 
-Digits. The roots are found from Taylor expansions of f about three points where f is known exactly
-from the initial data (u0: ``f = sin²θ0 θ̇0²``; ±1: ``f = −(α ∓ β)²``, with ``α ∓ β`` formed without
-cancellation), then polished by Newton in the nearest expansion. A root known exactly (a start at a
-turning point, or the axis passing through a pole) is deflated, so no digits are lost.
+Digits. The roots are found in Taylor expansions of f about three points where f is known exactly from
+the initial data (u0: ``f = sin²θ0 θ̇0²``; ±1: ``f = −(α ∓ β)²``, with ``α ∓ β`` formed without
+cancellation), each group of roots at its own scale (the Newton polygon of the coefficients, so a root
+1e-200 from a pole keeps its digits and nothing underflows), and each root is taken from the expansion in
+which it is smallest. A root known exactly (a start at a turning point, or the axis passing through a pole)
+is exact.
 
 Poles. When the axis passes exactly through θ = 0 (``Lz = L3``) φ jumps by +π and ψ by −π (φ + ψ and
 the attitude are continuous); through θ = π (``Lz = −L3``) both jump by +π. Near (not through) a pole
-the same turn happens smoothly and fast; the closed form handles it without a special case.
+the same turn happens smoothly and fast; the closed form handles it without a special case, down to a
+closest approach of 1e-150 rad, below which the turn is taken as the jump (within 1e-150 rad of it).
 
 Fast tops and the threshold. For a fast top φ̇'s two pole terms are each ~L3/I1 and cancel down to the
 slow precession: they are summed before integrating (``top_motion._SmoothPhi``), so a top released at
 rest keeps θ, φ, ψ at the roundoff floor up to 1e9 rad/s. At the sleeping threshold the cubic's
-coefficient 4a − β² = (4 M g ℓ I1 − L3²)/I1² is formed in double-double from the data, so starts within
-1e-6 rad of the vertical around the threshold keep θ within 5e-15 rad (tests/physics/test_heavy_top_fast.py,
-test_heavy_top_separatrix.py, against 60-digit mpmath). ``mgl = 0`` is the symmetric free body about the
-tip, in elementary form. The moments enter scaled by a power of two: 1e-300 or 1e300 kg m² work alike.
+coefficient 4a − β² = (4 M g ℓ I1 − L3²)/I1² is formed in double-double from the data. A start near the
+vertical below the threshold is near the separatrix (m = 1 − O(θ0²)): the phase takes ``1 − m`` from the
+roots and the Jacobi functions take m and 1 − m both (scipy's ``ellipj`` sees only m); Carlson's R_J takes
+arguments down to the smallest normal floats. Starts from 1e-100 to 1e-6 rad off the vertical, at rest or
+moving, from 0.8 to 1.2 of the threshold, keep θ within 1e-12 rad (measured 1e-14) and φ, ψ within 1e-12
+of their size (tests/physics/test_heavy_top_separatrix.py, against mpmath at 60 to 460 digits and the
+motion linearised about the vertical). ``mgl = 0`` is the symmetric free body about the tip, in
+elementary form. The moments enter scaled by a power of two: 1e-300 or 1e300 kg m² work alike; rates up
+to 1e100 rad/s (``MAX_RATE``) are solved (at θ̇0 = 1e100 the motion is the free top's to 1e-14).
 
-Limits. Right at a pole φ̇ and ψ̇ are each huge and only their combination is well conditioned; the
-attitude, the axis and ``omega_body`` are returned accurately there. A fast top started with φ̇0 ≠ 0
-nutates with φ̇ oscillating at ~φ̇0 around a mean ~M g ℓ/L3: φ is then the difference of the two and
-keeps eps φ̇0/⟨φ̇⟩ of relative accuracy (1.7e-11 at 1e6 rad/s). The phase error of φ, ψ is about
-eps × (nutation period) × |φ̇|, which only matters when the period itself is astronomically long.
+Limits. A start closer to the vertical than 1e-100 rad without being on it, or leaving the exact vertical
+with |θ̇0| below 1e-100 of the top's own rate ``sqrt(M g ℓ/I1 + (L3/2I1)²)``, is refused with a ValueError
+(``top_motion.MIN_THETA0``): the closed form there needs powers of θ0 below the float range, and rounding
+it to the vertical would make a top below the threshold sleep for ever instead of falling. Right at a pole
+φ̇ and ψ̇ are each huge and only their combination is well conditioned; the attitude, the axis and
+``omega_body`` are returned accurately there. A time t is itself known only to an ulp, so the angles are
+known to ``|rate| × ulp(t)``: φ of a fast top started with φ̇0 ≠ 0 (φ̇ oscillating at ~φ̇0 around a mean
+~M g ℓ/L3) sampled at whole nutation periods is only the mean drift, 8e-16 rad after five periods at 1e9
+rad/s, and one ulp of t (6.6e-24 s) or of ψ̇0 moves the exact φ by 1e-23 rad, 1.2e-8 of itself; the closed
+form is within 1.7e-23 rad, 1.4 times that (tests/physics/test_heavy_top_fast.py measures the
+sensitivity on the 60-digit reference). Likewise, near a turning point close to the vertical, θ is
+relative-accurate only to the phase's rounding relative to the distance in phase from that turning point
+(absolute errors stay below 1e-12 rad). The phase error of φ, ψ is about eps × (nutation period) × |φ̇|,
+which only matters when the period itself is astronomically long.
 
 Step by step. :meth:`HeavyTop.simulate` (spin friction, air drag) and :func:`simulate_heavy_body` (any
 body, e.g. an asymmetric top) integrate (R, L_body) with :mod:`physics.integrators`: no Euler angles, so
@@ -349,15 +366,22 @@ class HeavyTop:
         Parameters
         ----------
         theta0 : float
-            Initial angle of the axis from +z, rad, in [0, π].
+            Initial angle of the axis from +z, rad: 0, or in [1e-100, π] (see the module's Limits).
         thetadot0, phidot0, psidot0 : float
-            Initial θ̇, φ̇, ψ̇, rad/s. At θ0 = 0 only ``phidot0 + psidot0`` matters (the spin ω3).
+            Initial θ̇, φ̇, ψ̇, rad/s, each at most 1e100 in magnitude. At θ0 = 0 only ``phidot0 + psidot0``
+            matters (the spin ω3), and ``thetadot0`` must be 0 or at least 1e-100 of the top's own rate.
         phi0, psi0 : float, keyword-only
             Initial precession and spin angles, rad.
 
         Returns
         -------
         HeavyTopTrajectory
+
+        Raises
+        ------
+        ValueError
+            Naming the argument: not finite, θ0 outside [0, π] or within 1e-100 rad of the vertical without
+            being on it, a rate beyond 1e100 rad/s, or from θ0 = 0 a θ̇0 below 1e-100 of the top's own rate.
 
         Examples
         --------
@@ -423,9 +447,10 @@ class HeavyTop:
         Parameters
         ----------
         theta0 : float
-            Initial angle of the axis from +z, rad, in [0, π].
+            Initial angle of the axis from +z, rad: 0, or in [1e-100, π] (see the module's Limits).
         thetadot0, phidot0, psidot0 : float
-            Initial θ̇, φ̇, ψ̇, rad/s. At θ0 = 0 only ``phidot0 + psidot0`` matters (the spin ω3).
+            Initial θ̇, φ̇, ψ̇, rad/s, each at most 1e100 in magnitude. At θ0 = 0 only ``phidot0 + psidot0``
+            matters (the spin ω3), and ``thetadot0`` must be 0 or at least 1e-100 of the top's own rate.
         t : array_like (n,)
             Times, s.
         phi0, psi0 : float, keyword-only

@@ -13,11 +13,10 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-import numpy as np
 from scipy.special import ellipkm1
 
 from physics.double_double import _dd_add, _dd_mul, _two_prod, _two_sum
-from physics.nutation_cubic import NutationCubic, _diff, _polish, _quadratic_roots, _Root
+from physics.nutation_cubic import NutationCubic, _diff, _local_roots, _Root
 from physics.top_elliptic import _complete_q, _complete_third_kind, _incomplete_first_kind, _PoleTerm
 from physics.validation import MAX_RATE, finite_scalar
 
@@ -52,6 +51,17 @@ class _Motion:
     smooth: _SmoothPhi | None = None  # the pole terms summed without cancellation (see _SmoothPhi)
 
 
+_THROUGH_POLE = 1e-300
+"""A pole term whose 1 − n is below this is taken as passing through the pole (see motion_constants)."""
+
+MIN_THETA0 = 1e-100
+"""Smallest distance from the vertical (rad) a start may have without being on it. The motion near the
+vertical depends on θ0² (from θ0 = 0, on (θ̇0/ν)², ν the top's own rate), and the closed form multiplies
+it by other small quantities (the distance of the opposite pole); above 1e-100 every such product is a
+normal float. Closer starts are refused with a ValueError rather than rounded to the vertical: below the
+sleeping threshold the top leaves any start off the vertical, however close, and falls."""
+
+
 class ScaledTop(NamedTuple):
     """The moments a motion is computed with (kg m², J): a :class:`physics.heavy_top.HeavyTop`'s, scaled."""
 
@@ -84,9 +94,17 @@ def motion_constants(
             f"angular rates must be at most {MAX_RATE:g} rad/s (their squares would overflow); got "
             f"thetadot0 = {thd0:g}, phidot0 = {phd0:g}, psidot0 = {psd0:g}"
         )
-    # Squares of these would underflow: to every digit the cubic can see they are 0 (a pole, no rate).
-    th0 = 0.0 if th0 < 1e-150 else th0
-    thd0, phd0, psd0 = (0.0 if abs(x) < 1e-150 else x for x in (thd0, phd0, psd0))
+    if 0.0 < th0 < MIN_THETA0:
+        raise ValueError(
+            f"theta0 = {th0:g} rad is closer to the vertical than {MIN_THETA0:g} rad without being on it: the "
+            "closed form there needs powers of theta0 below the float range; theta0 must be 0 or lie in "
+            f"[{MIN_THETA0:g}, pi]"
+        )
+    # Squares of these would underflow: to every digit the cubic can see they are 0 (no rate). Not θ̇0: near
+    # the vertical its square competes with θ0² (≥ 1e-200), and the roots are found without forming it.
+    phd0, psd0 = (0.0 if abs(x) < 1e-150 else x for x in (phd0, psd0))
+    if th0 == math.pi and abs(thd0) < 1e-150:
+        thd0 = 0.0  # hanging straight down (stable): a swing below 1e-150 rad is no swing
     # At a pole θ̇ < 0 means leaving towards the opposite azimuth: same state, θ̇ > 0.
     if th0 == 0.0 and thd0 < 0.0:
         thd0, phi0, psi0 = -thd0, phi0 + math.pi, psi0 - math.pi
@@ -114,6 +132,16 @@ def motion_constants(
 
     a = top.mgl / I1
     beta = L3 / I1
+    if th0 == 0.0:
+        # Leaving the exact vertical with θ̇0: the motion depends on (θ̇0/ν)², ν the top's own rate.
+        nu = math.sqrt(a + 0.25 * beta * beta)
+        if abs(thd0) < MIN_THETA0 * nu:
+            raise ValueError(
+                f"thetadot0 = {thd0:g} rad/s from the exact vertical (theta0 = 0) is below {MIN_THETA0:g} times "
+                f"the top's own rate sqrt(M g l/I1 + (L3/2I1)²) = {nu:g} rad/s: the closed form there needs powers of "
+                f"it below the float range; from theta0 = 0, |thetadot0| must be 0 or at least "
+                f"{MIN_THETA0 * nu:g} rad/s"
+            )
     dm = (I1 * s0 * s0 * phd0 - L3 * w0) / I1  # α − β = (Lz − L3)/I1 without cancellation
     dp = (I1 * s0 * s0 * phd0 + L3 * z0) / I1  # α + β
     if a == 0.0:
@@ -122,58 +150,37 @@ def motion_constants(
     # 4a − β² = (4 M g ℓ I1 − L3²)/I1² vanishes at the sleeping threshold: formed in double-double from
     # the inputs, so that the roots near u = 1 are those of the data given, however close to it.
     gap = _threshold_gap(top, phd0, psd0, u0)
+    # f expanded about three points where it is known exactly from the data: u0 (v = u − u0), the top pole
+    # (x = u − 1) and the bottom pole (y = u + 1). Each constant term is a signed square d², passed as d:
+    # near the vertical d is ~θ0² and its square would underflow.
     loc0 = [
-        s0 * s0 * thd0 * thd0,
+        s0 * thd0,
         -4.0 * u0 * K0 - 2.0 * a * s0 * s0 + 2.0 * beta * s0 * s0 * phd0,
         -2.0 * K0 + (gap - 4.0 * a * w0),  # −2K0 + 4a u0 − β²
         c3,
     ]
     k1 = K0 - a * w0  # ℰ − a
-    loc_p = [-dm * dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + gap, c3]
+    loc_p = [dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + gap, c3]
     k2 = K0 + a * z0  # ℰ + a
-    loc_m = [-dp * dp, 4.0 * k2 + 2.0 * beta * dp, -2.0 * k2 - 4.0 * a - beta * beta, c3]
-
-    if loc0[0] == 0.0:  # start at a turning point: v = 0 is an exact root, deflate it
-        vs = [0.0] + _quadratic_roots(c3, loc0[2], loc0[1])
-    else:
-        r = np.roots([loc0[3], loc0[2], loc0[1], loc0[0]])
-        vs = sorted(float(x.real) for x in r)
-    vs = sorted(vs)
-    # Snap exactly known roots, polish the others in the expansion about the nearest anchor.
+    loc_m = [dp, 4.0 * k2 + 2.0 * beta * dp, -2.0 * k2 - 4.0 * a - beta * beta, c3]
+    # The roots in each expansion, each group at its own scale (nutation_cubic._local_roots), ascending in
+    # u in all three. Each root is then taken from the expansion in which it is smallest: there it has its
+    # full relative precision, and so have its distances to u0 and to the poles. (Two roots that nearly
+    # coincide always have an anchor between them, u0 or a pole, which tells them apart.)
+    found = (
+        _local_roots(1.0, *loc0),
+        _local_roots(-1.0, *loc_p),
+        _local_roots(-1.0, *loc_m),
+    )
     roots = []
-    near = {
-        "1": int(np.argmin([abs(v - w0) for v in vs])),
-        "-1": int(np.argmin([abs(v + z0) for v in vs])),
-        "0": int(np.argmin([abs(v) for v in vs])),
-    }
-    for i, v in enumerate(vs):
-        if loc0[0] == 0.0 and i == near["0"]:
-            roots.append(_Root(0.0, w0, z0))
-        elif dm == 0.0 and i == near["1"]:
-            roots.append(_Root(w0, 0.0, 2.0))
-        elif dp == 0.0 and i == near["-1"]:
-            roots.append(_Root(-z0, 2.0, 0.0))
+    for v, x, y in zip(*found):
+        best = min((abs(v), 0), (abs(x), 1), (abs(y), 2))[1]
+        if best == 0:
+            roots.append(_Root(v, w0 - v, z0 + v))
+        elif best == 1:
+            roots.append(_Root(w0 + x, -x, 2.0 + x))
         else:
-            # Polish in the expansion about the nearest anchor; a root that lands closer to another
-            # anchor (e.g. 1e-64 from a pole, 1e-31 from u0) is polished again there.
-            anchor = ""
-            for _ in range(3):
-                offs = {"0": abs(v), "1": abs(v - w0), "-1": abs(v + z0)}
-                best = min(offs, key=lambda name: offs[name])
-                if best == anchor:
-                    break
-                anchor = best
-                if best == "0":
-                    v = _polish(loc0, v)
-                    root = _Root(v, w0 - v, z0 + v)
-                elif best == "1":
-                    x = _polish(loc_p, v - w0)
-                    root = _Root(w0 + x, -x, 2.0 + x)
-                else:
-                    y = _polish(loc_m, v + z0)
-                    root = _Root(y - z0, 2.0 - y, y)
-                v = root.v
-            roots.append(root)
+            roots.append(_Root(y - z0, 2.0 - y, y))
     roots.sort(key=lambda r_: r_.u)
     r1, r2, r3 = roots
     # Rounding may push a root across u0 or a pole by an ulp; the motion lies in [u1, u2] ∋ u0.
@@ -226,7 +233,7 @@ def motion_constants(
     elif sn2 <= 0.0:
         c = 0.0
     else:
-        c = _incomplete_first_kind(sn2, cn2, m)
+        c = _incomplete_first_kind(sn2, cn2, m, one_m)
     udot0 = -s0 * thd0
     mo.c = -c if udot0 < 0.0 else c
     mo.spin_rate = L3 / I3 - beta
@@ -256,7 +263,10 @@ def motion_constants(
             shift = K
             scale = half_d / (lam * r2.q)
             a0, a1 = scale * m / n, scale * npr * one_m / n
-        through = one_n == 0.0  # the axis passes exactly through this pole
+        # The axis passes through this pole, or so close that its closest approach, ~(1 − n)^½ rad, is below
+        # 1e-150: then the term is its limit, a turn of ±π at each passage (within 1e-150 rad of the exact
+        # one; 1 − n itself, below the normal floats, would have lost its digits).
+        through = one_n < _THROUGH_POLE
         jump = (math.copysign(1.0, d) if d != 0.0 else 1.0) if through else 0.0
         pic = 0.0 if through else _complete_third_kind(n, one_n, m, one_m, K)
         terms.append(_PoleTerm(pole, half_d, jump, shift, a0, a1, n, one_n, pic))
@@ -340,6 +350,7 @@ class _FreeTerms:
     # Per pole (+1 top, −1 bottom): coefficient of ∫ dx/(p ∓ A cos x) in φ, its ρ, and s = √(p² − A²).
     coefficients: tuple[float, float]
     rhos: tuple[float, float]
+    one_minus_rhos: tuple[float, float]
     jumps: tuple[float, float]
     half_d: tuple[float, float]  # (α ∓ β)/2, formed without cancellation: φ̇ = Σ half_d / (1 ∓ u)
 
@@ -373,8 +384,8 @@ def _free_motion(
     nu = math.sqrt(nu2)
     # In v = u − u0: −ν² v² + c1 v + c0 with c0 = sin²θ0 θ̇0² ≥ 0, c1 = f'(u0) (the loc0 expansion at a = 0).
     c1 = -4.0 * u0 * K0 + 2.0 * beta * s0 * s0 * base["phidot0"]
-    c0 = s0 * s0 * thd0 * thd0
-    v1, v2 = sorted(_quadratic_roots(nu2, -c1, -c0))
+    # (c0 = (sin θ0 θ̇0)² is passed as its root: near the vertical the square underflows.)
+    v1, v2 = _local_roots(1.0, s0 * thd0, c1, -nu2, 0.0)
     v1, v2 = min(v1, 0.0), max(v2, 0.0)  # u0 lies between the roots
     # f(±1) = −(α ∓ β)²: a pole is an exact root when α ∓ β = 0 (the axis passes through it).
     if dm == 0.0:
@@ -387,8 +398,8 @@ def _free_motion(
         return mo
     # The pole distances 1 − u2 and 1 + u1 from f written about each pole (no difference of nearby
     # numbers): f(1 − g) = −ν² g² + (4ℰ − 2β(α − β)) g − (α − β)², f(h − 1) likewise with α + β.
-    gap_top = 0.0 if dm == 0.0 else min(_quadratic_roots(nu2, -(4.0 * K0 - 2.0 * beta * dm), dm * dm))
-    gap_bottom = 0.0 if dp == 0.0 else min(_quadratic_roots(nu2, -(4.0 * K0 + 2.0 * beta * dp), dp * dp))
+    gap_top = 0.0 if dm == 0.0 else _local_roots(1.0, dm, -(4.0 * K0 - 2.0 * beta * dm), nu2, 0.0)[0]
+    gap_bottom = 0.0 if dp == 0.0 else _local_roots(1.0, dp, -(4.0 * K0 + 2.0 * beta * dp), nu2, 0.0)[0]
     # That quadratic's roots (1 ∓ u2 and 1 ∓ u1) are 2A apart: far from a pole compared with the amplitude
     # they nearly coincide and its discriminant cancels (a sphere started at the top pole lost 2e-10 of its
     # precession rate). There the gap is (1 ∓ u0) ∓ v, a difference of numbers of very unequal size.
@@ -399,17 +410,21 @@ def _free_motion(
     gap_top, gap_bottom = max(gap_top, 0.0), max(gap_bottom, 0.0)
     # Phase: u − ū = A cos c, u̇0 = −A ν sin c = −sin θ0 θ̇0.
     c = math.atan2(s0 * thd0 / nu, -0.5 * (v1 + v2))
-    coefficients, rhos, jumps = [], [], []
+    coefficients, rhos, one_minus_rhos, jumps = [], [], [], []
     for half_d, gap in ((0.5 * dm, gap_top), (0.5 * dp, gap_bottom)):
-        if gap == 0.0:  # the axis passes exactly through this pole: ±π at each passage
+        # Through this pole, or closer to it than 1e-150 rad (a gap below the normal floats, which would
+        # have lost its digits): ±π at each passage, the limit of the term.
+        if gap < _THROUGH_POLE:
             coefficients.append(0.0)
             rhos.append(0.0)
+            one_minus_rhos.append(1.0)
             jumps.append(1.0 if half_d == 0.0 else math.copysign(1.0, half_d))
             continue
         p = gap + amplitude  # 1 − ū (top) or 1 + ū (bottom), a sum: no cancellation
-        root = math.sqrt(gap * (gap + 2.0 * amplitude))  # √((1 − u2)(1 − u1)) or √((1 + u1)(1 + u2))
+        root = math.sqrt(gap) * math.sqrt(gap + 2.0 * amplitude)  # √((1 − u2)(1 − u1)) or √((1 + u1)(1 + u2))
         coefficients.append(half_d / (nu * root))
         rhos.append(amplitude / (p + root))
+        one_minus_rhos.append((gap + root) / (p + root))  # 1 − ρ without cancellation (ρ → 1 at a pole)
         jumps.append(0.0)
     mo.kind = "free"
     mo.c = c
@@ -421,6 +436,7 @@ def _free_motion(
         gap_bottom,
         (coefficients[0], coefficients[1]),
         (rhos[0], rhos[1]),
+        (one_minus_rhos[0], one_minus_rhos[1]),
         (jumps[0], jumps[1]),
         (0.5 * dm, 0.5 * dp),
     )

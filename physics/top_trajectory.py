@@ -229,14 +229,18 @@ class HeavyTopTrajectory:
         fr = self._mo.free
         assert fr is not None  # only free motions are evaluated here
         terms = []
-        for sign, coefficient, rho, jump in zip((1.0, -1.0), fr.coefficients, fr.rhos, fr.jumps):
+        for sign, coefficient, rho, one_rho, jump in zip(
+            (1.0, -1.0), fr.coefficients, fr.rhos, fr.one_minus_rhos, fr.jumps
+        ):
             if jump:  # through the pole: ±π at each passage (cos x = 1 at the top pole, −1 at the bottom)
                 shift = 0.0 if sign > 0 else math.pi
                 terms.append(jump * math.pi * np.floor((x - shift) / (2.0 * math.pi)))
                 continue
-            sx, cx = np.sin(x), np.cos(x)
-            # 1 ∓ ρ cos x = (1 − ρ) + ρ (1 ∓ cos x) ≥ 1 − ρ > 0: the atan is continuous in x.
-            den = (1.0 - rho) + rho * (1.0 - sign * cx)
+            sx = np.sin(x)
+            # 1 ∓ ρ cos x = (1 − ρ) + ρ (1 ∓ cos x) ≥ 1 − ρ > 0 (1 ∓ cos x as 2 sin² or 2 cos² of x/2, so that
+            # it keeps its digits where the axis passes close to the pole): the atan is continuous in x.
+            half = np.sin(0.5 * x) if sign > 0 else np.cos(0.5 * x)
+            den = one_rho + rho * (2.0 * half * half)
             terms.append(coefficient * (x + 2.0 * np.arctan(sign * rho * sx / den)))
         return terms
 
