@@ -14,6 +14,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from physics.free_body import FreeBody, jacobi_sn_cn_dn
 from physics.heavy_top import HeavyTop, euler_attitude, omega_body_from_euler, simulate_heavy_body, symmetry_axis
@@ -176,3 +178,90 @@ def test_wrong_shapes_and_counts_name_the_argument_and_what_it_must_be(call, arg
     with pytest.raises(ValueError, match=expected) as info:
         call()
     assert argument in str(info.value)
+
+
+# ---------------------------------------------------------------------------------------- the heavy top
+# Issue 15, item 5: every start the heavy top accepts gives finite values, right to its tolerance, or is
+# refused by name. The audit's cases: θ0 = 1e-80 gave NaN φ and axis (now solved: see
+# test_heavy_top_separatrix.py), θ0 closer to the vertical than 1e-100 rad was silently rounded to it,
+# and θ̇0 ≥ 1e75 made solve raise "t is too far from 0" even at t = 0 while nutation_period was NaN.
+FREE_TOP = HeavyTop(TOP.I1, TOP.I3, 0.0)
+QUERIES = {
+    "solve": lambda *ic: TOP.solve(*ic, [0.0, 1.0]),
+    "trajectory": TOP.trajectory,
+    "nutation_period": TOP.nutation_period,
+    "precession_rate": TOP.precession_rate,
+    "turning_points": TOP.turning_points,
+    "conserved_quantities": TOP.conserved_quantities,
+    "nutation_cubic": TOP.nutation_cubic,
+}
+
+
+@pytest.mark.parametrize("query", list(QUERIES))
+@pytest.mark.parametrize("theta0", [1e-101, 1e-200, 5e-324])
+def test_a_start_closer_than_1e100_rad_to_the_vertical_is_refused_by_name(query, theta0):
+    # Below the sleeping threshold such a start falls (after ~230/λ for 1e-100 rad): rounding it to the
+    # vertical, as before, made it sleep for ever.
+    with pytest.raises(ValueError, match=r"theta0 = .* must be 0 or lie in \[1e-100, pi\]"):
+        QUERIES[query](theta0, 0.0, 0.0, 3.0)
+
+
+@pytest.mark.parametrize("query", list(QUERIES))
+def test_a_kick_below_1e100_of_the_rate_from_the_vertical_is_refused_by_name(query):
+    with pytest.raises(ValueError, match=r"thetadot0 = .* must be 0 or at least"):
+        QUERIES[query](0.0, 1e-120, 0.0, 3.0)
+    QUERIES[query](0.0, 0.0, 0.0, 3.0)  # exactly vertical: accepted
+    QUERIES[query](1e-100, 1e-120, 0.0, 3.0)  # off the vertical, θ̇0 of any size: accepted
+
+
+@pytest.mark.parametrize("thetadot0", [1e75, 1e80, 1e100])
+def test_an_enormous_thetadot0_gives_the_free_top(thetadot0):
+    # Gravity's share of such a motion is M g ℓ / (I1 θ̇0²) ≤ 2e-150: it is the free symmetric top's, whose
+    # closed form (mgl = 0) is elementary, to rounding (measured 1.1e-14 in the attitude).
+    ic = (0.5, thetadot0, 0.2, 10.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        motion = TOP.trajectory(*ic)
+        T = TOP.nutation_period(*ic)
+        times = np.array([0.0, 0.3, 1.7, 5.2]) * T
+        s = TOP.solve(*ic, times)
+    assert math.isfinite(T) and T == motion.nutation_period == pytest.approx(2.0 * math.pi / thetadot0, rel=1e-12)
+    assert all(math.isfinite(v) for v in _floats(s))
+    assert s.theta[0] == pytest.approx(0.5, rel=4e-16) and s.thetadot[0] == pytest.approx(thetadot0, rel=4e-16)
+    free = FREE_TOP.solve(*ic, times)
+    assert np.max(np.abs(s.attitude - free.attitude)) <= 1e-13
+    assert np.max(np.abs(s.energy_along(TOP) / s.energy - 1.0)) <= 1e-15
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    I1=st.floats(-3.0, 3.0),
+    ratio=st.floats(0.01, 2.0),
+    mgl=st.one_of(st.just(None), st.floats(-3.0, 3.0)),
+    theta0=st.one_of(st.just(0.0), st.just(math.pi), st.floats(-100.0, 0.0), st.floats(0.0, math.pi)),
+    rates=st.lists(st.one_of(st.just(0.0), st.floats(-160.0, 100.0)), min_size=3, max_size=3),
+    signs=st.lists(st.booleans(), min_size=3, max_size=3),
+    when=st.floats(0.0, 3.0),
+)
+def test_random_heavy_tops_of_any_magnitude_are_finite_or_refused(I1, ratio, mgl, theta0, rates, signs, when):
+    # Moments from 1e-3 to 1e3 kg m², gravity or none, starts from exactly upright through 1e-100 rad off
+    # to hanging, rates from 0 through 1e-160 to 1e100 rad/s (logs drawn where ranges are wide).
+    top = HeavyTop(10.0**I1, ratio * 10.0**I1, 0.0 if mgl is None else 10.0**mgl)
+    start = 10.0**theta0 if theta0 < 0.0 else theta0
+    ic = (start, *((-1.0 if s else 1.0) * (10.0**r if r else 0.0) for r, s in zip(rates, signs)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a numpy overflow warning is a silent inf on its way
+        try:
+            motion = top.trajectory(*ic)
+        except ValueError as exc:
+            assert "theta0" in str(exc) or "thetadot0" in str(exc), exc
+            return
+        T = motion.nutation_period
+        t = when * (T if math.isfinite(T) and T > 0.0 else 1.0)
+        try:
+            many, one = motion.at(np.array([0.0, t])), motion.at(t)
+        except ValueError as exc:
+            assert "too far from 0" in str(exc), exc
+            return
+    assert all(math.isfinite(v) for v in _floats(many) + _floats(one) if v != math.inf), (top, ic)
+    assert math.isfinite(many.theta[0]) and abs(many.theta[0] - start) <= 1e-15 * max(start, 1.0)
