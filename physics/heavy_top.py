@@ -44,10 +44,12 @@ motion linearised about the vertical). ``mgl = 0`` is the symmetric free body ab
 elementary form. The moments enter scaled by a power of two: 1e-300 or 1e300 kg m² work alike; rates up
 to 1e100 rad/s (``MAX_RATE``) are solved (at θ̇0 = 1e100 the motion is the free top's to 1e-14).
 
-Limits. A start closer to the vertical than 1e-100 rad without being on it, or leaving the exact vertical
-with |θ̇0| below 1e-100 of the top's own rate ``sqrt(M g ℓ/I1 + (L3/2I1)²)``, is refused with a ValueError
+Limits. A start closer to the vertical than 1e-100 rad without being on it is refused with a ValueError
 (``top_motion.MIN_THETA0``): the closed form there needs powers of θ0 below the float range, and rounding
-it to the vertical would make a top below the threshold sleep for ever instead of falling. Right at a pole
+it to the vertical would make a top below the threshold sleep for ever instead of falling. So is a kick
+from the exact vertical below 1e-100 of the top's own rate ``sqrt(M g ℓ/I1 + (L3/2I1)²)`` at or below the
+threshold; above it (or without gravity) such a kick keeps the axis within ~1e-100 rad of the vertical and
+is taken as none. Right at a pole
 φ̇ and ψ̇ are each huge and only their combination is well conditioned; the attitude, the axis and
 ``omega_body`` are returned accurately there. A time t is itself known only to an ulp, so the angles are
 known to ``|rate| × ulp(t)``: φ of a fast top started with φ̇0 ≠ 0 (φ̇ oscillating at ~φ̇0 around a mean
@@ -369,7 +371,8 @@ class HeavyTop:
             Initial angle of the axis from +z, rad: 0, or in [1e-100, π] (see the module's Limits).
         thetadot0, phidot0, psidot0 : float
             Initial θ̇, φ̇, ψ̇, rad/s, each at most 1e100 in magnitude. At θ0 = 0 only ``phidot0 + psidot0``
-            matters (the spin ω3), and ``thetadot0`` must be 0 or at least 1e-100 of the top's own rate.
+            matters (the spin ω3), and at or below the sleeping threshold ``thetadot0`` must be 0 or at least
+            1e-100 of the top's own rate (above it a smaller one is taken as 0).
         phi0, psi0 : float, keyword-only
             Initial precession and spin angles, rad.
 
@@ -381,7 +384,8 @@ class HeavyTop:
         ------
         ValueError
             Naming the argument: not finite, θ0 outside [0, π] or within 1e-100 rad of the vertical without
-            being on it, a rate beyond 1e100 rad/s, or from θ0 = 0 a θ̇0 below 1e-100 of the top's own rate.
+            being on it, a rate beyond 1e100 rad/s, or from θ0 = 0 at or below the sleeping threshold a θ̇0
+            below 1e-100 of the top's own rate.
 
         Examples
         --------
@@ -450,7 +454,8 @@ class HeavyTop:
             Initial angle of the axis from +z, rad: 0, or in [1e-100, π] (see the module's Limits).
         thetadot0, phidot0, psidot0 : float
             Initial θ̇, φ̇, ψ̇, rad/s, each at most 1e100 in magnitude. At θ0 = 0 only ``phidot0 + psidot0``
-            matters (the spin ω3), and ``thetadot0`` must be 0 or at least 1e-100 of the top's own rate.
+            matters (the spin ω3), and at or below the sleeping threshold ``thetadot0`` must be 0 or at least
+            1e-100 of the top's own rate (above it a smaller one is taken as 0).
         t : array_like (n,)
             Times, s.
         phi0, psi0 : float, keyword-only

@@ -105,6 +105,21 @@ def motion_constants(
     phd0, psd0 = (0.0 if abs(x) < 1e-150 else x for x in (phd0, psd0))
     if th0 == math.pi and abs(thd0) < 1e-150:
         thd0 = 0.0  # hanging straight down (stable): a swing below 1e-150 rad is no swing
+    if th0 == 0.0 and thd0 != 0.0:
+        # Leaving the exact vertical with θ̇0: the motion depends on (θ̇0/ν)², ν the top's own rate. Below
+        # 1e-100 of it: above the sleeping threshold (or without gravity) the axis stays within ~1e-100 rad
+        # of the vertical, taken as on it; at or below, the top falls after a time the floats cannot hold.
+        nu = math.sqrt(top.mgl / top.I1 + 0.25 * (top.I3 * (psd0 + phd0) / top.I1) ** 2)
+        if abs(thd0) < MIN_THETA0 * nu:
+            if top.mgl == 0.0 or _threshold_gap(top, phd0, psd0, 1.0) < 0.0:
+                thd0 = 0.0
+            else:
+                raise ValueError(
+                    f"thetadot0 = {thd0:g} rad/s from the exact vertical (theta0 = 0) at or below the sleeping "
+                    f"threshold is below {MIN_THETA0:g} times the top's own rate sqrt(M g l/I1 + (L3/2I1)²) = "
+                    f"{nu:g} rad/s: the top would fall after a time the closed form cannot represent; from "
+                    f"theta0 = 0, |thetadot0| must be 0 or at least {MIN_THETA0 * nu:g} rad/s here"
+                )
     # At a pole θ̇ < 0 means leaving towards the opposite azimuth: same state, θ̇ > 0.
     if th0 == 0.0 and thd0 < 0.0:
         thd0, phi0, psi0 = -thd0, phi0 + math.pi, psi0 - math.pi
@@ -132,16 +147,6 @@ def motion_constants(
 
     a = top.mgl / I1
     beta = L3 / I1
-    if th0 == 0.0:
-        # Leaving the exact vertical with θ̇0: the motion depends on (θ̇0/ν)², ν the top's own rate.
-        nu = math.sqrt(a + 0.25 * beta * beta)
-        if abs(thd0) < MIN_THETA0 * nu:
-            raise ValueError(
-                f"thetadot0 = {thd0:g} rad/s from the exact vertical (theta0 = 0) is below {MIN_THETA0:g} times "
-                f"the top's own rate sqrt(M g l/I1 + (L3/2I1)²) = {nu:g} rad/s: the closed form there needs powers of "
-                f"it below the float range; from theta0 = 0, |thetadot0| must be 0 or at least "
-                f"{MIN_THETA0 * nu:g} rad/s"
-            )
     dm = (I1 * s0 * s0 * phd0 - L3 * w0) / I1  # α − β = (Lz − L3)/I1 without cancellation
     dp = (I1 * s0 * s0 * phd0 + L3 * z0) / I1  # α + β
     if a == 0.0:

@@ -208,10 +208,14 @@ def test_a_start_closer_than_1e100_rad_to_the_vertical_is_refused_by_name(query,
 
 @pytest.mark.parametrize("query", list(QUERIES))
 def test_a_kick_below_1e100_of_the_rate_from_the_vertical_is_refused_by_name(query):
+    # Below the sleeping threshold (L3 = 1.5 < 2 sqrt(2)) the top would fall after ~230/λ: refused.
     with pytest.raises(ValueError, match=r"thetadot0 = .* must be 0 or at least"):
         QUERIES[query](0.0, 1e-120, 0.0, 3.0)
     QUERIES[query](0.0, 0.0, 0.0, 3.0)  # exactly vertical: accepted
     QUERIES[query](1e-100, 1e-120, 0.0, 3.0)  # off the vertical, θ̇0 of any size: accepted
+    # Above it (L3 = 15) the axis stays within ~1e-120 rad of the vertical: taken as on it.
+    QUERIES[query](0.0, 1e-120, 0.0, 30.0)
+    assert TOP.trajectory(0.0, 1e-120, 0.0, 30.0).kind == "vertical"
 
 
 @pytest.mark.parametrize("thetadot0", [1e75, 1e80, 1e100])

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given, reject, settings
 from hypothesis import strategies as st
 
 from physics.heavy_top import HeavyTop, HeavyTopSolution, HeavyTopTrajectory
@@ -66,7 +66,13 @@ def test_one_time_is_the_vectorised_value_to_roundoff(name):
     t=st.floats(-1e3, 1e3),
 )
 def test_random_tops_agree_one_time_and_many(I1, ratio, mgl, theta0, thetadot0, phidot0, psidot0, t):
-    motion = HeavyTop(I1, ratio * I1, mgl).trajectory(theta0, thetadot0, phidot0, psidot0)
+    try:
+        motion = HeavyTop(I1, ratio * I1, mgl).trajectory(theta0, thetadot0, phidot0, psidot0)
+    except ValueError as exc:
+        # From the exact vertical at or below the sleeping threshold, a kick below 1e-100 of the top's own
+        # rate is refused (issue 15: it was rounded to none, and the top slept instead of falling).
+        assert theta0 == 0.0 and abs(thetadot0) < 1e-90 and "thetadot0" in str(exc)
+        reject()
     _same(motion.at(t), motion.at(np.array([0.0, t])), 1)
 
 
