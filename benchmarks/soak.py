@@ -22,6 +22,7 @@ import gc
 import os
 import random
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -38,6 +39,18 @@ def resident_mb() -> float:
     return pages * os.sysconf("SC_PAGE_SIZE") / 1e6
 
 
+def settled(count: Callable[[], int], settle: float = 5.0, pause: float = 0.5) -> int:
+    """``count()`` once it has fallen to 0, or its last value after ``settle`` seconds: a browser's departure
+    is handled on viser's threads a moment after its socket closed, so a sample taken right after everyone
+    left gives it that long."""
+    deadline = time.monotonic() + settle
+    while True:
+        n = count()
+        if n == 0 or time.monotonic() >= deadline:
+            return n
+        time.sleep(pause)
+
+
 def simulations_alive(settle: float = 5.0) -> int:
     """How many :class:`app.server.Simulation` objects (sessions and explorers' copies, not the App) are
     alive after a full collection. A copy can still be in the making for a browser that pressed "Explore"
@@ -45,13 +58,11 @@ def simulations_alive(settle: float = 5.0) -> int:
     the count to fall to 0, and the last count is returned."""
     from app.server import Simulation
 
-    deadline = time.monotonic() + settle
-    while True:
+    def alive() -> int:
         gc.collect()
-        alive = sum(1 for o in gc.get_objects() if type(o) is Simulation)
-        if alive == 0 or time.monotonic() >= deadline:
-            return alive
-        time.sleep(0.5)
+        return sum(1 for o in gc.get_objects() if type(o) is Simulation)
+
+    return settled(alive, settle)
 
 
 def _join(app: Any, stack: contextlib.ExitStack) -> tuple[Any, Any]:
@@ -95,9 +106,11 @@ def main(argv: list[str] | None = None) -> None:
         def sample() -> None:
             rss = resident_mb()  # before the collection below: what the server holds as it runs
             buffer = len(app.server._websock_server._broadcast_buffer.message_from_id)
+            clients = settled(lambda: len(app.server.get_clients()), pause=0.05)
+            sessions = settled(lambda: len(app.sessions), pause=0.05)  # freed as its browser's departure is handled
             row = (
-                f"| {(time.monotonic() - start) / 60:.1f} | {joins} | {rss:.1f} | {len(app.sessions)} | "
-                f"{len(app.server.get_clients())} | {simulations_alive()} | {buffer} |"
+                f"| {(time.monotonic() - start) / 60:.1f} | {joins} | {rss:.1f} | {sessions} | "
+                f"{clients} | {simulations_alive()} | {buffer} |"
             )
             print(row, flush=True)
             rows.append(row)

@@ -160,7 +160,7 @@ def measure(chromium, width: int, height: int, dark: bool, check: bool = True) -
         page, client = _open_at_full_resolution(chromium, app, width, height)
         scene_id = control_id(page, "Scene")
         # The page reports its size once its layout settles; the camera is framed for the size it reported.
-        wait_for(lambda: _framed(client), 30, what="the camera framed for the page's size")
+        wait_for(lambda: _framed(client), 60, what="the camera framed for the page's size")
         for name in scene_names():
             mask, shown, hidden = body_pixels(page, app, name)
             inner = int(binary_erosion(mask, iterations=2).sum())
