@@ -70,7 +70,7 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "space_cone": OKABE_ITO["sky_blue"],  # space cone
     "path": (96, 96, 96),  # path of the centre of mass: dark grey
     "axes": OKABE_ITO["black"],  # principal axes e1, e2, e3 (not RGB: the quantities have those colours)
-    "body": (92, 105, 126),  # the body: slate, opaque, 3.7-8.0:1 light and 3.2-5.0:1 dark (docs/look.md)
+    "body": (92, 105, 126),  # the body: slate, opaque, 3.7-7.8:1 light and 3.2-5.0:1 dark (docs/look.md)
     "impulse": OKABE_ITO["vermillion"],  # an impulse (strike); the pendulum shows no trace
     "reaction": OKABE_ITO["reddish_purple"],  # a constraint's reaction; the pendulum shows no torque
     "ghost": OKABE_ITO["black"],  # the body moved by an integrator: translucent (GHOST_OPACITY), a grey shadow

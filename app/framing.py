@@ -25,6 +25,9 @@ PHONE_PX = 576.0
 SHEET_FRACTION = 0.6
 """Largest share of a phone's height the panel's bottom sheet covers (viser's ``maxHeight: 60%``)."""
 
+SHEET_MARGIN_PX = 12.0
+"""Space kept free above a phone's bottom sheet, px."""
+
 FILL = 0.75
 """Share of the scene's own view that must stay visible in the free region (its views have margins)."""
 
@@ -35,7 +38,8 @@ REFERENCE_ASPECT = 1.6
 def free_region(width: float, height: float) -> tuple[float, float, float, float]:
     """The part of a ``width`` × ``height`` px view the panel leaves free: (left, top, right, bottom), px."""
     if width <= PHONE_PX:
-        return (0.0, 0.0, width, (1.0 - SHEET_FRACTION) * height)
+        # A few pixels above the sheet's edge: a swinging body framed to the edge itself can reach under it.
+        return (0.0, 0.0, width, (1.0 - SHEET_FRACTION) * height - SHEET_MARGIN_PX)
     return (0.0, 0.0, max(width - PANEL_PX, 0.5 * width), height)
 
 

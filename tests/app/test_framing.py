@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from app.framing import FILL, REFERENCE_ASPECT, framed, free_region
+from app.framing import FILL, REFERENCE_ASPECT, SHEET_MARGIN_PX, framed, free_region
 
 FOV = math.radians(50.0)
 SCENE = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
@@ -46,7 +46,7 @@ def test_the_look_at_point_is_drawn_at_the_centre_of_the_free_region(width, heig
 
 
 def test_a_phone_frames_above_the_sheet_and_a_laptop_left_of_the_panel():
-    assert free_region(390, 844) == (0.0, 0.0, 390.0, pytest.approx(0.4 * 844))
+    assert free_region(390, 844) == (0.0, 0.0, 390.0, pytest.approx(0.4 * 844 - SHEET_MARGIN_PX))
     assert free_region(1280, 800) == (0.0, 0.0, 880.0, 800.0)
 
 
