@@ -27,6 +27,12 @@ LOOK_MD = Path(__file__).resolve().parents[2] / "docs" / "look.md"
 CLOSE_NOTIFICATIONS = "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach(b => b.click())"
 OPEN_NOTIFICATIONS = "() => document.querySelectorAll('.mantine-Notification-root').length"
 
+PANEL_VISIBLE = """(visible) => document.querySelectorAll('.mantine-Paper-root').forEach(
+    p => { p.style.visibility = visible ? '' : 'hidden'; })"""
+"""Hide or show the control panel (and any notice): its own changes (a slider's mark fading, a readout) are
+not the body, and hidden it shows what it would cover. ``visibility`` keeps its layout, so the view's size
+and the camera's framing stay."""
+
 PANEL_RECT = """(id) => { const p = document.getElementById(id).closest('.mantine-Paper-root');
     const r = p.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; }"""
 
@@ -107,12 +113,16 @@ def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, n
     # viser's "software WebGL" notice (headless Chromium has no GPU) may arrive late and cover the body.
     page.evaluate(CLOSE_NOTIFICATIONS)
     wait_for(lambda: page.evaluate(OPEN_NOTIFICATIONS) == 0, 10, what="the notices to close")
-    shown = _settled(page)
-    with app.lock:
-        app.scene.body.handle.visible = False
-    hidden = _settled(page, unlike=shown)
-    with app.lock:
-        app.scene.body.handle.visible = True
+    page.evaluate(PANEL_VISIBLE, False)
+    try:
+        shown = _settled(page)
+        with app.lock:
+            app.scene.body.handle.visible = False
+        hidden = _settled(page, unlike=shown)
+        with app.lock:
+            app.scene.body.handle.visible = True
+    finally:
+        page.evaluate(PANEL_VISIBLE, True)
     mask = np.abs(shown - hidden).max(axis=-1) > 24
     return mask, shown, hidden
 
@@ -176,7 +186,7 @@ def measure(chromium, width: int, height: int, dark: bool, check: bool = True) -
             # over at least 50 inner pixels (the racket's open head on a phone leaves 81).
             assert mask.sum() >= 300 and inner >= 50, f"{name}: the body is not in the view ({mask.sum()} px)"
             assert ratio >= 3.0, f"{name}: body contrast {ratio:.2f}:1"
-            # Framed clear of the panel: no pixel of the body under it.
+            # Framed clear of the panel: no pixel of the body under it (the shots hide the panel, so one would show).
             left, top, right, bottom = page.evaluate(PANEL_RECT, scene_id)
             ys, xs = np.nonzero(mask)
             under = (xs >= left) & (xs <= right) & (ys >= top) & (ys <= bottom)
