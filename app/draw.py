@@ -325,6 +325,13 @@ class BodyMesh(_Posed):
         self.handle.faces = np.asarray(mesh.faces, dtype=np.uint32)
 
 
+LABEL_GAP = 0.25
+"""Share of the longer arrow's length within which two arrows' tips count as one place for their labels."""
+
+LABEL_MIDDLE = 0.55
+"""Where along its shaft an arrow's label goes when its tip is near another's (a share of its length)."""
+
+
 class Arrow:
     """One arrow (L, ω, torque, ...) kept as a viser handle and moved in place.
 
@@ -359,19 +366,31 @@ class Arrow:
             else None
         )
         self.tip = np.zeros(3)
+        self.length = 0.0  # of the arrow last drawn, m
         self._vector = np.full(3, np.nan)  # what the browsers were last sent
         self._head = -1.0
         self._visible = True
         self._label_visible = True
 
-    def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0)) -> None:
-        """Draw ``vector`` (the quantity, its own units) from ``origin`` (m)."""
+    def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0), *, apart_from: Arrow | None = None) -> None:
+        """Draw ``vector`` (the quantity, its own units) from ``origin`` (m).
+
+        With ``apart_from`` (an arrow drawn before this one), this arrow's label moves from its tip to the
+        middle of its shaft while the two tips are within :data:`LABEL_GAP` of the longer arrow's length of
+        each other (L and ω lined up), so the two labels do not print over each other.
+        """
         v = np.asarray(vector, dtype=float) * self.scale
         o = np.asarray(origin, dtype=float)
         length = float(np.linalg.norm(v))
         visible = math.isfinite(length) and length > 1e-6
+        label_at = 1.0
         if visible:
             self.tip = o + v
+            self.length = length
+            if apart_from is not None and apart_from._visible:
+                near = LABEL_GAP * max(length, apart_from.length)
+                if float(np.linalg.norm(self.tip - apart_from.tip)) < near:
+                    label_at = LABEL_MIDDLE
             # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
             # (the web client does not follow a change of the start point alone). A constant vector
             # (L of a free body) is not resent.
@@ -389,7 +408,7 @@ class Arrow:
             if self._label_visible != visible:
                 self._label_visible = self.label.visible = visible
             if visible:
-                send_position(self.label, self.tip)
+                send_position(self.label, o + label_at * v)
 
 
 class PrincipalFrame(_Posed):

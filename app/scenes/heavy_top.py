@@ -360,7 +360,7 @@ class HeavyTopScene(Scene):
         self.landed = state["landed"]
         self.body.set_pose(state["R"])
         self.L_arrow.set(state["L"] * self.L_scale)
-        self.omega_arrow.set(state["omega"] * self.omega_scale)
+        self.omega_arrow.set(state["omega"] * self.omega_scale, apart_from=self.L_arrow)
         self.torque_arrow.set(state["torque"] * self.torque_scale, 0.55 * LENGTH * state["axis"])
         self.trace.append(LENGTH * state["axis"])
         self._readouts(state)

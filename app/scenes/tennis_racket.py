@@ -363,7 +363,7 @@ class TennisRacket(Scene):
         R, w, c = state["R"], state["omega_body"], self.centre
         self.body.set_pose(R, c)
         self.L_arrow.set(self.L_space * self.L_scale, c)
-        self.omega_arrow.set(R @ w * self.omega_scale, c)
+        self.omega_arrow.set(R @ w * self.omega_scale, c, apart_from=self.L_arrow)
         l_hat = self.moments * w / self.L_norm
         send_position(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
         # The tip of the spin axis traces its flips in space.

@@ -152,7 +152,7 @@ class Wobble(Scene):
         axis, L = V @ R[:, 2], V @ self.L_space
         self.body.set_pose(V @ R, c)
         self.L_arrow.set(L * self.L_scale, c)
-        self.omega_arrow.set(V @ w * self.omega_scale, c)
+        self.omega_arrow.set(V @ w * self.omega_scale, c, apart_from=self.L_arrow)
         slant = float(np.linalg.norm(w)) * self.omega_scale
         self.body_cone.set(axis, _angle(w, R[:, 2]), slant, c)
         self.space_cone.set(L, _angle(w, self.L_space), slant, c)

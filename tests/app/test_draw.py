@@ -100,3 +100,27 @@ def test_cone_points_along_its_axis_with_its_half_angle(app):
     assert not cone.handle.visible
     assert cone.rim.name.startswith(cone.handle.name + "/")  # a child: shown, hidden and moved with the cone
     cone.handle.remove()  # and removed with it
+
+
+def test_lined_up_arrows_keep_their_labels_apart(app):
+    """L and ω lined up (a body spinning about a principal axis): ω's label leaves its tip for the middle of
+    its shaft, so the two labels do not print over each other; apart, each label is at its own tip."""
+    L = draw.Arrow(app.server, "/test_L", "L", label="L")
+    omega = draw.Arrow(app.server, "/test_omega", "omega", label="ω")
+    origin = np.array([0.5, -0.2, 1.0])
+    L.set([0.0, 0.0, 1.0], origin)
+    omega.set([0.0, 0.05, 0.98], origin, apart_from=L)  # tips 0.054 m apart: under 0.25 of 1 m
+    np.testing.assert_allclose(L.label.position, origin + [0.0, 0.0, 1.0], atol=1e-6)
+    np.testing.assert_allclose(
+        omega.label.position, origin + draw.LABEL_MIDDLE * np.array([0.0, 0.05, 0.98]), atol=1e-6
+    )
+    tips = np.linalg.norm(np.asarray(L.label.position) - np.asarray(omega.label.position))
+    assert tips > 0.4  # 0.45 of the length apart, against 0.054 at the tips
+    omega.set([0.0, 0.6, 0.6], origin, apart_from=L)  # tips 0.72 m apart: each label at its tip
+    np.testing.assert_allclose(omega.label.position, origin + [0.0, 0.6, 0.6], atol=1e-6)
+    L.set([0.0, 0.0, 0.0], origin)  # L hidden: nothing to keep apart from
+    omega.set([0.0, 0.05, 0.98], origin, apart_from=L)
+    np.testing.assert_allclose(omega.label.position, origin + [0.0, 0.05, 0.98], atol=1e-6)
+    for arrow in (L, omega):
+        arrow.handle.remove()
+        arrow.label.remove()
