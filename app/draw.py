@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import trimesh
@@ -328,8 +328,14 @@ class BodyMesh(_Posed):
 LABEL_GAP = 0.25
 """Share of the longer arrow's length within which two arrows' tips count as one place for their labels."""
 
-LABEL_MIDDLE = 0.55
-"""Where along its shaft an arrow's label goes when its tip is near another's (a share of its length)."""
+Anchor = Literal["bottom-left", "top-right"]
+"""The two places a label hangs from an arrow's tip."""
+
+LABEL_ANCHOR: Anchor = "bottom-left"
+"""Where an arrow's label hangs from its tip: its text above and right of the tip."""
+
+LABEL_ANCHOR_APART: Anchor = "top-right"
+"""The same for the second of two arrows whose tips meet: its text below and left, clear of the first's."""
 
 
 class Arrow:
@@ -361,12 +367,13 @@ class Arrow:
             head_length=6.0 * shaft_radius,
         )
         self.label = (
-            server.scene.add_label(name + "_label", label or quantity, font_screen_scale=1.6, anchor="bottom-left")
+            server.scene.add_label(name + "_label", label or quantity, font_screen_scale=1.6, anchor=LABEL_ANCHOR)
             if label
             else None
         )
         self.tip = np.zeros(3)
         self.length = 0.0  # of the arrow last drawn, m
+        self._anchor: Anchor = LABEL_ANCHOR
         self._vector = np.full(3, np.nan)  # what the browsers were last sent
         self._head = -1.0
         self._visible = True
@@ -375,22 +382,23 @@ class Arrow:
     def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0), *, apart_from: Arrow | None = None) -> None:
         """Draw ``vector`` (the quantity, its own units) from ``origin`` (m).
 
-        With ``apart_from`` (an arrow drawn before this one), this arrow's label moves from its tip to the
-        middle of its shaft while the two tips are within :data:`LABEL_GAP` of the longer arrow's length of
-        each other (L and ω lined up), so the two labels do not print over each other.
+        With ``apart_from`` (an arrow drawn before this one), this arrow's label hangs below and left of its
+        tip (above and right is every label's place) while the two tips are within :data:`LABEL_GAP` of the
+        longer arrow's length of each other (L and ω lined up): the two labels then sit in opposite corners of
+        one point, at any zoom, and neither moves onto the body.
         """
         v = np.asarray(vector, dtype=float) * self.scale
         o = np.asarray(origin, dtype=float)
         length = float(np.linalg.norm(v))
         visible = math.isfinite(length) and length > 1e-6
-        label_at = 1.0
+        anchor: Anchor = LABEL_ANCHOR
         if visible:
             self.tip = o + v
             self.length = length
             if apart_from is not None and apart_from._visible:
                 near = LABEL_GAP * max(length, apart_from.length)
                 if float(np.linalg.norm(self.tip - apart_from.tip)) < near:
-                    label_at = LABEL_MIDDLE
+                    anchor = LABEL_ANCHOR_APART
             # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
             # (the web client does not follow a change of the start point alone). A constant vector
             # (L of a free body) is not resent.
@@ -408,7 +416,9 @@ class Arrow:
             if self._label_visible != visible:
                 self._label_visible = self.label.visible = visible
             if visible:
-                send_position(self.label, o + label_at * v)
+                send_position(self.label, self.tip)
+                if anchor != self._anchor:  # sent only when it changes
+                    self._anchor = self.label.anchor = anchor
 
 
 class PrincipalFrame(_Posed):

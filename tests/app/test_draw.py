@@ -103,24 +103,25 @@ def test_cone_points_along_its_axis_with_its_half_angle(app):
 
 
 def test_lined_up_arrows_keep_their_labels_apart(app):
-    """L and ω lined up (a body spinning about a principal axis): ω's label leaves its tip for the middle of
-    its shaft, so the two labels do not print over each other; apart, each label is at its own tip."""
+    """L and ω lined up (a body spinning about a principal axis): ω's label hangs below and left of its tip,
+    L's above and right of its own, so the two do not print over each other; apart, both hang above and right.
+    Each label stays at its arrow's tip (a label moved along the shaft sat on the heavy top's body)."""
     L = draw.Arrow(app.server, "/test_L", "L", label="L")
     omega = draw.Arrow(app.server, "/test_omega", "omega", label="ω")
     origin = np.array([0.5, -0.2, 1.0])
     L.set([0.0, 0.0, 1.0], origin)
     omega.set([0.0, 0.05, 0.98], origin, apart_from=L)  # tips 0.054 m apart: under 0.25 of 1 m
     np.testing.assert_allclose(L.label.position, origin + [0.0, 0.0, 1.0], atol=1e-6)
-    np.testing.assert_allclose(
-        omega.label.position, origin + draw.LABEL_MIDDLE * np.array([0.0, 0.05, 0.98]), atol=1e-6
-    )
-    tips = np.linalg.norm(np.asarray(L.label.position) - np.asarray(omega.label.position))
-    assert tips > 0.4  # 0.45 of the length apart, against 0.054 at the tips
-    omega.set([0.0, 0.6, 0.6], origin, apart_from=L)  # tips 0.72 m apart: each label at its tip
+    np.testing.assert_allclose(omega.label.position, origin + [0.0, 0.05, 0.98], atol=1e-6)
+    assert (L.label.anchor, omega.label.anchor) == ("bottom-left", "top-right")
+    omega.set([0.0, 0.6, 0.6], origin, apart_from=L)  # tips 0.72 m apart: both labels in their usual place
     np.testing.assert_allclose(omega.label.position, origin + [0.0, 0.6, 0.6], atol=1e-6)
+    assert omega.label.anchor == "bottom-left"
+    omega.set([0.0, 0.05, 0.98], origin, apart_from=L)
+    assert omega.label.anchor == "top-right"
     L.set([0.0, 0.0, 0.0], origin)  # L hidden: nothing to keep apart from
     omega.set([0.0, 0.05, 0.98], origin, apart_from=L)
-    np.testing.assert_allclose(omega.label.position, origin + [0.0, 0.05, 0.98], atol=1e-6)
+    assert omega.label.anchor == "bottom-left"
     for arrow in (L, omega):
         arrow.handle.remove()
         arrow.label.remove()
