@@ -177,7 +177,41 @@ def click(locator: Any, timeout: float = 30.0) -> None:
     and visible, then click it where it is.
     """
     locator.first.wait_for(state="visible", timeout=timeout * 1000)
+    _wait_until_still(locator.first)
     locator.first.click(force=True, timeout=timeout * 1000)
+
+
+def _wait_until_still(element: Any, timeout: float = 5.0, interval: float = 0.1) -> None:
+    """Wait until ``element`` is in the same place in two reads ``interval`` apart (at most ``timeout``).
+
+    A row that comes or goes above a button (a hidden "Use its convex hull instead", a readout's first
+    value) moves the button while the page lays out the update; a forced click where the button was
+    lands on its neighbour. Past ``timeout`` the click goes ahead where the element is.
+    """
+    deadline = time.monotonic() + timeout
+    box = element.bounding_box()
+    while time.monotonic() < deadline:
+        time.sleep(interval)
+        now = element.bounding_box()
+        if now is not None and now == box:
+            return
+        box = now
+
+
+def click_until(locator: Any, condition: Callable[[], Any], what: str, attempts: int = 3, each: float = 10.0) -> Any:
+    """Click ``locator`` until ``condition`` holds, as a user clicks again when nothing happened.
+
+    For buttons whose effect is checked on the server (a scene hand-over): a click lost to a panel
+    that re-laid itself out is retried, at most ``attempts`` times, ``each`` seconds apart.
+    """
+    for attempt in range(1, attempts + 1):
+        click(locator)
+        try:
+            return wait_for(condition, timeout=each, what=f"{what} (click {attempt} of {attempts})")
+        except AssertionError:
+            if attempt == attempts:
+                raise
+    raise ValueError(f"attempts must be at least 1, got {attempts}")
 
 
 def pick_scene(page: Any, title: str, attempts: int = 3) -> None:
