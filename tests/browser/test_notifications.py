@@ -24,7 +24,9 @@ def _refuse(page, app, text: str, times: int = 1) -> None:
     clicks in quick succession."""
     with app.lock:
         app.state_box.value = text
-    time.sleep(0.3)  # the page has the text before the click sends it back
+    # The page has the text before the click sends it back (viser's text box: an input or a textarea).
+    shown = "(t) => [...document.querySelectorAll('input, textarea')].some(e => e.value === t)"
+    wait_for(lambda: page.evaluate(shown, text), 30, what="the page to show the state text")
     button = page.get_by_role("button", name="Open state").first
     button.wait_for(state="visible", timeout=30_000)
     for _ in range(times):  # a person clicking again and again, within a second
