@@ -47,6 +47,7 @@ from app.presenter import Classroom, check_pin, new_pin
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.speed import POSITION_MARKS, POSITION_STEP, SPEED_MAX, SPEED_MIN, position_of, speed_at, speed_label
 from app.states import parse_state, state_text
+from app.tunnel import guard_tunnel
 from app.wire import departed as _departed
 from app.wire import resend_poses
 
@@ -867,6 +868,7 @@ class App(Simulation):
             self.server = server
             self._share = share
             self.classroom = Classroom(self, self.pin, self._copy_for)
+        guard_tunnel(server, share=share, permit=self.refusal)
         if self.private:
             self.server = server
             self.fps, self._first, self._share, self.dark = float(fps), first, share, bool(dark)

@@ -1,0 +1,85 @@
+"""No public tunnel unless the server was started with --share, and then only a driver opens it (app.tunnel).
+
+viser answers a ``ShareUrlRequest`` from any websocket client by publishing the server; a hidden share
+button does not stop a page or a script from sending one. These tests send the messages through a real
+websocket, as a page's script would, with viser's tunnel calls replaced by recorders (no network).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+
+import msgspec
+import pytest
+
+from app.tunnel import NOT_SHARED
+from tests.harness import click_button, raw_client, received, running_app, send_value, still_connected, wait_for
+
+
+def _ask(ws, kind: str) -> None:
+    ws.send(msgspec.msgpack.encode({"type": kind}))
+
+
+def _recorded(app, monkeypatch) -> list[str]:
+    calls: list[str] = []
+    monkeypatch.setattr(app.server, "request_share_url", lambda *a, **k: calls.append("open"))
+    monkeypatch.setattr(app.server, "disconnect_share_url", lambda *a, **k: calls.append("close"))
+    return calls
+
+
+def _told(messages, text: str) -> bool:
+    return any(text in str(m) for m in messages if m.get("type") == "NotificationShowMessage")
+
+
+@pytest.mark.parametrize("mode", ["shared", "private", "presenter"])
+def test_without_share_no_browser_opens_or_closes_a_tunnel(mode, monkeypatch):
+    with running_app("heavy_top", private=mode == "private", presenter=mode == "presenter") as app:
+        calls = _recorded(app, monkeypatch)
+        with raw_client(app) as ws, raw_client(app) as other:
+            received(ws, 0.3)
+            received(other, 0.3)
+            _ask(ws, "ShareUrlRequest")
+            _ask(ws, "ShareUrlDisconnect")
+            messages = received(ws, 1.5)
+            assert _told(messages, NOT_SHARED), "the asking browser is told why"
+            assert not _told(received(other, 0.3), NOT_SHARED), "nobody else hears of it"
+            assert still_connected(ws, app=app if mode != "private" else None)
+            assert still_connected(other, app=app if mode != "private" else None)
+        time.sleep(0.2)  # a request would have been handed to viser's thread pool by now
+        assert calls == []
+
+
+def test_with_share_a_driver_opens_the_tunnel():
+    with contextlib.ExitStack() as stack:
+        app = stack.enter_context(running_app("heavy_top", share=True))
+        mp = stack.enter_context(pytest.MonkeyPatch.context())
+        calls = _recorded(app, mp)
+        ws = stack.enter_context(raw_client(app))
+        _ask(ws, "ShareUrlRequest")
+        wait_for(lambda: calls == ["open"], what="the tunnel to be requested")
+        _ask(ws, "ShareUrlDisconnect")
+        wait_for(lambda: calls == ["open", "close"], what="the tunnel to be closed")
+
+
+def test_with_share_in_presenter_mode_only_the_presenter_opens_it():
+    pin = "4321"
+    with contextlib.ExitStack() as stack:
+        app = stack.enter_context(running_app("heavy_top", presenter=True, pin=pin, share=True))
+        mp = stack.enter_context(pytest.MonkeyPatch.context())
+        calls = _recorded(app, mp)
+        before = set(app.server.get_clients())
+        ws = stack.enter_context(raw_client(app))
+        cid = (set(app.server.get_clients()) - before).pop()
+        wait_for(lambda: cid in app.classroom._panels, what="the browser's own panel")
+        received(ws, 0.3)
+        _ask(ws, "ShareUrlRequest")  # a follower: refused, told why
+        wait_for(lambda: _told(received(ws, 0.3), "PIN"), what="the follower's refusal")
+        assert calls == []
+        panel = app.classroom._panels[cid]
+        send_value(ws, panel.pin._impl.uuid, pin)
+        wait_for(lambda: panel.pin.value == pin, what="the PIN to arrive")
+        click_button(ws, panel.present._impl.uuid)
+        wait_for(lambda: cid in app.classroom.presenters, what="the browser to become a presenter")
+        _ask(ws, "ShareUrlRequest")
+        wait_for(lambda: calls == ["open"], what="the presenter's tunnel request")
