@@ -203,6 +203,8 @@ class Presets:
 
     ``presets`` maps a name to a dict of values or to a callable returning one (computed from the
     current values, e.g. a steady-precession rate). The first entry, ``"—"``, does nothing.
+    ``renamed`` maps a preset's former names to its name now, so lectures, state texts and export
+    commands written with an old name keep working.
     """
 
     NONE = "— choose a preset —"
@@ -213,9 +215,11 @@ class Presets:
         panel: ParameterPanel,
         presets: dict[str, dict[str, float] | Callable[[dict[str, float]], dict[str, float]]],
         label: str = "Preset",
+        renamed: dict[str, str] | None = None,
     ) -> None:
         self.panel = panel
         self.presets = presets
+        self.renamed = dict(renamed or {})
         self.handle = ctx.server.gui.add_dropdown(label, options=(self.NONE, *presets.keys()), initial_value=self.NONE)
         self.handle.on_update(ctx.guarded(self._chosen))
         self.last: str | None = None
@@ -245,8 +249,14 @@ class Presets:
             return
         self.choose(name, client=getattr(event, "client", None))
 
+    def resolve(self, name: str) -> str | None:
+        """The preset's name now (a former name is taken too), or None if there is no such preset."""
+        name = self.renamed.get(name, name)
+        return name if name in self.presets else None
+
     def choose(self, name: str, client: Any = None) -> bool:
-        """Apply a preset by name; returns True if accepted."""
+        """Apply a preset by name (or a former name); returns True if accepted."""
+        name = self.renamed.get(name, name)
         preset = self.presets[name]
         try:
             # A computed preset (e.g. a steady-precession rate) may not exist for the current body.

@@ -326,7 +326,7 @@ class Simulation:
         if step.preset is not None:
             presets = getattr(scene, "presets", None)
             names = list(presets.presets) if presets is not None else []
-            if presets is None or step.preset not in names:
+            if presets is None or presets.resolve(step.preset) is None:
                 raise ValueError(f"preset: {scene.name} has no preset {step.preset!r}; its presets are {names}")
             if not presets.choose(step.preset):
                 raise ValueError(f"preset {step.preset!r} was refused: {presets.panel.last_refusal}")

@@ -55,7 +55,7 @@ README_SHOTS = [
     ("heavy_top.png", "heavy_top", None, (1280, 800), False, None),
     ("heavy_top_loops.png", "heavy_top", "loops (φ̇0 = −1 × steady)", (1280, 800), False, None),
     ("heavy_top_potential.png", "heavy_top", None, (1280, 800), False, "Effective potential"),
-    ("heavy_top_dark.png", "heavy_top", "waves (φ̇0 = 2 × steady)", (1024, 768), True, None),
+    ("heavy_top_dark.png", "heavy_top", "waves (φ̇0 = ½ × steady)", (1024, 768), True, None),
     ("heavy_top_phone.png", "heavy_top", None, (390, 844), False, None),
     ("wobble.png", "wobble", None, (1280, 800), False, None),
     ("scene_explorer.png", "inertia_explorer", None, (1280, 800), False, None),

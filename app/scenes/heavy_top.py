@@ -115,11 +115,16 @@ def _with_phidot(factor: float):
 
 PRESETS = {
     "cusps (released from rest)": {"spin": 10.0, "theta0": 60.0, "phidot0": 0.0, "friction": 0.0},
-    "waves (φ̇0 = 2 × steady)": _with_phidot(2.0),
+    "waves (φ̇0 = ½ × steady)": _with_phidot(0.5),
     "loops (φ̇0 = −1 × steady)": _with_phidot(-1.0),
     "steady precession (slow rate)": _with_phidot(1.0),
     "sleeping top (above threshold)": {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.0},
     "sleeping top with friction: falls": {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.02},
+}
+
+RENAMED_PRESETS = {
+    # Started at its lower turning point, 2 × steady drew small loops (φ̇ fell below 0 near the top).
+    "waves (φ̇0 = 2 × steady)": "waves (φ̇0 = ½ × steady)",
 }
 
 
@@ -201,7 +206,7 @@ class HeavyTopScene(Scene):
             ],
             apply=self.apply,
         )
-        self.presets = controls.Presets(self.ctx, self.params, PRESETS)
+        self.presets = controls.Presets(self.ctx, self.params, PRESETS, renamed=RENAMED_PRESETS)
         self.trace_length = gui.add_slider("trace length (points)", min=100, max=5000, step=100, initial_value=1500)
         self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
         self.plot = gui.add_uplot(
@@ -350,7 +355,8 @@ class HeavyTopScene(Scene):
             "axis": axis,
             "L": R @ L_body,
             "omega": R @ (L_body / moments),
-            "torque": top.mgl * np.cross(axis, [0.0, 0.0, -1.0]),
+            # Gravity's torque about the tip; lying on the table, the table's push cancels it (at rest, dL/dt = 0).
+            "torque": np.zeros(3) if landed else top.mgl * np.cross(axis, [0.0, 0.0, -1.0]),
             "theta": math.atan2(math.hypot(axis[0], axis[1]), axis[2]),
             "landed": landed,
         }

@@ -31,7 +31,7 @@ def _screenshot(page) -> np.ndarray:
 
 
 def test_the_exported_page_plays_from_a_static_server(tmp_path: Path, chromium) -> None:
-    export("heavy_top", tmp_path, 6.0, preset="waves (φ̇0 = 2 × steady)")
+    export("heavy_top", tmp_path, 6.0, preset="waves (φ̇0 = ½ × steady)")
     handler = functools.partial(http.server.SimpleHTTPRequestHandler, directory=str(tmp_path))
     httpd = http.server.ThreadingHTTPServer(("127.0.0.1", free_port()), handler)
     threading.Thread(target=httpd.serve_forever, daemon=True).start()

@@ -68,7 +68,7 @@ def test_heavy_top_sliders_change_the_model_and_restart(app):
 
 def test_heavy_top_presets_reach_cusps_loops_and_waves(app):
     scene = open_scene(app, "heavy_top")
-    expected = {"cusps": 0.0, "loops": -1.0, "waves": 2.0}
+    expected = {"cusps": 0.0, "loops": -1.0, "waves": 0.5}
     for name in scene.presets.presets:
         assert scene.presets.choose(name), name
         app.frame(FRAME)
@@ -80,17 +80,28 @@ def test_heavy_top_presets_reach_cusps_loops_and_waves(app):
             )[0]
             assert v["phidot0"] == pytest.approx(expected[key] * steady, abs=1e-3)
     # Loops: φ̇ changes sign along the motion; waves: it does not; cusps: it touches 0.
-    scene.presets.choose("loops (φ̇0 = −1 × steady)")
-    v = scene.params.values
-    theta0 = math.radians(v["theta0"])
-    sol = scene.top.solve(
-        theta0,
-        0.0,
-        v["phidot0"],
-        v["spin"] - v["phidot0"] * math.cos(theta0),
-        np.linspace(0, 3 * scene.exact.nutation_period, 600),
-    )
-    assert sol.phidot.min() < 0.0 < sol.phidot.max()
+    def phidot_range(preset: str) -> tuple[float, float]:
+        assert scene.presets.choose(preset), preset
+        v = scene.params.values
+        theta0 = math.radians(v["theta0"])
+        sol = scene.top.solve(
+            theta0,
+            0.0,
+            v["phidot0"],
+            v["spin"] - v["phidot0"] * math.cos(theta0),
+            np.linspace(0, 3 * scene.exact.nutation_period, 600),
+        )
+        return float(sol.phidot.min()), float(sol.phidot.max())
+
+    low, high = phidot_range("loops (φ̇0 = −1 × steady)")
+    assert low < 0.0 < high
+    low, high = phidot_range("waves (φ̇0 = ½ × steady)")
+    assert 0.0 < low < high  # φ̇ keeps its sign: waves, never a loop
+    low, high = phidot_range("cusps (released from rest)")
+    assert low == pytest.approx(0.0, abs=1e-9) and high > 0.0
+    # The preset's former name (2 × steady, which drew small loops) still chooses it.
+    assert scene.presets.choose("waves (φ̇0 = 2 × steady)")
+    assert scene.presets.handle.value == "waves (φ̇0 = ½ × steady)"
 
 
 def test_heavy_top_with_friction_spins_down_falls_and_lies_on_the_table(app):
@@ -117,6 +128,9 @@ def test_heavy_top_with_friction_spins_down_falls_and_lies_on_the_table(app):
     assert min(lowest) >= -1e-12, min(lowest)
     assert min(lowest) == pytest.approx(0.0, abs=1e-12)  # it does touch the table
     assert np.all(scene.L_body == 0.0) and "lying on the table" in scene.theta_readout.text
+    # At rest on the table the table's push cancels gravity's torque: no τ arrow (dL/dt = 0 = τ).
+    assert scene.compute(app.time, 0.0)["torque"].tolist() == [0.0, 0.0, 0.0]
+    assert not scene.torque_arrow._visible
     assert "too slow to sleep" in scene.gauge.text.content
 
 
