@@ -99,7 +99,7 @@ LABELS: dict[str, str] = {
     "L": "L — angular momentum (fixed in space without torque)",
     "omega": "ω — angular velocity",
     "torque": "τ — torque",
-    "trace": "trace of the axis tip (a top's symmetry axis, the racket's spin axis)",
+    "trace": "trace of the axis tip (a top's symmetry axis, the racket's spin axis; ω's tip in a body view)",
     "polhode": "polhode: the path of L seen from the body, on the L-sphere",
     "body_cone": "body cone (turns with the body)",
     "space_cone": "space cone (fixed about L)",
@@ -206,7 +206,7 @@ def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
             else ""
         )
         rows.append(
-            f'<div style="display:flex;align-items:center;gap:6px;font-size:0.85em;margin:1px 0">'
+            f'<div style="display:flex;align-items:center;gap:6px;margin:1px 0">'
             f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{colour}{opacity}">'
             f"</span>{LABELS[key]}</div>"
         )
@@ -338,6 +338,15 @@ LABEL_ANCHOR_APART: Anchor = "top-right"
 """The same for the second of two arrows whose tips meet: its text below and left, clear of the first's."""
 
 
+LABEL_SCALE = 1.6
+"""Every label in the 3D scene at this multiple of viser's size: readable on a projector from the back."""
+
+
+def add_label(server: Any, name: str, text: str, **kwargs: Any) -> Any:
+    """A label in the 3D scene at :data:`LABEL_SCALE` (the arrows', the markers' and the guides' alike)."""
+    return server.scene.add_label(name, text, font_screen_scale=LABEL_SCALE, **kwargs)
+
+
 class Arrow:
     """One arrow (L, ω, torque, ...) kept as a viser handle and moved in place.
 
@@ -366,11 +375,7 @@ class Arrow:
             head_radius=2.4 * shaft_radius,
             head_length=6.0 * shaft_radius,
         )
-        self.label = (
-            server.scene.add_label(name + "_label", label or quantity, font_screen_scale=1.6, anchor=LABEL_ANCHOR)
-            if label
-            else None
-        )
+        self.label = add_label(server, name + "_label", label or quantity, anchor=LABEL_ANCHOR) if label else None
         self.tip = np.zeros(3)
         self.length = 0.0  # of the arrow last drawn, m
         self._anchor: Anchor = LABEL_ANCHOR

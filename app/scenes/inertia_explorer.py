@@ -117,7 +117,7 @@ class InertiaExplorer(Scene):
         # (at most 0.6 m from its centre of mass, DISPLAY_SIZE / 2) so they show outside it.
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
         self.frame = draw.PrincipalFrame(server, root + "/principal", length=AXES_LENGTH)
-        self.axis_labels = [server.scene.add_label(f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
+        self.axis_labels = [draw.add_label(server, f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
         self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=draw.COLOURS["pivot"])
         self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)

@@ -1,7 +1,7 @@
 """Physical pendulum and the centre of percussion: a bat or rod swinging from a pivot, and a strike.
 
 Model: :class:`physics.pendulum.PhysicalPendulum` — exact swing at any amplitude (Jacobi elliptic
-functions), ``I = I_cm + M a⊥² = M k²``, effective length ``ℓ = k²/a⊥``; a blow ``J`` at a point
+functions), ``I = I_CM + M a⊥² = M k²``, effective length ``ℓ = k²/a⊥``; a blow ``J`` at a point
 changes the angular velocity by ``Δω`` and the pivot supplies the impulse ``M Δv_cm − J``, which
 vanishes when the blow lands at the centre of percussion ``ℓ`` below the pivot (lecture, the
 baseball story; docs/conventions.md erratum 2: *no* impulse from the pivot is needed there).
@@ -50,6 +50,19 @@ def hanging_body(choice: str) -> tuple[trimesh.Trimesh, MassProperties, float]:
     return placed, props.transformed(_FLIP, shift), length
 
 
+def _period_text(model: PhysicalPendulum, theta: float, thetadot: float) -> str:
+    """The readout "small swings / this swing": the swing through (θ, θ̇) has its amplitude from the
+    energy, ``cos θ_max = cos θ − θ̇² / (2 ω0²)`` (θ̈ = −ω0² sin θ); past cos θ_max = −1 it goes over the top."""
+    small = model.small_oscillation_period
+    if model.omega0 == 0.0:
+        return "no restoring torque: it turns uniformly"
+    cos_max = math.cos(theta) - thetadot**2 / (2.0 * model.omega0**2)
+    if cos_max < -1.0:
+        return f"{small:.4g} / over the top: no swing back"
+    amplitude = math.acos(min(1.0, cos_max))
+    return f"{small:.4g} / {float(model.period(amplitude)) if amplitude > 0 else small:.4g}"
+
+
 @register
 class Pendulum(Scene):
     name = "pendulum"
@@ -57,7 +70,7 @@ class Pendulum(Scene):
     order = 55
     quantities = ("impulse", "reaction", "path", "pivot")
     caption = (
-        "**Physical pendulum.** About a fixed axis I = I_cm + M a⊥² = M k², and the body swings like a simple "
+        "**Physical pendulum.** About a fixed axis I = I_CM + M a⊥² = M k², and the body swings like a simple "
         "pendulum of length ℓ = k²/a⊥ (ℓ > k > a⊥). **Strike it** (arrow J): the pivot must push back (arrow "
         "'pivot') unless the blow lands at the centre of percussion, ℓ below the pivot — the bat's sweet spot, "
         "where your hands feel no sting. The button under *Strike!* moves the strike point there."
@@ -79,9 +92,11 @@ class Pendulum(Scene):
         )
         self.cm_marker = server.scene.add_icosphere(root + "/cm", radius=0.045, color=draw.COLOURS["path"])
         self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
-        self.cop_label = server.scene.add_label(root + "/cop_label", "centre of percussion")
-        self.cm_label = server.scene.add_label(root + "/cm_label", "CM")
+        self.cop_label = draw.add_label(server, root + "/cop_label", "centre of percussion")
+        self.cm_label = draw.add_label(server, root + "/cm_label", "CM")
         self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.04, color=draw.COLOURS["impulse"])
+        # Both balls are the blow's colour: the labels tell the strike point from the centre of percussion.
+        self.hit_label = draw.add_label(server, root + "/hit_label", "strike point")
         self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.02)
         self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.02)
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
@@ -113,7 +128,7 @@ class Pendulum(Scene):
         self.k_readout = controls.Readout(self.ctx, "radius of gyration k about the pivot (m)")
         self.a_readout = controls.Readout(self.ctx, "a⊥: pivot to CM (m)")
         self.l_readout = controls.Readout(self.ctx, "effective length ℓ = k²/a⊥ (m)")
-        self.period_readout = controls.Readout(self.ctx, "period: small swings / this amplitude (s)", fmt="{}")
+        self.period_readout = controls.Readout(self.ctx, "period: small swings / this swing (s)", fmt="{}")
         self.strike_readout = controls.Readout(self.ctx, "last strike: Δω (rad/s), |pivot impulse| (N s)", fmt="{}")
         self.drift = controls.InvariantDrift(self.ctx, ("E",), (draw.hex_colour("black"),))
         self.traces.append(self.drift)
@@ -147,9 +162,7 @@ class Pendulum(Scene):
         self.a_readout.set(model.a_perp)
         self.l_readout.set(model.effective_length)
         theta0 = math.radians(values["amplitude"])
-        self.period_readout.set(
-            f"{model.small_oscillation_period:.4g} / {float(model.period(theta0)) if theta0 > 0 else model.small_oscillation_period:.4g}"
-        )
+        self.period_readout.set(_period_text(model, theta0, 0.0))
         self.release = (theta0, 0.0)
         self.start = (theta0, 0.0, 0.0)  # also set here: restart() skips reset() while the scene is built
         self.last_strike = None
@@ -185,6 +198,7 @@ class Pendulum(Scene):
         self.drift.clear()  # the blow changes the energy: the drift is measured from the struck swing
         self.last_strike = {"t": t, "wall": wall_clock(), "point": point, "impulse": impulse, "result": result}
         self.strike_readout.set(f"{result.delta_omega:.4g}, {float(np.linalg.norm(result.reaction_impulse)):.4g}")
+        self.period_readout.set(_period_text(self.model, theta, thetadot + result.delta_omega))  # a new swing
         self.ctx.request_redraw()
         return result
 
@@ -204,7 +218,9 @@ class Pendulum(Scene):
         send_position(self.cop_marker, cop)
         send_position(self.cop_label, cop + np.array([0.0, 0.05, 0.0]))
         down = R @ np.array([0.0, 0.0, -1.0])
-        send_position(self.hit_marker, self.pivot + self.params.values["strike"] * down)
+        hit = self.pivot + self.params.values["strike"] * down
+        send_position(self.hit_marker, hit)
+        send_position(self.hit_label, hit - np.array([0.0, 0.05, 0.0]))  # the other side from the CoP's label
         self.trace.append(cm)  # the legend says "path of the centre of mass": it is
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))

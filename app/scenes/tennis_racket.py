@@ -152,7 +152,8 @@ class TennisRacket(Scene):
             thickness_units="screen",
         )
         self.L_dot = server.scene.add_icosphere(root + "/L_dot", radius=0.03, color=draw.COLOURS["L"])
-        server.scene.add_label(
+        draw.add_label(
+            server,
             root + "/lsphere_label",
             "L seen from the body",
             position=self.sphere_centre + [0, 0, 1.3 * self.sphere_radius],
@@ -183,7 +184,7 @@ class TennisRacket(Scene):
                     -0.5,
                     0.5,
                     -3.0,
-                    hint="ε = ratio of the off-axis ω to Ω at t = 0",
+                    hint="each off-axis component of ω is ε Ω at t = 0 (Ω: the spin about the chosen axis)",
                 ),
                 controls.SliderSpec("I1", "I₁ (kg m², slider body)", 0.1, 5.0, 0.1, 3.0),
                 controls.SliderSpec("I2", "I₂ (kg m², slider body)", 0.1, 5.0, 0.1, 2.0),

@@ -77,3 +77,20 @@ def test_every_node_is_drawn_in_the_legend_colours(app, name):
 def test_an_arrow_colour_goes_out_in_linear_light_and_comes_back(quantity):
     shown = draw.shown_colour(draw.instance_colour(quantity))
     assert np.max(np.abs(np.subtract(shown, draw.COLOURS[quantity]))) <= 1  # one level in 255
+
+
+@pytest.mark.parametrize("name", scene_names())
+def test_every_label_in_the_scene_is_drawn_at_the_projector_size(app, name):
+    """Arrow tips, markers (centre of percussion, strike point, CM), axis numbers and guides alike."""
+    import viser
+
+    open_scene(app, name)
+    app.frame(FRAME)
+    labels = {
+        node: handle
+        for node, handle in app.server.scene._handle_from_node_name.items()
+        if node.startswith(app.root) and isinstance(handle, viser.LabelHandle)
+    }
+    assert labels, f"{name} draws no label"
+    for node, handle in labels.items():
+        assert handle.font_screen_scale == draw.LABEL_SCALE, node

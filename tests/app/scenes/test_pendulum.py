@@ -117,3 +117,27 @@ def test_the_path_in_the_legend_is_the_centre_of_mass(app):
     theta, _ = sc.state_at(app.time)
     np.testing.assert_allclose(sc.trace.points()[-1], sc.model.center_of_mass_at(theta), atol=1e-12)
     assert "path" in sc.quantities and "centre of mass" in draw.LABELS["path"]
+
+
+def test_the_period_readout_follows_the_swing_a_strike_starts(app):
+    """'this swing' is the period of the swing now: after a strike, the struck swing's (its amplitude
+    measured on the exact motion, independently of the readout's energy formula), or 'over the top'."""
+    sc = open_scene(app, "pendulum")
+    m = sc.model
+    small, before = sc.period_readout.text.split(" / ")
+    assert float(small) == pytest.approx(m.small_oscillation_period, rel=1e-3)
+    assert float(before) == pytest.approx(float(m.period(math.radians(sc.params.values["amplitude"]))), rel=1e-3)
+    for _ in range(10):
+        app.frame(FRAME)
+    assert sc.params.offer({"impulse": 0.5})
+    sc.strike()
+    theta0, thetadot0, _ = sc.start
+    swing = m.solve(theta0, thetadot0, np.linspace(0.0, 2.0 * float(m.period(math.pi * 0.99)), 20001))[0]
+    amplitude = float(np.max(np.abs(swing)))
+    after = float(sc.period_readout.text.split(" / ")[1])
+    assert after == pytest.approx(float(m.period(amplitude)), rel=1e-3)
+    assert after != pytest.approx(float(before), rel=1e-3)  # the blow changed the swing, and the readout
+    assert sc.params.offer({"impulse": 5.0})
+    for _ in range(3):
+        sc.strike()  # blow after blow: it goes over the top
+    assert sc.period_readout.text.endswith("over the top: no swing back")
