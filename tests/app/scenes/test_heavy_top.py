@@ -79,6 +79,7 @@ def test_heavy_top_presets_reach_cusps_loops_and_waves(app):
                 math.radians(v["theta0"]), v["I3"] * v["spin"]
             )[0]
             assert v["phidot0"] == pytest.approx(expected[key] * steady, abs=1e-3)
+
     # Loops: φ̇ changes sign along the motion; waves: it does not; cusps: it touches 0.
     def phidot_range(preset: str) -> tuple[float, float]:
         assert scene.presets.choose(preset), preset
