@@ -91,6 +91,7 @@ from physics.validation import (
     bounded_scalar,
     finite_array,
     finite_phase,
+    finite_result,
     finite_scalar,
     rotation_array,
     vector_array,
@@ -413,7 +414,10 @@ class FreeBody:
             Body-frame angular velocity, rad/s.
         """
         w = self._omega0(omega0)
-        return float(0.5 * np.sum(self.moments * w * w))
+        with np.errstate(over="ignore"):  # an overflow is refused by name just below
+            energy = float(0.5 * np.sum(self.moments * w * w))
+        finite_result(energy, "the energy", "values of omega0 and the moments")
+        return energy
 
     def angular_momentum_body(self, omega0: ArrayLike) -> NDArray[np.float64]:
         """Angular momentum in body axes ``L_body = I ω``, kg m²/s, shape (3,)."""

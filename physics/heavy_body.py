@@ -243,10 +243,12 @@ def _simulate_symmetric(
         torques.append(integrators.SpinFriction(c, moments, axis_body=(0.0, 0.0, 1.0)))
     if air_drag:
         torques.append(TransverseAirDrag(air_drag, moments))
-    # M g ℓ = mgl with a unit lever: the torque (and the energy) only depend on the product.
+    # M g ℓ = mgl with a unit lever: the torque (and the energy) only depend on the product. Without
+    # gravity (mgl = 0) the top is a free symmetric body: a unit mass with g = 0.
+    weighs = top.mgl > 0.0
     return simulate_heavy_body(
         moments,
-        top.mgl / G,
+        top.mgl / G if weighs else 1.0,
         (0.0, 0.0, 1.0),
         R0,
         w0,
@@ -254,6 +256,6 @@ def _simulate_symmetric(
         dt,
         torques=torques,
         method=method,
-        g=G,
+        g=G if weighs else 0.0,
         save_every=save_every,
     )

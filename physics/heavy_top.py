@@ -86,7 +86,15 @@ from physics.heavy_body import FrictionRun, TransverseAirDrag, _simulate_symmetr
 from physics.nutation_cubic import NutationCubic
 from physics.top_motion import ScaledTop, _Motion, motion_constants
 from physics.top_trajectory import HeavyTopSolution, HeavyTopTrajectory, _times
-from physics.validation import MAX_RATE, MAX_STEPS, bounded_scalar, finite_array, finite_scalar
+from physics.validation import (
+    MAX_RATE,
+    MAX_STEPS,
+    bounded_scalar,
+    broadcast,
+    finite_array,
+    finite_result,
+    finite_scalar,
+)
 
 if TYPE_CHECKING:
     from physics.inertia import MassProperties
@@ -235,22 +243,33 @@ class HeavyTop:
         theta, phidot, psidot : array_like (n,) or scalars
             Angle from +z (rad) and the precession and spin rates (rad/s).
         """
-        theta = np.asarray(theta, dtype=float)
-        phidot = np.asarray(phidot, dtype=float)
-        L3 = self.I3 * (np.asarray(psidot, dtype=float) + phidot * np.cos(theta))
-        return L3, self.I1 * np.sin(theta) ** 2 * phidot + L3 * np.cos(theta)
+        theta, phidot, psidot = (
+            finite_array(v, n) for v, n in ((theta, "theta"), (phidot, "phidot"), (psidot, "psidot"))
+        )
+        broadcast(theta=theta, phidot=phidot, psidot=psidot)
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
+            L3 = self.I3 * (psidot + phidot * np.cos(theta))
+            Lz = self.I1 * np.sin(theta) ** 2 * phidot + L3 * np.cos(theta)
+        finite_result((L3, Lz), "the angular momentum", "rates (phidot, psidot)")
+        return L3, Lz
 
     def energy_of(
         self, theta: ArrayLike, thetadot: ArrayLike, phidot: ArrayLike, psidot: ArrayLike
     ) -> NDArray[np.float64]:
         """Total energy ``½ I1 (θ̇² + sin²θ φ̇²) + ½ I3 ω3² + M g ℓ cos θ``, J (shapes broadcast)."""
-        theta = np.asarray(theta, dtype=float)
-        phidot = np.asarray(phidot, dtype=float)
-        w3 = np.asarray(psidot, dtype=float) + phidot * np.cos(theta)
-        td = np.asarray(thetadot, dtype=float)
-        energy: Floats = (
-            0.5 * self.I1 * (td**2 + np.sin(theta) ** 2 * phidot**2) + 0.5 * self.I3 * w3**2 + self.mgl * np.cos(theta)
+        theta, td, phidot, psidot = (
+            finite_array(v, n)
+            for v, n in ((theta, "theta"), (thetadot, "thetadot"), (phidot, "phidot"), (psidot, "psidot"))
         )
+        broadcast(theta=theta, thetadot=td, phidot=phidot, psidot=psidot)
+        w3 = psidot + phidot * np.cos(theta)
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
+            energy: Floats = (
+                0.5 * self.I1 * (td**2 + np.sin(theta) ** 2 * phidot**2)
+                + 0.5 * self.I3 * w3**2
+                + self.mgl * np.cos(theta)
+            )
+        finite_result(energy, "the energy", "rates (thetadot, phidot, psidot)")
         return energy
 
     @staticmethod
@@ -305,11 +324,17 @@ class HeavyTop:
     def sleeping_threshold(self) -> float:
         """Least spin angular momentum ``L3 = 2 sqrt(M g ℓ I1)`` for which the vertical spin is stable,
         kg m²/s (lecture: U''(0) = L3²/(4 I1²) − Mgℓ/I1 changes sign there)."""
-        return 2.0 * math.sqrt(self.mgl * self.I1)
+        product = self.mgl * self.I1
+        if math.isfinite(product):
+            return 2.0 * math.sqrt(product)
+        return 2.0 * math.sqrt(self.mgl) * math.sqrt(self.I1)  # mgl I1 overflows where its root does not
 
     def vertical_curvature(self, L3: float) -> float:
         """``U''(0) = L3²/(4 I1²) − M g ℓ / I1`` for a top spinning about the vertical (Lz = L3), 1/s²."""
-        return L3**2 / (4.0 * self.I1**2) - self.mgl / self.I1
+        L3 = bounded_scalar(L3, "L3")
+        curvature = (L3 / (2.0 * self.I1)) ** 2 - self.mgl / self.I1
+        finite_result(curvature, "U''(0)", "values of L3 and the moments")
+        return curvature
 
     def steady_precession_rates(self, theta: float, L3: float) -> tuple[float, float]:
         """The slow and the fast rate φ̇ of steady precession at angle θ, rad/s.

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics.validation import finite_array
+from physics.validation import finite_array, finite_result, finite_scalar
 
 if TYPE_CHECKING:  # trimesh is imported where a mesh is read, not for every import of physics
     import trimesh
@@ -125,8 +125,11 @@ def parallel_axis(mass: float, offset: ArrayLike) -> NDArray[np.float64]:
     ndarray, shape (3, 3)
         kg m²; add it to the tensor about the centre of mass.
     """
-    a = np.asarray(offset, dtype=float)
-    out: NDArray[np.float64] = mass * ((a @ a) * np.eye(3) - np.outer(a, a))
+    m = finite_scalar(mass, "mass")
+    a = finite_array(offset, "offset", (3,))
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
+        out: NDArray[np.float64] = m * ((a @ a) * np.eye(3) - np.outer(a, a))
+    finite_result(out, "the parallel-axis term", "values of mass and offset")
     return out
 
 

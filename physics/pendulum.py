@@ -55,7 +55,7 @@ from scipy.special import ellipkm1, elliprf
 from physics import G
 from physics.inertia import MassProperties
 from physics.rotations import frame_from_axis, rotation_about
-from physics.validation import finite_array, finite_phase, finite_scalar
+from physics.validation import broadcast, finite_array, finite_phase, finite_result, finite_scalar
 
 Floats = NDArray[np.float64]
 
@@ -292,7 +292,13 @@ class PhysicalPendulum:
         """
         th = finite_array(theta, "theta")
         thd = finite_array(theta_dot, "theta_dot")
-        return 0.5 * self.moment_of_inertia * thd**2 - self.mass * self.gravity_in_plane * self.a_perp * np.cos(th)
+        broadcast(theta=th, theta_dot=thd)
+        with np.errstate(over="ignore"):  # an overflow is refused by name just below
+            energy = 0.5 * self.moment_of_inertia * thd**2 - self.mass * self.gravity_in_plane * self.a_perp * np.cos(
+                th
+            )
+        finite_result(energy, "the energy", "rates (theta_dot)")
+        return energy
 
     # -- exact swing ----------------------------------------------------------------------------
     def _energy_parameter(

@@ -11,6 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from physics.validation import broadcast, finite_array
+
 __all__ = [
     "hat",
     "vee",
@@ -24,6 +26,32 @@ __all__ = [
 ]
 
 
+def _vectors(v: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``v`` as finite 3-vectors, shape (..., 3); ValueError names ``name`` otherwise."""
+    arr = finite_array(v, name)
+    if arr.ndim == 0 or arr.shape[-1] != 3:
+        raise ValueError(f"{name} must have shape (3,) or (n, 3), got shape {arr.shape}")
+    return arr
+
+
+def _matrices(r: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``r`` as finite 3×3 matrices, shape (..., 3, 3); ValueError names ``name`` otherwise."""
+    arr = finite_array(r, name)
+    if arr.ndim < 2 or arr.shape[-2:] != (3, 3):
+        raise ValueError(f"{name} must have shape (3, 3) or (n, 3, 3), got shape {arr.shape}")
+    return arr
+
+
+def _unit_axis(axis: ArrayLike) -> NDArray[np.float64]:
+    """``axis`` as a unit vector (scaled first, so a tiny or huge axis neither underflows nor overflows)."""
+    a = finite_array(axis, "axis", (3,))
+    largest = float(np.max(np.abs(a)))
+    if largest == 0.0:
+        raise ValueError(f"axis must be a nonzero vector, got {a.tolist()}")
+    u = a / largest
+    return u / np.linalg.norm(u)
+
+
 def hat(v: ArrayLike) -> NDArray[np.float64]:
     """Skew-symmetric matrix of a vector: ``hat(v) @ x == cross(v, x)``.
 
@@ -35,7 +63,7 @@ def hat(v: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3) or (n, 3, 3)
     """
-    v = np.asarray(v, dtype=float)
+    v = _vectors(v, "v")
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1] = -v[..., 2]
     out[..., 0, 2] = v[..., 1]
@@ -70,7 +98,7 @@ def expm_so3(v: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3) or (n, 3, 3)
     """
-    v = np.asarray(v, dtype=float)
+    v = _vectors(v, "v")
     a2 = np.einsum("...i,...i->...", v, v)
     a = np.sqrt(a2)
     small = a < 1e-4
@@ -95,9 +123,8 @@ def rotation_about(axis: ArrayLike, angle: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3) or (n, 3, 3)
     """
-    axis = np.asarray(axis, dtype=float)
-    axis = axis / np.linalg.norm(axis)
-    angle = np.asarray(angle, dtype=float)
+    axis = _unit_axis(axis)
+    angle = finite_array(angle, "angle")
     return expm_so3(angle[..., None] * axis)
 
 
@@ -115,7 +142,9 @@ def rotation_angle(r_a: ArrayLike, r_b: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape () or (n,)
     """
-    d = np.asarray(r_a, dtype=float) - np.asarray(r_b, dtype=float)
+    a, b = _matrices(r_a, "r_a"), _matrices(r_b, "r_b")
+    broadcast(r_a=a, r_b=b)
+    d = a - b
     f = np.sqrt(np.einsum("...ij,...ij->...", d, d))
     out: NDArray[np.float64] = 2.0 * np.arcsin(np.clip(f / np.sqrt(8.0), 0.0, 1.0))
     return out
@@ -159,8 +188,7 @@ def frame_from_axis(axis: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3)
     """
-    e3 = np.asarray(axis, dtype=float)
-    e3 = e3 / np.linalg.norm(e3)
+    e3 = _unit_axis(axis)
     trial = np.eye(3)[int(np.argmin(np.abs(e3)))]
     e1 = trial - e3 * (trial @ e3)
     e1 /= np.linalg.norm(e1)

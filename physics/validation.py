@@ -17,7 +17,9 @@ __all__ = [
     "MAX_STEPS",
     "ROTATION_TOLERANCE",
     "bounded_scalar",
+    "broadcast",
     "finite_array",
+    "finite_result",
     "finite_phase",
     "finite_scalar",
     "rotation_array",
@@ -93,6 +95,24 @@ def finite_phase(phase: ArrayLike, name: str = "t") -> None:
         raise ValueError(
             f"{name} is too far from 0: the phase of the motion (its rate times {name}) overflows the float range"
         )
+
+
+def broadcast(**arrays: NDArray[np.float64]) -> tuple[int, ...]:
+    """The common shape of ``arrays`` (keyword: argument name), or ValueError naming their shapes."""
+    try:
+        return tuple(np.broadcast_shapes(*(a.shape for a in arrays.values())))
+    except ValueError:
+        shapes = ", ".join(f"{name} {a.shape}" for name, a in arrays.items())
+        raise ValueError(f"{' and '.join(arrays)} must have shapes that broadcast together, got {shapes}") from None
+
+
+def finite_result(value: ArrayLike, what: str, inputs: str) -> None:
+    """Refuse a result that left the float range (it overflowed, though every input was finite).
+
+    ``what`` names the result and ``inputs`` the arguments that set its size, for the message.
+    """
+    if not np.all(np.isfinite(value)):
+        raise ValueError(f"{what} overflows the float range (|x| > 1.8e308) for these {inputs}: scale them down")
 
 
 def _short(value: object) -> str:

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics.validation import finite_array, rotation_array, vector_array
+from physics.validation import finite_array, finite_result, rotation_array, vector_array
 
 # A state is a tuple of 12 scalars (or (n,) arrays): R row-major r00..r22, then L0, L1, L2.
 _State = tuple
@@ -53,9 +53,12 @@ def _inverse_moments(m: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def kinetic_energy(moments: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
     """``T = Σ L_i² / (2 I_i)``, J (zero moments contribute 0): ``L_body`` (n,3) or (3,) -> (n,) or ()."""
-    inv = _inverse_moments(np.asarray(moments, dtype=float))
-    L = np.asarray(L_body, dtype=float)
-    return 0.5 * np.sum(L * L * inv, axis=-1)
+    inv = _inverse_moments(finite_array(moments, "moments", (3,)))
+    L = vector_array(L_body, "L_body")
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
+        energy: NDArray[np.float64] = 0.5 * np.sum(L * L * inv, axis=-1)
+    finite_result(energy, "the kinetic energy", "values of L_body and the moments")
+    return energy
 
 
 def _to_state(R, L) -> _State:
