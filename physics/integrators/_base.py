@@ -114,6 +114,8 @@ class _Splitting(_Method):
     """Compositions of a symmetric base step ``T(h/2) F(h) T(h/2)`` with weights ``_weights``."""
 
     symplectic = True
+    # What the free rotation keeps (the class's declaration); an instance narrows it to its torques.
+    conserves: tuple = ("orthonormality of R", "|L|", "L_space", "symplectic form")
     _weights: tuple[float, ...] = (1.0,)
     _sym: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
 

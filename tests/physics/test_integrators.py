@@ -341,6 +341,12 @@ def test_the_registry_lists_every_method_once_with_its_declarations():
     for name, cls in REGISTRY.items():
         assert cls.name == name and cls.order in (2, 4, 6, 8) and isinstance(cls.symplectic, bool)
         assert isinstance(cls(MOMENTS).conserves, tuple)
+        # The class itself declares what the torque-free method keeps (ClassicalRK4: nothing, its R drifts).
+        if cls is not ClassicalRK4:
+            assert "orthonormality of R" in cls.conserves, name
+        if cls.symplectic:
+            assert {"|L|", "L_space", "symplectic form"} <= set(cls.conserves), name
+            assert set(cls(MOMENTS).conserves) >= set(cls.conserves), name  # torque-free: all of it
         # One method per module: each class lives in its own module of the package.
         module = importlib.import_module(cls.__module__)
         assert module.__name__.startswith("physics.integrators.") and getattr(module, cls.__name__) is cls
