@@ -61,7 +61,22 @@ README_SHOTS = [
     ("scene_explorer.png", "inertia_explorer", None, (1280, 800), False, None),
     ("scene_pendulum.png", "pendulum", None, (1280, 800), False, None),
     ("scene_racket_plot.png", "tennis_racket", None, (1280, 800), False, "ω in body axes"),
+    ("free_fall.png", "free_fall", None, (1280, 800), False, None),
+    ("wobble_body_view.png", "wobble", None, (1280, 800), False, None),
+    ("heavy_top_friction.png", "heavy_top", "sleeping top with friction: falls", (1280, 800), False, None),
 ]
+
+
+def _ride_with_the_body(app) -> None:
+    app.scene.body_view.value = True  # runs its callback: the scene restarts in body axes
+
+
+def _fast_forward(app) -> None:
+    app.set_speed(4.0)  # 24 s of the friction top in 6 s: it spins down, falls and lies on the table
+
+
+# Anything a shot needs beyond its preset, done under the app's lock before the wait.
+SETUPS = {"wobble_body_view.png": _ride_with_the_body, "heavy_top_friction.png": _fast_forward}
 
 _SCROLL_TO_PLOT = """(title) => { for (const el of document.querySelectorAll('.u-title')) {
     if (el.textContent.startsWith(title)) { el.scrollIntoView({block: 'start'}); return true; } }
@@ -76,6 +91,9 @@ def readme(out: Path, seconds: float = 6.0) -> None:
             if preset is not None:
                 with app.lock:
                     assert app.scene.presets.choose(preset), preset
+            if file in SETUPS:
+                with app.lock:
+                    SETUPS[file](app)
             time.sleep(seconds)
             page.evaluate(_CLOSE_NOTIFICATIONS)
             if scroll is not None:

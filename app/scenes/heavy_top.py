@@ -264,8 +264,9 @@ class HeavyTopScene(Scene):
         sol = motion.at(np.zeros(1))
         self.top, self.values, self.start, self.exact, self.motion = top, dict(values), start, sol, motion
         L0 = sol.attitude[0] @ (np.array([top.I1, top.I1, top.I3]) * sol.omega_body[0])
-        self.L_scale = 1.6 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
-        self.omega_scale = 1.35 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
+        # L and ω reach a little past the axis-tip sphere, so their labels stay in a 1280×800 view.
+        self.L_scale = 1.25 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
+        self.omega_scale = 1.1 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
         self.note.content = _nudge_words(values)
@@ -367,7 +368,8 @@ class HeavyTopScene(Scene):
         self.body.set_pose(state["R"])
         self.L_arrow.set(state["L"] * self.L_scale)
         self.omega_arrow.set(state["omega"] * self.omega_scale, apart_from=self.L_arrow)
-        self.torque_arrow.set(state["torque"] * self.torque_scale, 0.55 * LENGTH * state["axis"])
+        # τ from the stem's end: drawn inside the body (its middle) it was a blob with its label on the body.
+        self.torque_arrow.set(state["torque"] * self.torque_scale, LENGTH * state["axis"])
         self.trace.append(LENGTH * state["axis"])
         self._readouts(state)
         self.drift.add(self.ctx.time, lambda: self._invariants(state))

@@ -70,10 +70,9 @@ class Pendulum(Scene):
     order = 55
     quantities = ("impulse", "reaction", "path", "pivot")
     caption = (
-        "**Physical pendulum.** About a fixed axis I = I_CM + M a⊥² = M k², and the body swings like a simple "
-        "pendulum of length ℓ = k²/a⊥ (ℓ > k > a⊥). **Strike it** (arrow J): the pivot must push back (arrow "
-        "'pivot') unless the blow lands at the centre of percussion, ℓ below the pivot — the bat's sweet spot, "
-        "where your hands feel no sting. The button under *Strike!* moves the strike point there."
+        "**Physical pendulum.** I = I_CM + M a⊥² = M k² about the pivot: it swings like a simple pendulum of "
+        "length ℓ = k²/a⊥. **Strike!** (arrow J): the pivot pushes back (arrow 'pivot') unless the blow lands "
+        "at the centre of percussion, ℓ below the pivot: the bat's sweet spot (the button under *Strike!*)."
     )
     camera = ((2.3, -0.8, 1.6), (0.0, 0.0, 1.45))
 

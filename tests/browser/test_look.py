@@ -225,15 +225,28 @@ def test_every_body_stands_out_framed_clear_of_the_panel(chromium, width, height
         assert row["ratio"] == pytest.approx(table[key], abs=0.05), (key, row["ratio"], table[key])
 
 
-def test_key_controls_above_the_fold_and_the_panel_collapses(chromium) -> None:
-    with running_app("heavy_top") as app:
+# Each scene's main controls: (its sliders and dropdowns by label, its own buttons by name).
+MAIN_CONTROLS = {
+    "heavy_top": (("spin ω₃ (rad/s)", "tilt θ₀ (°)"), ()),
+    "wobble": (("I₃/I₁ (shape)", "|ω| (rad/s)", "angle of ω from the axis (°)"), ()),
+    "free_fall": (("I₃/I₁ (shape)", "|ω| (rad/s)", "angle of ω from the axis (°)"), ()),
+    "inertia_explorer": (("Body", "radius / size a (m)"), ()),
+    "pendulum": (("Body", "pivot below the knob end (m)", "release angle θ₀ (°)"), ("Strike!",)),
+    "tennis_racket": (("Body", "Spin about principal axis", "spin Ω (rad/s)", "push off the axis, log₁₀ ε"), ()),
+}
+
+
+@pytest.mark.parametrize("scene", sorted(MAIN_CONTROLS))
+def test_key_controls_above_the_fold_and_the_panel_collapses(chromium, scene) -> None:
+    sliders, buttons = MAIN_CONTROLS[scene]
+    with running_app(scene) as app:
         page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
         scene_id = control_id(page, "Scene")
         panel_bottom = page.evaluate(PANEL_RECT, scene_id)[3]
-        for label in ("Scene", "spin ω₃ (rad/s)", "tilt θ₀ (°)"):
+        for label in ("Scene", *sliders):
             box = page.locator(f"[id='{control_id(page, label)}']").bounding_box()
             assert box is not None and box["y"] + box["height"] <= min(panel_bottom, 800), label
-        for name in ("Pause", "Reset"):
+        for name in ("Pause", "Reset", *buttons):
             box = page.get_by_role("button", name=name).first.bounding_box()
             assert box is not None and box["y"] + box["height"] <= min(panel_bottom, 800), name
         click(page.get_by_label("Minimize panel"))
