@@ -85,7 +85,7 @@ from scipy.special import ellipkm1, elliprc, elliprf, elliprj
 
 from physics.double_double import _dd_add, _dd_term, _two_sum
 from physics.inertia import validate_moments
-from physics.rotations import expm_so3
+from physics.rotations import _expm_so3
 from physics.validation import (
     MAX_RATE,
     bounded_scalar,
@@ -814,7 +814,7 @@ class FreeBody:
             ws = w[which[sel]]
             out_w[sel] = ws
             if want_attitude:
-                out_r[sel] = r0[which[sel]] @ expm_so3(t[sel, None] * ws)
+                out_r[sel] = r0[which[sel]] @ _expm_so3(t[sel, None] * ws)
         # Symmetric body (lecture): ω_⊥ turns by −Ω t about e_s; R = exp(t hat(L)/I⊥) R0 exp(Ω t hat e_s).
         sel = np.nonzero(kind == 1)[0]
         if sel.size:
@@ -832,7 +832,7 @@ class FreeBody:
                 l_space = np.einsum("kij,kj->ki", rs, self.moments * ws)
                 axis = np.zeros((sel.size, 3))
                 axis[:, s] = ang
-                out_r[sel] = expm_so3(t[sel, None] * l_space / p["i_perp"]) @ rs @ expm_so3(axis)
+                out_r[sel] = _expm_so3(t[sel, None] * l_space / p["i_perp"]) @ rs @ _expm_so3(axis)
         sel = np.nonzero(kind == 2)[0]
         if sel.size:
             if w.shape[0] == 1:

@@ -63,7 +63,11 @@ def hat(v: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3) or (n, 3, 3)
     """
-    v = _vectors(v, "v")
+    return _hat(_vectors(v, "v"))
+
+
+def _hat(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`hat` without the checks (for callers that have made them)."""
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1] = -v[..., 2]
     out[..., 0, 2] = v[..., 1]
@@ -98,14 +102,18 @@ def expm_so3(v: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3) or (n, 3, 3)
     """
-    v = _vectors(v, "v")
+    return _expm_so3(_vectors(v, "v"))
+
+
+def _expm_so3(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`expm_so3` without the checks (for callers that have made them: a frame's hot path)."""
     a2 = np.einsum("...i,...i->...", v, v)
     a = np.sqrt(a2)
     small = a < 1e-4
     safe = np.where(small, 1.0, a)
     s = np.where(small, 1.0 - a2 / 6.0 + a2 * a2 / 120.0, np.sin(safe) / safe)
     c = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, (1.0 - np.cos(safe)) / (safe * safe))
-    k = hat(v)
+    k = _hat(v)
     eye = np.broadcast_to(np.eye(3), k.shape)
     out: NDArray[np.float64] = eye + s[..., None, None] * k + c[..., None, None] * (k @ k)
     return out
@@ -125,7 +133,7 @@ def rotation_about(axis: ArrayLike, angle: ArrayLike) -> NDArray[np.float64]:
     """
     axis = _unit_axis(axis)
     angle = finite_array(angle, "angle")
-    return expm_so3(angle[..., None] * axis)
+    return _expm_so3(angle[..., None] * axis)
 
 
 def rotation_angle(r_a: ArrayLike, r_b: ArrayLike) -> NDArray[np.float64]:

@@ -316,28 +316,27 @@ class HeavyTopScene(Scene):
             self.landed = bool(motion.get("landed", [0.0])[0])
 
     # -- the state
-    def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
-        from physics.heavy_top import simulate_heavy_body
-        from physics.integrators import SpinFriction
+    def _friction_stepper(self) -> Any:
+        """Lie RK4 with gravity and spin friction for this top: built once per body and friction, so a
+        frame only steps (as :func:`physics.heavy_top.simulate_heavy_body` would, without its set-up)."""
+        from physics.integrators import GravityTorque, LieRK4, SpinFriction
 
-        top = self.top
-        moments = np.array([top.I1, top.I1, top.I3])
+        top, c = self.top, self.values["friction"]
+        key = (top.I1, top.I3, top.mgl, c)
+        if getattr(self, "_stepper_key", None) != key:
+            moments = np.array([top.I1, top.I1, top.I3])
+            gravity = GravityTorque(top.mgl / (G * ELL), [0.0, 0.0, ELL], g=G)
+            self._stepper, self._stepper_key = LieRK4(moments, [gravity, SpinFriction(c, moments)]), key
+        return self._stepper
+
+    def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        from physics.integrators import advance
+
         if dt <= 0.0:
             return self.R, self.L_body
-        n = max(1, math.ceil(dt / (1.0 / 240.0)))
-        run = simulate_heavy_body(
-            moments,
-            top.mgl / (G * ELL),
-            [0.0, 0.0, ELL],
-            self.R,
-            self.L_body / moments,
-            dt,
-            dt / n,
-            torques=[SpinFriction(self.values["friction"], moments)],
-            method="LieRK4",
-            save_every=n,
-        )
-        return run.attitude[-1], run.L_body[-1]
+        n = max(1, math.ceil(dt / (1.0 / 240.0)))  # steps of at most 1/240 s
+        state = advance(self._friction_stepper(), np.concatenate([self.R.ravel(), self.L_body]), dt / n, n)
+        return state[:9].reshape(3, 3), state[9:].copy()
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         top = self.top

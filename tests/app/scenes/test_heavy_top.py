@@ -214,3 +214,35 @@ def test_sleeping_is_said_only_of_a_top_that_stands_upright(app):
     assert scene.params.offer({"theta0": 2.0})
     app.frame(FRAME)
     assert "the top sleeps" in scene.gauge.text.content
+
+
+def test_the_friction_top_steps_as_simulate_heavy_body_does(app):
+    """The scene builds its Lie RK4 stepper once and steps it each frame: the same motion as the physics
+    API's simulate_heavy_body over the same steps (to round-off)."""
+    from app.scenes.heavy_top import ELL
+    from physics import G
+    from physics.heavy_top import simulate_heavy_body
+    from physics.integrators import SpinFriction
+
+    scene = open_scene(app, "heavy_top")
+    assert scene.presets.choose("sleeping top with friction: falls")
+    app.set_speed(10.0)
+    app.frame(0.1)  # 1 s of the simulation at t = 0: 240 steps of 1/240 s
+    R0, L0 = scene.R.copy(), scene.L_body.copy()
+    app.frame(0.1)
+    top = scene.top
+    moments = np.array([top.I1, top.I1, top.I3])
+    run = simulate_heavy_body(
+        moments,
+        top.mgl / (G * ELL),
+        [0.0, 0.0, ELL],
+        R0,
+        L0 / moments,
+        1.0,
+        1.0 / 240.0,
+        torques=[SpinFriction(scene.params.values["friction"], moments)],
+        method="LieRK4",
+        save_every=240,
+    )
+    np.testing.assert_allclose(scene.R, run.attitude[-1], rtol=0, atol=1e-13)
+    np.testing.assert_allclose(scene.L_body, run.L_body[-1], rtol=0, atol=1e-13 * np.linalg.norm(L0))
