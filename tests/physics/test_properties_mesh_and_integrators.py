@@ -55,7 +55,8 @@ def test_from_mesh_gives_the_box_closed_form_anywhere_at_any_scale(sides, rotvec
     np.testing.assert_allclose(props.center_of_mass, transform[:3, 3], rtol=0, atol=1e-12 * scale * 105)
     R = transform[:3, :3]
     exact = R @ np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) @ R.T * (mass / 12.0)
-    # Round-off of the signed-volume sums: relative to the largest moment (measured below 1e-14).
+    # Round-off of the signed-volume sums, relative to the largest moment (measured: 1.8e-15; mass 1.6e-15,
+    # centre 4.8e-14 of the scale, sums of terms up to 105 times the box).
     np.testing.assert_allclose(props.tensor, exact, rtol=0, atol=1e-12 * np.max(np.abs(exact)))
 
 
@@ -93,7 +94,8 @@ def _triangle_inequality(moments) -> bool:
 @given(moments=_moments.filter(_triangle_inequality), direction=_direction, coarse=st.floats(0.05, 0.5))
 def test_splittings_keep_L_exactly_at_any_step(moments, direction, coarse):
     """Each sub-step is an exact rotation about a principal axis: |L| and L_space stay to round-off even
-    at a coarse step (a fraction 0.05..0.5 of a radian of turn per step)."""
+    at a coarse step (a fraction 0.05..0.5 of a radian of turn per step); measured 8.7e-15 of |L| over
+    400 steps of 0.5 rad."""
     omega0 = np.asarray(direction) / np.linalg.norm(direction)  # 1 rad/s
     L0 = moments * omega0
     dt = coarse / np.max(np.abs(omega0))
@@ -108,9 +110,9 @@ def test_splittings_keep_L_exactly_at_any_step(moments, direction, coarse):
 @settings(max_examples=25, deadline=None)
 @given(moments=_moments.filter(_triangle_inequality), direction=_direction)
 def test_yoshida6_at_a_fine_step_follows_the_closed_form(moments, direction):
-    """Yoshida 6 with 400 steps per radian of turn over two radians: ω within 1e-9 relative and the
-    attitude within 1e-9 rad of the exact free body (its error is ~(h |ω|)⁶, far below; the bound leaves
-    room for the error's growth near a separatrix)."""
+    """Yoshida 6 with 400 steps per radian of turn over two radians: ω within 1e-12 relative and the
+    attitude within 1e-12 rad of the exact free body. The method's error, ~(h |ω|)⁶ ≈ 2e-16, is below the
+    round-off of 800 steps; measured over 40 random bodies: ω 2.1e-14, R 2.9e-14 rad."""
     omega0 = np.asarray(direction) / np.linalg.norm(direction)
     dt = 1.0 / 400.0
     run = integrate(Yoshida6(moments), np.eye(3), moments * omega0, dt, 800, save_every=800)
@@ -119,6 +121,6 @@ def test_yoshida6_at_a_fine_step_follows_the_closed_form(moments, direction):
     exact_R = body.attitude(omega0, t)
     exact_w = body.omega(omega0, t)
     w = run.L_body / moments
-    assert np.max(np.abs(w - exact_w)) < 1e-9 * np.linalg.norm(omega0)
-    assert np.max(rotation_angle(run.attitude, exact_R)) < 1e-9
+    assert np.max(np.abs(w - exact_w)) < 1e-12 * np.linalg.norm(omega0)
+    assert np.max(rotation_angle(run.attitude, exact_R)) < 1e-12
     assert math.isfinite(float(np.max(w)))
