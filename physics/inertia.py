@@ -571,7 +571,8 @@ def _from_unit_mesh_checks(unit: trimesh.Trimesh) -> None:
     if not mesh.is_winding_consistent:
         raise ValueError(
             "the mesh's triangles are wound inconsistently (some face inward, some outward), so its "
-            "volume and mass would be wrong; fix the winding (e.g. trimesh.repair.fix_winding) and try again"
+            "volume and mass would be wrong; re-orient its faces consistently in the modelling program (in "
+            "Blender: Mesh > Normals > Recalculate Outside) and try again"
         )
     with np.errstate(divide="ignore", invalid="ignore"):  # trimesh divides by the volume, which may be 0
         volume = float(mesh.volume)
