@@ -625,6 +625,8 @@ class Simulation:
         with self.lock:
             if self.scene is None or self.scene.name != snapshot["scene"] or snapshot.get("payload") is not None:
                 self.switch_scene(snapshot["scene"], payload=snapshot.get("payload"))
+            assert self.scene is not None
+            self.scene.prepare(snapshot["motion"])
             # Twice: a control that re-applies others (a preset) must not override what followed it.
             for _ in range(2):
                 for handle, (label, value) in zip(list(self._scene_inputs), snapshot["controls"], strict=False):

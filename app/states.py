@@ -45,6 +45,11 @@ def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None =
             "this scene shows a body handed over from another scene; a state text cannot carry a mesh "
             "(copy the state of the scene it came from instead)"
         )
+    if "uploaded" in (snapshot.get("motion") or {}):
+        raise ValueError(
+            "this scene shows an uploaded mesh; a state text cannot carry a mesh (upload the file again "
+            "where the state is opened)"
+        )
     state = {
         "scene": snapshot["scene"],
         "controls": [[label, value] for label, value in snapshot["controls"]],

@@ -180,8 +180,12 @@ class Scene:
         the scene into another simulation (default: nothing; closed-form models need only the time)."""
         return {}
 
+    def prepare(self, motion: dict[str, Any]) -> None:
+        """Before a snapshot's controls are set: adopt what they refer to (an uploaded body the Body
+        dropdown names), from the state :meth:`snapshot` gave (default: nothing)."""
+
     def restore(self, motion: dict[str, Any]) -> None:
-        """Adopt a state :meth:`snapshot` gave (default: nothing to adopt)."""
+        """Adopt a state :meth:`snapshot` gave, after its controls are set (default: nothing to adopt)."""
 
     def accept(self, payload: Any) -> None:
         """Take a body handed over by another scene (default: refuse)."""

@@ -293,6 +293,17 @@ class InertiaExplorer(Scene):
         self.ctx.notify("Mesh loaded", body.note, client=client)
         return True
 
+    # -- copies (presenter mode's "Explore on my own") ------------------------------------------------
+    def snapshot(self) -> dict[str, Any]:
+        # An uploaded body is not in the controls: its copy needs the body itself (a state text refuses it).
+        return {"uploaded": self.uploaded} if self.uploaded is not None else {}
+
+    def prepare(self, motion: dict[str, Any]) -> None:
+        body = motion.get("uploaded")
+        if isinstance(body, UploadedBody):  # the Body dropdown's "Uploaded: …" is then a choice here too
+            self.uploaded = body
+            self.choice.options = (*PRIMITIVES, *ASSET_CHOICES, self._upload_label())
+
     # -- hand over ---------------------------------------------------------------------------------
     def _spin_it(self, event: Any) -> None:
         # Any body: the torque-free scene also spins symmetric ones (they precess instead of flipping).

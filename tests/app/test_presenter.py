@@ -6,6 +6,7 @@ receive is decoded from viser's wire format (``received``), so these tests see w
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from app import presenter
@@ -244,3 +245,31 @@ def test_a_followers_upload_is_refused_before_anything_reads_it(lecture, monkeyp
         wait_for(lambda: cid in app.classroom.presenters, what="a presenter")
         send_upload(ws, scene.upload._impl.uuid, "brick.stl", content)
         wait_for(lambda: parsed == ["brick.stl"], what="the presenter's file to reach the reader")
+
+
+def test_exploring_copies_an_uploaded_body_and_its_state_text_is_refused_by_name():
+    """The lecture shows an uploaded mesh: a student's own copy shows the same body (not a primitive), and
+    Copy state says a state text cannot carry a mesh instead of failing."""
+    import contextlib
+
+    import trimesh
+
+    from app.states import state_text
+
+    with running_app("inertia_explorer", presenter=True, pin=PIN) as app:
+        brick = trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(file_type="stl")
+        assert app.scene.load_upload("brick.stl", brick)
+        lecture_label, lecture_props = app.scene.label, app.scene.props
+        assert lecture_label.startswith("brick.stl")
+        with contextlib.ExitStack() as stack:
+            student, student_id, student_panel = _join(app, stack)
+            received(student, 0.3)
+            click_button(student, student_panel.explore._impl.uuid)
+            wait_for(lambda: student_id in app.sessions, what="the student's own copy")
+            copy = app.sessions[student_id]
+            wait_for(lambda: copy.scene is not None and copy.scene.label == lecture_label, what="the body copied")
+            np.testing.assert_array_equal(copy.scene.props.tensor, lecture_props.tensor)
+            assert copy.scene.choice.value == app.scene.choice.value
+            assert not [b for t, b in copy.messages if t == "Refused"], copy.messages
+        with pytest.raises(ValueError, match="uploaded mesh"):
+            state_text(app.snapshot())
