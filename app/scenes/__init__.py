@@ -58,7 +58,9 @@ Hooks in :class:`Scene` (all optional except ``build``, ``compute`` and ``draw``
 clock's reset: go back to t = 0 with the current parameters; the default clears ``self.traces``),
 ``teardown()`` (release anything that is not a scene node under ``ctx.root`` nor GUI in the folder),
 ``columns(state)`` (the quantities an export writes to its CSV), ``accept(payload)`` (another scene hands over a body: e.g. the inertia explorer's "Spin it" calls
-``ctx.switch_to("wobble", payload=...)``).
+``ctx.switch_to("wobble", payload=...)``), ``snapshot()`` / ``prepare(motion)`` / ``restore(motion)`` (copy the
+scene into another simulation: what the time and the controls do not give, what the controls refer to,
+then the stepped state).
 
 Time. Closed-form models evaluate the state at the absolute time ``t`` (exact, no drift, any speed);
 a stepping model (friction) advances its own state by ``dt`` and must not mutate it in ``compute``.
