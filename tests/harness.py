@@ -69,10 +69,11 @@ def running_app(
     state: str | None = None,
     dark: bool = False,
     share: bool = False,
+    lecture: str | None = None,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
     127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``share``: viser's share
-    button shown); stopped on exit."""
+    button shown; ``lecture``: a lecture file or name to follow); stopped on exit."""
     from app.server import App
 
     app = App(
@@ -86,6 +87,7 @@ def running_app(
         state=state,
         dark=dark,
         share=share,
+        lecture=lecture,
     )
     try:
         yield app
