@@ -54,6 +54,10 @@ from app.wire import resend_poses
 __all__ = ["App", "Simulation", "NumericalFailure", "check_finite"]
 
 FPS = 60.0
+FRAMING_GRACE = 10.0
+"""Seconds after a camera is framed for a page during which a new page size always re-frames it: the page
+reports its settled size as it loads, possibly before it has eased to the framed camera (seen as a timeout
+of the look test on a loaded machine)."""
 NOTIFY_SECONDS = 6.0  # a notification closes by itself after this long; an identical one is not stacked
 FOV = math.radians(50.0)  # vertical field of view (viser's default 75° makes the scene look far away)
 LAST_ORDER = 1e6  # viser's panel order of what comes after the scene's folder (legend, state, export)
@@ -432,12 +436,14 @@ class Simulation:
         """Point a browser's camera at a scene, framed clear of the panel for its view (app.framing).
 
         A page reports its real size only after its layout settles (and again when the window or a
-        phone's orientation changes): until the viewer moves the camera, a new size re-frames it.
+        phone's orientation changes): until the viewer moves the camera, a new size re-frames it, and
+        always within :data:`FRAMING_GRACE` of the last framing (the page may report its settled size
+        before it has eased to the camera it was sent, which would look like a viewer's move).
         """
         size = (client.camera.image_width, client.camera.image_height)
         eye, target = framed(position, look_at, size[0], size[1], FOV)
         first = getattr(client, "_rbl_framing", None) is None
-        client._rbl_framing = (size, eye, position, look_at)
+        client._rbl_framing = (size, eye, position, look_at, time.monotonic())
         with client.atomic():
             client.camera.fov = FOV
             client.camera.position = eye
@@ -448,12 +454,13 @@ class Simulation:
     @staticmethod
     def _reframe(camera: Any) -> None:
         client = camera.client
-        size, eye, position, look_at = client._rbl_framing
+        size, eye, position, look_at, when = client._rbl_framing
         if (camera.image_width, camera.image_height) == size:
             return
         # The page echoes the position in float32 and after its own easing: "unmoved" is to 1e-3 of the
         # distance (an orbit by a person moves it by far more).
-        if np.linalg.norm(np.asarray(camera.position) - eye) > 1e-3 * max(1.0, float(np.linalg.norm(eye))):
+        moved = np.linalg.norm(np.asarray(camera.position) - eye) > 1e-3 * max(1.0, float(np.linalg.norm(eye)))
+        if moved and time.monotonic() - when > FRAMING_GRACE:
             return  # the viewer has moved the camera: theirs now
         Simulation._show_scene_to(client, position, look_at)
 

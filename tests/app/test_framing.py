@@ -53,3 +53,62 @@ def test_a_phone_frames_above_the_sheet_and_a_laptop_left_of_the_panel():
 def test_an_unknown_view_size_leaves_the_camera_alone():
     eye, target = framed(*SCENE, 0, 0, FOV)
     np.testing.assert_array_equal(eye, SCENE[0]) and np.testing.assert_array_equal(target, SCENE[1])
+
+
+class _Camera:
+    def __init__(self, client, width, height):
+        self.client, self.image_width, self.image_height = client, width, height
+        self.position, self.look_at, self.fov = (3.0, -3.0, 2.0), (0.0, 0.0, 0.0), 0.9
+        self.callbacks = []
+
+    def on_update(self, callback):
+        self.callbacks.append(callback)
+
+
+class _Client:
+    """What Simulation._show_scene_to touches of a viser ClientHandle."""
+
+    def __init__(self, width, height):
+        self.camera = _Camera(self, width, height)
+
+    def atomic(self):
+        import contextlib
+
+        return contextlib.nullcontext()
+
+    def report(self, width, height, position=None):
+        """The page reports a size (and where its camera is): viser runs the camera callbacks."""
+        self.camera.image_width, self.camera.image_height = width, height
+        if position is not None:
+            self.camera.position = position
+        for callback in self.camera.callbacks:
+            callback(self.camera)
+
+
+def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_first_framing(monkeypatch):
+    """The page reports its first size, is framed, and reports its settled size while its camera is still
+    on its way (not yet at the framed eye): within FRAMING_GRACE it is framed again for that size. After
+    the grace, a camera away from the framed eye is the viewer's and a new size leaves it alone; an unmoved
+    camera is re-framed."""
+    import time
+
+    from app import server
+    from app.server import FRAMING_GRACE, Simulation
+
+    now = [1000.0]
+    monkeypatch.setattr(time, "monotonic", lambda: now[0])
+    scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
+    client = _Client(800, 600)
+    Simulation._show_scene_to(client, scene_eye, scene_target)
+    assert client._rbl_framing[0] == (800, 600)
+    now[0] += 1.0
+    client.report(1280, 800, position=(3.0, -3.0, 2.0))  # still easing: not at the eye framed for 800x600
+    size, eye = client._rbl_framing[:2]
+    assert size == (1280, 800) and np.array_equal(client.camera.position, eye)  # framed for the settled size
+    np.testing.assert_allclose(eye, server.framed(scene_eye, scene_target, 1280, 800, server.FOV)[0])
+    now[0] += FRAMING_GRACE + 1.0
+    client.report(1024, 768, position=tuple(np.asarray(eye) + 0.5))  # the viewer orbited, then resized
+    assert client._rbl_framing[0] == (1280, 800)  # theirs now: left alone
+    client.camera.position = eye
+    client.report(390, 844)  # unmoved: a new size re-frames it, grace or not
+    assert client._rbl_framing[0] == (390, 844)
