@@ -18,32 +18,16 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import struct
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 from app.upload import MAX_BYTES
+from tests.harness import glb_with_nodes
 
 RESULTS = Path(__file__).resolve().parent / "results" / "upload_memory.md"
 LIMIT_MB = 1000.0
-
-
-def _glb_with_nodes(n_nodes: int) -> bytes:
-    """A valid GLB of one box shown by ``n_nodes`` nodes (instancing: a small file, a huge scene)."""
-    import trimesh
-
-    box = trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(file_type="glb")
-    json_length, _ = struct.unpack_from("<II", box, 12)
-    document = json.loads(box[20 : 20 + json_length])
-    binary = box[20 + json_length :]
-    document["nodes"] = [{"mesh": 0, "translation": [float(i), 0.0, 0.0]} for i in range(n_nodes)]
-    document["scenes"] = [{"nodes": list(range(n_nodes))}]
-    text = json.dumps(document).encode()
-    text += b" " * (-len(text) % 4)
-    body = struct.pack("<II", len(text), 0x4E4F534A) + text + binary
-    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
 
 
 def cases(folder: Path) -> list[tuple[str, Path]]:
@@ -60,7 +44,7 @@ def cases(folder: Path) -> list[tuple[str, Path]]:
             "sphere.stl",
             trimesh.creation.icosphere(subdivisions=7).export(file_type="stl"),
         ),
-        "20,000 instanced nodes (GLB)": ("nodes.glb", _glb_with_nodes(20_000)),
+        "20,000 instanced nodes (GLB)": ("nodes.glb", glb_with_nodes(20_000)),
         "garbage bytes under an STL name": ("garbage.stl", np.random.default_rng(1).bytes(MAX_BYTES)),
         "icosphere, 20,480 triangles (ASCII STL)": (
             "ascii.stl",

@@ -24,9 +24,11 @@ serves a whole test module.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import shutil
 import socket
+import struct
 import time
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -445,3 +447,19 @@ def still_connected(ws: Any, seconds: float = 10.0, app: Any = None) -> bool:
     except ConnectionClosed:
         return False
     return False
+
+
+def glb_with_nodes(n_nodes: int, mesh: Any = None) -> bytes:
+    """A valid GLB of one mesh (a box) shown by ``n_nodes`` nodes (instancing: small file, huge scene)."""
+    import trimesh
+
+    box = (mesh or trimesh.creation.box(extents=(0.3, 0.2, 0.1))).export(file_type="glb")
+    json_length, _ = struct.unpack_from("<II", box, 12)
+    document = json.loads(box[20 : 20 + json_length])
+    binary = box[20 + json_length :]
+    document["nodes"] = [{"mesh": 0, "translation": [float(i), 0.0, 0.0]} for i in range(n_nodes)]
+    document["scenes"] = [{"nodes": list(range(n_nodes))}]
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + binary
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body

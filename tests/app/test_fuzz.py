@@ -41,9 +41,9 @@ import trimesh
 
 from app import upload
 from app.server import Simulation, check_finite
-from tests.app.test_upload_limits import glb_with_nodes
 from tests.harness import (
     drain,
+    glb_with_nodes,
     raw_client,
     send_part,
     send_upload,

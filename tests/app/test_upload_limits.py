@@ -7,7 +7,6 @@ its frames; the body that comes back is the one the in-process reader gives.
 
 from __future__ import annotations
 
-import json
 import struct
 import time
 
@@ -18,20 +17,7 @@ import trimesh
 from app.upload import MAX_BYTES, NotWatertightError, body_from_upload
 from app.upload_limits import MAX_FACES, MAX_NODES, check_declared_size
 from app.upload_worker import body_in_worker
-
-
-def glb_with_nodes(n_nodes: int, mesh: trimesh.Trimesh | None = None) -> bytes:
-    """A valid GLB of one mesh (a box) shown by ``n_nodes`` nodes (instancing: small file, huge scene)."""
-    box = (mesh or trimesh.creation.box(extents=(0.3, 0.2, 0.1))).export(file_type="glb")
-    json_length, _ = struct.unpack_from("<II", box, 12)
-    document = json.loads(box[20 : 20 + json_length])
-    binary = box[20 + json_length :]
-    document["nodes"] = [{"mesh": 0, "translation": [float(i), 0.0, 0.0]} for i in range(n_nodes)]
-    document["scenes"] = [{"nodes": list(range(n_nodes))}]
-    text = json.dumps(document).encode()
-    text += b" " * (-len(text) % 4)
-    body = struct.pack("<II", len(text), 0x4E4F534A) + text + binary
-    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+from tests.harness import glb_with_nodes
 
 
 def test_a_glb_of_20000_instanced_nodes_is_refused_before_parsing():
