@@ -149,13 +149,16 @@ def _open_at_full_resolution(chromium, app, width: int, height: int) -> tuple:
 
 
 def _framed(client) -> bool:
-    """The page reported its size, the server framed the camera for it, and the page's camera is there."""
+    """The page reported its size and the server framed the camera for that size.
+
+    Whether the page's camera got there is judged on the page's own picture (the screenshots below wait
+    until it is still, and the body must then be in the view and clear of the panel), not on the camera
+    position the page last echoed: the page eases to a new camera and throttles its echoes, so on a
+    loaded machine the last echo can be a point on the way (a CI run waited 60 s for one that never came).
+    """
     framing = getattr(client, "_rbl_framing", None)
     size = (client.camera.image_width, client.camera.image_height)
-    if framing is None or size == (0, 0) or framing[0] != size:
-        return False
-    eye = np.asarray(framing[1], dtype=float)
-    return bool(np.linalg.norm(np.asarray(client.camera.position) - eye) <= 1e-3 * max(1.0, np.linalg.norm(eye)))
+    return framing is not None and size != (0, 0) and framing[0] == size
 
 
 LOOKS = [(w, h, False) for w, h in VIEWS] + [(1280, 800, True)]
