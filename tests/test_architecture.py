@@ -1,0 +1,240 @@
+"""The house rules of issue 26, read from the code's own imports.
+
+- no import loop in ``physics/`` or ``app/`` (module level and inside functions alike);
+- no private name (one leading underscore) imported from another project module;
+- no project module imported inside a function, except in a command-line entry (``__main__``);
+- no module over 600 lines;
+- ``physics/`` never imports ``app/``, viser or anything above it.
+
+``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
+modules) for a closing note.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("physics", "app")
+PROJECT = ("physics", "app", "assets", "benchmarks", "lectures")
+MAX_LINES = 600
+# Command-line entries may import lazily: `rigid-body-lab export` should not pay for viser's start-up.
+LAZY_ALLOWED = {"app.__main__"}
+
+
+@dataclass
+class Module:
+    name: str
+    path: Path
+    lines: int
+    imports: set[str] = field(default_factory=set)  # project modules imported anywhere
+    private: list[str] = field(default_factory=list)  # "module.name" of private names imported
+    lazy: list[str] = field(default_factory=list)  # project modules imported inside a function
+
+
+def module_name(path: Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def _resolve(module: str, node: ast.ImportFrom, is_package: bool) -> str:
+    if node.level == 0:
+        return node.module or ""
+    base = module.split(".")
+    if not is_package:
+        base = base[:-1]
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def read_modules(packages: tuple[str, ...] = PACKAGES) -> dict[str, Module]:
+    modules: dict[str, Module] = {}
+    for package in packages:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            name = module_name(path)
+            source = path.read_text(encoding="utf-8")
+            modules[name] = Module(name, path, source.count("\n") + (not source.endswith("\n")))
+    for module in modules.values():
+        tree = ast.parse(module.path.read_text(encoding="utf-8"))
+        is_package = module.path.name == "__init__.py"
+        _collect(module, tree, modules, is_package, inside_function=False)
+    return modules
+
+
+def _target(name: str, modules: dict[str, Module]) -> str | None:
+    """The project module that ``name`` (a dotted import path) refers to, or None outside the project."""
+    while name:
+        if name in modules:
+            return name
+        name = name.rpartition(".")[0]
+    return None
+
+
+def _collect(module: Module, node: ast.AST, modules: dict[str, Module], is_package: bool, inside_function: bool) -> None:
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+            _collect(module, child, modules, is_package, inside_function=True)
+            continue
+        if isinstance(child, ast.If) and _is_type_checking(child.test):
+            continue  # annotations only: never executed, never a loop at run time
+        targets: list[tuple[str, str | None]] = []
+        if isinstance(child, ast.Import):
+            targets = [(alias.name, None) for alias in child.names]
+        elif isinstance(child, ast.ImportFrom):
+            base = _resolve(module.name, child, is_package)
+            for alias in child.names:
+                sub = f"{base}.{alias.name}"
+                targets.append((sub, None) if sub in modules else (base, alias.name))
+        for name, imported in targets:
+            target = _target(name, modules)
+            if target is None or not name.split(".")[0] in PROJECT:
+                continue
+            if target != module.name:
+                module.imports.add(target)
+            if inside_function:
+                module.lazy.append(target)
+            if imported and imported.startswith("_") and not imported.startswith("__") and target != module.name:
+                module.private.append(f"{target}.{imported}")
+        _collect(module, child, modules, is_package, inside_function)
+
+
+def _is_type_checking(test: ast.expr) -> bool:
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
+
+
+def import_graph(modules: dict[str, Module]) -> dict[str, set[str]]:
+    """Who imports whom. A package's ``__init__`` re-exporting its own sub-modules is not an edge: that is
+    how a package shows its public names. A module importing a package above it is one (running back up).
+    """
+    return {
+        name: {t for t in m.imports if t in modules and t != name and not (is_package(m) and t.startswith(name + "."))}
+        for name, m in modules.items()
+    }
+
+
+def is_package(m: Module) -> bool:
+    return m.path.name == "__init__.py"
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components of more than one module (Tarjan's algorithm), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def figures() -> dict[str, object]:
+    modules = read_modules()
+    graph = import_graph(modules)
+    loops = cycles(graph)
+    back_up = [f"{a} -> {b}" for a, targets in graph.items() for b in targets if a.startswith(b + ".")]
+    private = [f"{m.name} <- {p}" for m in modules.values() for p in m.private]
+    lazy = [f"{m.name} -> {t}" for m in modules.values() if m.name not in LAZY_ALLOWED for t in m.lazy]
+    long = sorted(((m.lines, m.name) for m in modules.values()), reverse=True)
+    physics_up = [
+        f"{m.name} -> {t}" for m in modules.values() if m.name.startswith("physics") for t in m.imports if not t.startswith("physics")
+    ]
+    return {
+        "loops": loops,
+        "back_up": back_up,
+        "private": private,
+        "lazy": lazy,
+        "over_limit": [(n, name) for n, name in long if n > MAX_LINES],
+        "largest": long[:6],
+        "physics_up": physics_up,
+        "app_top_level_files": sorted(p.name for p in (ROOT / "app").glob("*.py")),
+    }
+
+
+def test_no_import_loop() -> None:
+    assert figures()["loops"] == []
+
+
+def test_no_import_runs_back_up_into_its_own_package() -> None:
+    assert figures()["back_up"] == []
+
+
+def test_no_private_name_crosses_a_module() -> None:
+    assert figures()["private"] == []
+
+
+def test_no_project_import_inside_a_function() -> None:
+    assert figures()["lazy"] == []
+
+
+def test_every_module_at_most_600_lines() -> None:
+    assert figures()["over_limit"] == []
+
+
+def test_physics_imports_nothing_above_it() -> None:
+    assert figures()["physics_up"] == []
+
+
+def test_app_has_at_most_8_files_at_its_top() -> None:
+    assert len(figures()["app_top_level_files"]) <= 8  # type: ignore[arg-type]
+
+
+def test_the_checker_sees_a_loop_and_a_private_import(tmp_path: Path) -> None:
+    """The rules can fail: two modules that import each other and a private name are found."""
+    (tmp_path / "a.py").write_text("from physics.b import _x\n")
+    (tmp_path / "b.py").write_text("def f():\n    import physics.a\n")
+    modules = {n: Module(n, tmp_path / f"{n[-1]}.py", 2) for n in ("physics.a", "physics.b")}
+    for m in modules.values():
+        _collect(m, ast.parse(m.path.read_text()), modules, False, inside_function=False)
+    assert cycles(import_graph(modules)) == [["physics.a", "physics.b"]]
+    assert modules["physics.a"].private == ["physics.b._x"]
+    assert modules["physics.b"].lazy == ["physics.a"]
+
+
+if __name__ == "__main__":
+    f = figures()
+    print(f"loops: {len(f['loops'])} ({sum(len(c) for c in f['loops'])} modules)")  # type: ignore[arg-type]
+    for c in f["loops"]:  # type: ignore[attr-defined]
+        print("   ", " ".join(c))
+    print(f"imports running back up into their own package: {len(f['back_up'])}")  # type: ignore[arg-type]
+    print(f"private imports: {len(f['private'])}")  # type: ignore[arg-type]
+    print(f"lazy project imports: {len(f['lazy'])}")  # type: ignore[arg-type]
+    print(f"modules over {MAX_LINES} lines: {f['over_limit']}")
+    print(f"largest: {f['largest']}")
+    print(f"physics importing above it: {f['physics_up']}")
+    print(f"files directly in app/: {len(f['app_top_level_files'])}")  # type: ignore[arg-type]
+    if "-v" in sys.argv:
+        for key in ("back_up", "private", "lazy"):
+            print(f"--- {key}")
+            for line in f[key]:  # type: ignore[attr-defined]
+                print("   ", line)
