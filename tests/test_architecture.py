@@ -75,7 +75,9 @@ def _target(name: str, modules: dict[str, Module]) -> str | None:
     return None
 
 
-def _collect(module: Module, node: ast.AST, modules: dict[str, Module], is_package: bool, inside_function: bool) -> None:
+def _collect(
+    module: Module, node: ast.AST, modules: dict[str, Module], is_package: bool, inside_function: bool
+) -> None:
     for child in ast.iter_child_nodes(node):
         if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
             _collect(module, child, modules, is_package, inside_function=True)
@@ -92,7 +94,7 @@ def _collect(module: Module, node: ast.AST, modules: dict[str, Module], is_packa
                 targets.append((sub, None) if sub in modules else (base, alias.name))
         for name, imported in targets:
             target = _target(name, modules)
-            if target is None or not name.split(".")[0] in PROJECT:
+            if target is None or name.split(".")[0] not in PROJECT:
                 continue
             if target != module.name:
                 module.imports.add(target)
@@ -167,7 +169,11 @@ def figures() -> dict[str, object]:
     lazy = [f"{m.name} -> {t}" for m in modules.values() if m.name not in LAZY_ALLOWED for t in m.lazy]
     long = sorted(((m.lines, m.name) for m in modules.values()), reverse=True)
     physics_up = [
-        f"{m.name} -> {t}" for m in modules.values() if m.name.startswith("physics") for t in m.imports if not t.startswith("physics")
+        f"{m.name} -> {t}"
+        for m in modules.values()
+        if m.name.startswith("physics")
+        for t in m.imports
+        if not t.startswith("physics")
     ]
     return {
         "loops": loops,
