@@ -13,14 +13,14 @@ import pytest
 HERE = Path(__file__).parent
 
 
-def _run(tmp_path: Path, body: str, strict: bool) -> int:
+def _run(tmp_path: Path, body: str, strict: bool, workers: int = 0) -> int:
     shutil.copy(HERE / "conftest.py", tmp_path / "conftest.py")
     (tmp_path / "test_sample.py").write_text(body)
     env = {k: v for k, v in os.environ.items() if k != "RBL_NO_SKIP"}
     if strict:
         env["RBL_NO_SKIP"] = "1"
     result = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tmp_path)],
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-n", str(workers), str(tmp_path)],
         cwd=tmp_path,
         env=env,
         capture_output=True,
@@ -33,9 +33,10 @@ def _run(tmp_path: Path, body: str, strict: bool) -> int:
 SKIPPING = "import pytest\n\ndef test_a():\n    pytest.skip('no browser')\n\ndef test_b():\n    pass\n"
 
 
+@pytest.mark.parametrize("workers", [0, 2])  # in one process, and across workers as the README's command runs
 @pytest.mark.parametrize("strict, expected", [(True, 1), (False, 0)])
-def test_a_skip_fails_only_under_rbl_no_skip(tmp_path, strict, expected):
-    assert _run(tmp_path, SKIPPING, strict) == expected
+def test_a_skip_fails_only_under_rbl_no_skip(tmp_path, strict, expected, workers):
+    assert _run(tmp_path, SKIPPING, strict, workers) == expected
 
 
 def test_a_clean_run_passes_under_rbl_no_skip(tmp_path):
