@@ -1,0 +1,38 @@
+"""The suite-time benchmark: its table, pytest's closing line, and the CPU burners start and stop."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+from benchmarks.suite_time import Run, burning, closing_line, write_table
+
+
+def test_the_closing_line_is_pytests_counts():
+    out = "....\n=== short test summary info ===\nFAILED x\n===== 1 failed, 2003 passed in 301.2s (0:05:01) =====\n"
+    assert closing_line(out) == "1 failed, 2003 passed in 301.2s (0:05:01)"
+    assert closing_line("no tests ran\n") == "no tests ran"
+
+
+def test_the_table_counts_passes_and_names_the_load(tmp_path):
+    runs = [Run(300.4, 0, "2005 passed in 300.1s"), Run(350.0, 1, "1 failed, 2004 passed in 349.9s")]
+    text = write_table(runs, quick=False, burn=2, path=tmp_path / "suite_time.md")
+    assert "| 1 | 300 | passed | 2005 passed in 300.1s |" in text
+    assert "| 2 | 350 | **failed** (1) |" in text
+    assert "1 of 2 runs passed; slowest 350 s." in text and "2 processes spinning" in text
+    assert (tmp_path / "suite_time.png").stat().st_size > 1000
+
+
+def _cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
+
+
+def test_burners_use_the_cpu_and_stop():
+    with burning(2) as burners:
+        time.sleep(1.0)
+        assert all(p.is_alive() for p in burners)
+        # Each spins: well over a tenth of the second's CPU even with the suite's workers beside it.
+        assert all(_cpu_seconds(p.pid) > 0.1 for p in burners)
+    assert not any(p.is_alive() for p in burners)
