@@ -66,7 +66,7 @@ def linear_reference(top: HeavyTop, ic, times, dps: int = 30) -> np.ndarray:
     """θ, φ, ψ, θ̇, φ̇, ψ̇ of the motion linearised about the vertical: ``ζ = θ e^{iφ}`` with
     ``ζ̈ − iβ ζ̇ − a ζ = 0`` (a = M g ℓ/I1, β = L3/I1; its steady solutions are the steady precessions
     ``I1 φ̇² − L3 φ̇ + M g ℓ = 0`` at θ → 0), ``ζ = A e^{r+ t} + B e^{r− t}``, ``r± = iβ/2 ± sqrt(a − β²/4)``;
-    ``φ − φ0 = ∫ Im(ζ̇/ζ) dt`` by mp.quad on pieces of 0.25 s, ``ψ − ψ0 = (L3/I3) t − (φ − φ0)``,
+    ``φ − φ0 = arg ζ(t) − arg ζ(0)`` followed continuously (below), ``ψ − ψ0 = (L3/I3) t − (φ − φ0)``,
     ``θ̇ = Re(ζ̇ ζ̄)/|ζ|``, ``φ̇ = Im(ζ̇/ζ)``, ``ψ̇ = L3/I3 − φ̇``. Exact to a relative O(θ²): use it while θ stays
     below 1e-9. Not at the threshold itself (r+ = r−)."""
     with mp.workdps(dps):
@@ -88,11 +88,22 @@ def linear_reference(top: HeavyTop, ic, times, dps: int = 30) -> np.ndarray:
         def rate(t):  # φ̇ = Im(ζ̇/ζ)
             return mp.im(zeta_dot(t) / zeta(t))
 
+        def turned(t):
+            """arg ζ(t) − arg ζ(0), followed continuously: ζ = e^{iβt/2} w with w = A e^{st} + B e^{−st},
+            s = sqrt(a − β²/4). Below the threshold s is real and w/e^{st} = A + B e^{−2st} runs along a
+            straight line that misses 0, so its turn is the principal angle between its ends. Above it,
+            s = iσ and w = e^{±iσt} × (a circle about the larger of A, B that does not reach 0): σt turns
+            plus the principal angle on that circle."""
+            if mp.im(root) == 0:
+                return be * t / 2 + mp.arg((A + B * mp.exp(-2 * root * t)) / (A + B))
+            big, small, sign = (A, B, 1) if abs(A) > abs(B) else (B, A, -1)
+            circle = big + small * mp.exp(-2 * sign * root * t)
+            return be * t / 2 + sign * mp.im(root) * t + mp.arg(circle / big) - mp.arg((big + small) / big)
+
         out = []
         for t in times:
             t = mp.mpf(float(t))
-            pieces = mp.linspace(0, t, int(abs(float(t)) / 0.25) + 2)
-            dphi = mp.quad(rate, pieces) if t != 0 else mp.mpf(0)
+            dphi = turned(t)
             z, zd = zeta(t), zeta_dot(t)
             values = (abs(z), dphi, L3 / I3 * t - dphi, mp.re(zd * mp.conj(z)) / abs(z), rate(t), L3 / I3 - rate(t))
             out.append([float(v) for v in values])
