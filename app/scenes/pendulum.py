@@ -17,8 +17,8 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
-from app.scenes import Scene, register
-from app.wire import send_position
+from app.guards.wire import send_position
+from app.scenes.base import Scene, register
 from assets import load_mesh, mass_properties
 from physics import G
 from physics.inertia import MassProperties, rod

@@ -21,10 +21,10 @@ import trimesh
 import viser
 
 from app import controls, draw
-from app.columns import euler_columns, vector_columns
-from app.ghost import IntegratorGhost
-from app.scenes import Scene, register
-from app.wire import send_position
+from app.drawing.ghost import IntegratorGhost
+from app.guards.wire import send_position
+from app.recording.columns import euler_columns, vector_columns
+from app.scenes.base import Scene, register
 from assets import ASSETS, load_mesh, mass_properties
 from physics.free_body import FreeBody
 from physics.inertia import MassProperties, validate_moments

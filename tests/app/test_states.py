@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from app.__main__ import main
-from app.states import MAX_JSON, PREFIX, parse_state, state_text
+from app.teaching.states import MAX_JSON, PREFIX, parse_state, state_text
 from tests.harness import raw_client, running_app, wait_for
 
 FRICTION = "sleeping top with friction: falls"

@@ -8,7 +8,7 @@ text box, a lecture file and a shell command.
 Reading is strict, because a text may come from anywhere: a size limit before and while decompressing,
 the version, every field's type and finiteness, a known scene. Anything else is a ValueError that says
 what was wrong. The controls' values are checked again against each control (range, options) when they
-are applied (:func:`app.inputs.check_update`).
+are applied (:func:`app.guards.inputs.check_update`).
 """
 
 from __future__ import annotations
@@ -19,6 +19,8 @@ import json
 import math
 import zlib
 from typing import Any
+
+from app.scenes import scene_names
 
 PREFIX = "rbl1:"
 """Version 1 of the state text."""
@@ -33,7 +35,7 @@ __all__ = ["MAX_TEXT", "PREFIX", "parse_state", "state_text"]
 
 
 def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None = None) -> str:
-    """The text of a :meth:`app.server.Simulation.snapshot` (and optionally a camera).
+    """The text of a :meth:`app.serving.simulation.Simulation.snapshot` (and optionally a camera).
 
     Raises
     ------
@@ -111,8 +113,6 @@ def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:
     if not isinstance(state, dict):
         raise ValueError("this state text does not hold a state")
     if scenes is None:
-        from app.scenes import scene_names
-
         scenes = scene_names()
     scene = state.get("scene")
     if scene not in scenes:

@@ -24,7 +24,9 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from app import controls, draw
+from app.drawing.palette import COLOURS, GHOST_OPACITY, hex_colour
+from app.drawing.pieces import BodyMesh
+from app.panel.drift import InvariantDrift
 from physics.integrators import ClassicalRK4, LiePoissonStrang, Yoshida6, advance
 
 __all__ = ["IntegratorGhost", "METHODS", "chordal_angle"]
@@ -77,17 +79,17 @@ class IntegratorGhost:
     def __init__(self, ctx: Any, name: str, mesh: trimesh.Trimesh) -> None:
         self.ctx = ctx
         gui = ctx.server.gui
-        self.body = draw.BodyMesh(ctx.server, name, mesh, colour=draw.COLOURS["ghost"], opacity=draw.GHOST_OPACITY)
+        self.body = BodyMesh(ctx.server, name, mesh, colour=COLOURS["ghost"], opacity=GHOST_OPACITY)
         self.body.handle.visible = False
         self.choice = gui.add_dropdown("Compare with integrator", options=tuple(METHODS), initial_value="none")
         low, high, resolution, default = STEP
         self.step_slider = gui.add_slider(
             "integrator step h (s)", min=low, max=high, step=resolution, initial_value=default
         )
-        self.plot = controls.InvariantDrift(
+        self.plot = InvariantDrift(
             ctx,
             ("angle", "E"),
-            (draw.hex_colour("blue"), draw.hex_colour("black")),
+            (hex_colour("blue"), hex_colour("black")),
             title="Ghost − exact: log₁₀ angle (rad), log₁₀ energy drift",
         )
         self.plot.handle.visible = False

@@ -14,7 +14,7 @@ A file holds an optional ``title`` and a list of ``[[step]]`` tables with the ke
 :func:`read_lecture` checks the file's shape (keys, types, finite numbers) and names the step and the key
 of anything wrong; what only a scene can check (a preset's name, a dropdown and its choice, a value in a
 slider's range, a possible body) is checked by walking every step once before the lecture starts
-(:meth:`app.server.Simulation.load_lecture`), so nothing starts half-built. ``rigid-body-lab --lecture NAME``
+(:meth:`app.serving.simulation.Simulation.load_lecture`), so nothing starts half-built. ``rigid-body-lab --lecture NAME``
 finds ``NAME.toml`` among the lectures shipped with the app (the ``lectures`` package, installed as package
 data).
 """
@@ -27,6 +27,9 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+from app.scenes import scene_names
+from app.teaching.states import parse_state
 
 
 def _shipped_folder() -> Path:
@@ -110,8 +113,6 @@ def read_lecture(name_or_path: str, scenes: list[str] | None = None) -> Lecture:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path}: not a TOML file ({exc})") from None
     if scenes is None:
-        from app.scenes import scene_names
-
         scenes = scene_names()
     title = document.get("title", path.stem)
     if not isinstance(title, str):
@@ -135,8 +136,6 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
             raise ValueError(f"{where}: unknown key {key!r} (a step has {', '.join(KEYS)})")
     state = raw.get("state")
     if state is not None:
-        from app.states import parse_state
-
         if not isinstance(state, str):
             raise ValueError(f"{where}, state: a state text, as “Copy state” gives it")
         try:

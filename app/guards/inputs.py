@@ -15,7 +15,7 @@ gets its control set back to the current value and one notification saying why, 
 of it. A clamped value is sent back to its sender too, so every browser shows the value in force.
 A browser that sends more than :data:`RATE` changes a second (after a burst of :data:`BURST`) has the
 excess dropped, so no one browser can flood the simulation everyone shares. Files a browser uploads are
-checked when their transfer starts, by the same function (:mod:`app.upload_guard`).
+checked when their transfer starts, by the same function (:mod:`app.guards.uploads`).
 
 This wraps one private piece of viser 1.1.1 (its handler list for ``GuiUpdateMessage``); viser is pinned,
 and ``tests/app/test_inputs.py`` sends the messages through a real websocket to prove the wrapper is in
@@ -32,7 +32,7 @@ from typing import Any
 import viser
 from viser import _messages
 
-from app.upload_guard import guard_uploads
+from app.guards.uploads import guard_uploads
 
 __all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
 
@@ -152,7 +152,7 @@ def guard_inputs(
         may not (presenter mode: a follower without the PIN).
 
     Uploads to ``gui`` are guarded with the same ``refuse`` and ``permit``
-    (:func:`app.upload_guard.guard_uploads`). A GUI is guarded once: later calls for the same ``gui`` do
+    (:func:`app.guards.uploads.guard_uploads`). A GUI is guarded once: later calls for the same ``gui`` do
     nothing.
     """
     guard_uploads(gui, refuse, permit)
