@@ -1,17 +1,6 @@
 """Exact beside numerical: a translucent "ghost" of the body moved by an integrator from the same start.
 
-A scene that has an exact solution composes one :class:`IntegratorGhost`: a dropdown "Compare with
-integrator" (none; classical RK4, not geometric; the Lie–Poisson splitting, order 2; the Yoshida 6
-composition of that splitting, the project's best), a step-size slider, the ghost mesh and a plot of
-log₁₀ of the angle between ghost and exact body (rad) and of the ghost's relative energy drift. The class
-sees a careless integrator lose the intermediate-axis flip or a top's precession while a geometric one
-keeps it.
-
-The ghost steps with exactly the chosen step ``h`` (never a fraction of it): it runs to the last multiple
-of ``h`` not after the clock and is compared with the exact solution at its own time (it may lag the clock
-by less than one step). A rewind, a reset or a jump of the clock restarts it from the exact state there. A
-step the method refuses for the motion (classical RK4 with |ω| h past its stability limit) or a ghost that
-diverges stops the ghost with a notification saying why; the scene goes on.
+More in docs/app-notes.md (``app.drawing.ghost``).
 """
 
 from __future__ import annotations

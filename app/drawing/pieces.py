@@ -202,8 +202,8 @@ TRACE_CHUNK = 32
 class Trace:
     """A bounded trace of a point, drawn as line segments in chunks so that a frame sends one chunk.
 
-    The whole trace used to be resent every frame (1,500 segments: 36 kB a frame, 2 MB/s a browser).
-    Here the segments live in chunks of :data:`TRACE_CHUNK`, each its own viser node; a new point adds
+    Resending a whole trace every frame would send 1,500 segments (36 kB a frame, 2 MB/s a browser), so
+    the segments live in chunks of :data:`TRACE_CHUNK`, each its own viser node; a new point adds
     one segment to the newest chunk and only that chunk is sent (768 bytes). When it is full, the oldest
     chunk is emptied and becomes the newest, so the oldest segments drop out a chunk at a time.
 

@@ -1,10 +1,6 @@
 """Uploads checked when they start, before viser keeps a single byte of them.
 
-viser 1.1.1 keeps every part of a transfer in memory until the last arrives. :func:`guard_uploads` puts a
-check in front of its handlers for ``FileTransferStartUpload`` and ``FileTransferPart``: a transfer is
-refused at its start when its browser may not drive, its declared size, part count or name is over the
-limits (:mod:`app.uploads.limits`), or too many are in flight; and dropped once its parts outgrow what it
-declared. The refused browser gets its button back and one notification; nobody else hears of it.
+More in docs/app-notes.md (``app.guards.uploads``).
 """
 
 from __future__ import annotations

@@ -1,14 +1,6 @@
 """Shared GUI pieces: labelled sliders with a validation hook, readouts, a presets dropdown, a gauge.
 
-All of them are made inside a scene's ``build()`` so they land in the scene's folder, and all of their
-callbacks run through ``ctx.guarded`` (under the simulation lock; an exception is shown to the user).
-
-:class:`ParameterPanel` is the heart of "bad input is refused": a slider change is offered to the
-scene's ``apply(values)`` as a *candidate* set of values; if ``apply`` raises (``ValueError`` for an
-impossible body, or any other exception) the slider snaps back to the last accepted value, the user who
-moved it gets a notification saying why, and the model, the clock and the panel stay exactly as they
-were (:class:`Rollback`: what ``apply`` assigned, the scene's motion state, every control and text of
-the scene's folder, the time; side effects beyond those are redone by applying the accepted values again).
+More in docs/app-notes.md (``app.panel.controls``).
 """
 
 from __future__ import annotations

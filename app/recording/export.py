@@ -1,10 +1,6 @@
 """Recording a built app frame by frame: a web page that plays it, its numbers as CSV, a picture of its end.
 
-:func:`record` runs the clock of an app nobody watches (``App.headless``, :mod:`app.serving.export`) at
-``fps`` frames per simulated second, not in real time, while viser's scene serializer keeps what a browser
-would have been sent. It writes ``index.html`` (viser's client with the recording embedded: one file that
-plays from disk), ``NAME.csv`` (``t (s)`` then the scene's :meth:`~app.scenes.base.Scene.columns`, every
-number to full precision) and ``NAME.png`` (the last frame, :mod:`app.recording.picture`).
+More in docs/app-notes.md (``app.recording.export``).
 """
 
 from __future__ import annotations

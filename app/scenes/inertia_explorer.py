@@ -1,10 +1,7 @@
 """Inertia explorer: pick or upload a body; see its principal axes, moments and inertia ellipsoid, and the
 tensor about a movable pivot by the parallel-axis theorem.
 
-Model: :mod:`physics.inertia` (``MassProperties``: principal moments ``I1 >= I2 >= I3`` and axes,
-``tensor_about(point)`` = ``I_CM + M (a² δ − a aᵀ)``). Uploaded meshes are checked by :mod:`app.uploads.reading`:
-a refused file leaves the previous body in place and says why. "Spin it" hands the body to the
-torque-free tennis-racket scene.
+More in docs/app-notes.md (``app.scenes.inertia_explorer``).
 """
 
 from __future__ import annotations

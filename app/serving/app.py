@@ -1,10 +1,6 @@
 """The App: one viser server, the simulations it serves, the real-time loop that drives them; and the export.
 
-The App *has* its simulations (:class:`~app.serving.simulation.Simulation`): the shared one, which is
-also the lecture in presenter mode (``app.shared``), and one per browser in ``app.sessions`` (a private
-session, or an explorer's copy in presenter mode). In shared and presenter mode the App answers for its
-shared simulation (``app.scene``, ``app.frame(dt)``, ``app.time``, ...). :meth:`App.headless` builds one
-that nobody watches, which :func:`export` runs frame by frame (:mod:`app.recording.export`).
+More in docs/app-notes.md (``app.serving.app``).
 """
 
 from __future__ import annotations
@@ -167,6 +163,11 @@ class App:
         if shared is None or name.startswith("__"):
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
         return getattr(shared, name)
+
+    @property
+    def scene(self) -> Any:
+        """The shared simulation's scene; None in private mode (every browser has its own)."""
+        return self.shared.scene if self.shared is not None else None
 
     def _simulation(self, target: Any, **kwargs: Any) -> Simulation:
         return Simulation(

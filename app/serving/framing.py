@@ -1,11 +1,6 @@
 """Frame a scene's camera clear of the control panel, for the browser's own viewport.
 
-A scene states its camera for the whole view (``Scene.camera``: position and look-at, m). viser's panel
-then covers part of it: on a laptop a floating panel of :data:`PANEL_PX` at the right, on a phone
-(narrower than viser's ``xs`` breakpoint, :data:`PHONE_PX`) a sheet over up to the bottom
-:data:`SHEET_FRACTION` of the screen. :func:`framed` moves the camera back until the scene's extent fits
-the free part of the view, and pans it so that the look-at point sits in that part's centre;
-:func:`show_scene_to` points a browser's camera so, and re-frames it when the page reports a new size.
+More in docs/app-notes.md (``app.serving.framing``).
 """
 
 from __future__ import annotations

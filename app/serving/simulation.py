@@ -1,11 +1,6 @@
 """One simulation: a scene, its clock, its panel and its scene nodes, drawn for its browsers.
 
-Threads. viser runs GUI callbacks in a thread pool; the App's loop thread calls :meth:`Simulation.frame`.
-One re-entrant lock (:attr:`Simulation.lock`) guards the state: callbacks only change parameters (through
-:meth:`Simulation.guarded`), and the frame is the only place that asks the scene for its state and moves
-the kept handles (inside ``atomic()``). Notifications have a lock of their own, always innermost
-(:mod:`app.serving.notices`). An exception or a non-finite number in a frame pauses the clock with a
-message; the last valid picture stays (a frame's state is checked before any handle is touched).
+More in docs/app-notes.md (``app.serving.simulation``).
 """
 
 from __future__ import annotations

@@ -1,21 +1,6 @@
 """Presenter mode: one lecture on the projector, followed by every browser, driven only with the PIN.
 
-``rigid-body-lab --host 0.0.0.0`` (any address other than loopback) serves the lecture: one shared
-simulation drawn for everyone. Each browser has its own small panel on top of the lecture's:
-
-* **Following** (every browser at first): the lecture's controls arrive disabled and anything it sends
-  to them is refused on the server; its camera is its own.
-* **Presenter PIN**: the PIN printed in the terminal (random at each start, or ``--pin``) makes that
-  browser a presenter: it drives the lecture for everyone. Wrong PINs are limited (:data:`ATTEMPTS` per
-  browser, then :data:`LOCKOUT` seconds; at most :data:`CLASS_ATTEMPTS` a minute for the whole room).
-* **Explore on my own**: the browser gets its own copy of the lecture, starting from its current state
-  (a :class:`app.serving.simulation.Simulation` drawn for that browser only), and stops receiving the lecture
-  (:class:`app.teaching.broadcast.BroadcastView`). **Follow the lecturer** drops the copy and brings the lecture
-  back as it is now.
-
-What it protects: the projector from a student's clicks, typing and uploads; one student's experiments
-from the others. What it does not: the PIN travels in clear over the LAN's HTTP (anyone who can sniff
-the network can read it), and anyone who can reach the port can watch.
+More in docs/app-notes.md (``app.teaching.presenter``).
 """
 
 from __future__ import annotations
@@ -83,7 +68,7 @@ class Classroom:
 
     Parameters
     ----------
-    app : app.server.App
+    app : app.serving.app.App
         The lecture (the shared simulation). Its ``sessions`` dict receives the explorers' copies.
     pin : str
         The presenter PIN (see :func:`check_pin`).

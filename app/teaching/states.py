@@ -1,14 +1,6 @@
 """A simulation's state as a short text, and back: what "Copy state" shows and ``--state TEXT`` opens.
 
-The text is ``rbl1:`` followed by URL-safe base64 of zlib-compressed JSON: the scene, its controls by
-label (in order), its own motion state (the friction top's attitude and angular momentum), the time,
-speed and clock, and the camera of the browser that copied it. About 300 characters; it fits the panel's
-text box, a lecture file and a shell command.
-
-Reading is strict, because a text may come from anywhere: a size limit before and while decompressing,
-the version, every field's type and finiteness, a known scene. Anything else is a ValueError that says
-what was wrong. The controls' values are checked again against each control (range, options) when they
-are applied (:func:`app.guards.inputs.check_update`).
+More in docs/app-notes.md (``app.teaching.states``).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Uploads are limited before and while they are parsed (app.upload_limits, app.upload_worker).
+"""Uploads are limited before and while they are parsed (app.uploads.limits, app.uploads.worker).
 
 A file whose header declares more than the limits is refused before anything parses it; the parse runs
 in a worker process whose memory and time are capped, so no upload can take the server's memory or
