@@ -1,4 +1,4 @@
-"""Drawing: what a scene shows in 3D and how the panel looks.
+"""Drawing: what a scene shows in 3D.
 
-The palette and legend, meshes, kept-handle pieces (arrows, traces, cones), the integrator's ghost, the look.
+The palette and legend, the light, meshes, kept-handle pieces (arrows, traces, cones), the integrator's ghost.
 """

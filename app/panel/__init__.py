@@ -1,4 +1,4 @@
-"""The panel: sliders refused or accepted together, their rollback, readouts, presets, the drift plot.
+"""The panel: the part every scene shares (picker, clock, state, Export), and the pieces a scene's own is built of.
 
-Also the clock's speed scale and the Export folder (which is handed the export to run).
+Sliders refused or accepted together, their rollback, readouts, presets, the drift plot, the speed scale, the look.
 """

@@ -16,10 +16,10 @@ from typing import Any
 
 import viser
 
-from app.drawing import look
 from app.guards.event_loop import confine_events
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
+from app.panel import look
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
 from app.serving.addresses import is_loopback
 from app.serving.simulation import FPS, Simulation, first_scene

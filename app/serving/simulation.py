@@ -16,14 +16,15 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.drawing import look
 from app.drawing.palette import legend_html, light
 from app.guards.inputs import guard_inputs
 from app.guards.wire import departed, resend_poses
-from app.panel.export_folder import ExportFolder, ExportRun
-from app.panel.speed import POSITION_MARKS, POSITION_STEP, SPEED_MAX, SPEED_MIN, position_of, speed_at, speed_label
+from app.panel.export_folder import ExportRun
+from app.panel.simulation_panel import SimulationPanel
+from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.serving import snapshot as snapshots
+from app.serving.clock import Clock
 from app.serving.finite import NumericalFailure, check_finite
 from app.serving.framing import FOV, framed, show_scene_to
 from app.serving.notices import NOTIFY_SECONDS, Notices
@@ -33,8 +34,6 @@ from app.teaching.lectures import Lecture
 __all__ = ["FPS", "Simulation", "first_scene"]
 
 FPS = 60.0
-LAST_ORDER = 1e6  # viser's panel order of what comes after the scene's folder (legend, state, export)
-MAX_FRAME_DT = 0.1  # s of wall time: a stalled frame does not make the simulation jump
 
 
 def first_scene(scene: str | None) -> tuple[str, list[str]]:
@@ -65,7 +64,7 @@ class Simulation:
     share : bool
         Show viser's share button (a public tunnel).
     dark : bool
-        The dark look (:mod:`app.drawing.look`), for a dark lecture room.
+        The dark look (:mod:`app.panel.look`), for a dark lecture room.
     refusal : callable(client_id) -> str or None, optional
         Why a browser may not drive it (presenter mode's followers), or None if it may; default: everyone may.
     shown_to : callable(client) -> bool, optional
@@ -100,13 +99,9 @@ class Simulation:
         self.closed = False  # close() was called: callbacks still queued are dropped
         self._refusal = refusal
         self._shown_to = shown_to
-        self._t = 0.0
-        self._playing = True
-        self._speed = 1.0
-        self._steps = 0
+        self.clock = Clock(fps)
         self._dirty = True
         self._folder: Any = None
-        self._switching = False
         self._last_time_text = 0.0
         self._building: Scene | None = None  # the scene whose build() is running (see guarded)
         self.following = Following(self)
@@ -126,8 +121,13 @@ class Simulation:
             section_color=section,
         )
         # No public tunnel unless asked for: viser's share button would publish this server to the world.
-        self._style = look.configure(self.server.gui, share=share, dark=dark)
-        self._build_panel(names, export)
+        titles = {REGISTRY[n].title: n for n in names}
+        self.panel = SimulationPanel(self, titles, export, NOTIFY_SECONDS, share=share, dark=dark)
+        # The panel's handles, by the names scenes and tests use.
+        self.scene_picker, self.play_button = self.panel.scene_picker, self.panel.play_button
+        self.speed_slider, self.time_text = self.panel.speed_slider, self.panel.time_text
+        self.state_box, self.status, self.legend = self.panel.state_box, self.panel.status, self.panel.legend
+        self.export_folder = self.panel.export_folder
         own = not isinstance(self.server, viser.ViserServer)
         self.notices = Notices(self.clients, self.status, own_browser=own)
         guard_inputs(self.server.gui, self._refuse_input, self.refusal)
@@ -151,62 +151,10 @@ class Simulation:
         """Why this browser may not drive this simulation, or None if it may."""
         return self._refusal(client_id) if self._refusal is not None else None
 
-    # ------------------------------------------------------------------ the panel shared by all scenes
-    def _build_panel(self, names: list[str], export: ExportRun) -> None:
-        gui = self.server.gui
-        self._title = gui.add_markdown("**Rigid Body Lab**")
-        titles = {REGISTRY[n].title: n for n in names}
-        self._title_to_name = titles
-        self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=REGISTRY[names[0]].title)
-        self.scene_picker.on_update(self.guarded(self._on_pick))
-        with gui.add_folder("Clock") as clock:
-            self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
-            self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
-            self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
-            # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
-            self.speed_slider = gui.add_slider(
-                speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
-            )
-            self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
-        self.play_button.on_click(self.guarded(lambda _: self.set_playing(not self._playing)))
-        self.step_button.on_click(self.guarded(lambda _: self.step()))
-        self.reset_button.on_click(self.guarded(lambda _: self.restart()))
-        self.speed_slider.on_update(self.guarded(lambda _: self.set_speed(speed_at(self.speed_slider.value))))
-        self._style.content = look.STYLE + look.hide_number_box(self.speed_slider._impl.uuid)
-        # Below the scene's own folder (LAST_ORDER): the scene's controls stay above the fold at 1280×800.
-        with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
-            self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
-            self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
-            self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
-        self.copy_state_button.on_click(self.guarded(self._on_copy_state))
-        self.open_state_button.on_click(self.guarded(self._on_open_state))
-        self.export_folder = ExportFolder(self, export, NOTIFY_SECONDS, order=LAST_ORDER + 2)
-        self.status = gui.add_markdown("")
-        self.legend = gui.add_html("", order=LAST_ORDER)
-        self._clock = clock
-        self._panel = [self._style, self._title, self.scene_picker, clock, state, self.export_folder.folder]
-        self._panel += [self.status, self.legend]
-
-    def _on_copy_state(self, event: Any) -> None:
-        client = getattr(event, "client", None)
-        try:
-            self.state_box.value = self.state_text(client)
-        except ValueError as exc:
-            self.notify("No state text", str(exc), client=client, error=True)
-
-    def _on_open_state(self, event: Any) -> None:
-        client = getattr(event, "client", None)
-        try:
-            self.open_state(self.state_box.value)
-        except ValueError as exc:
-            self.notify("State refused", str(exc), client=client, error=True)
-
-    def _on_pick(self, event: Any) -> None:
-        if self._switching:
-            return
-        name = self._title_to_name[self.scene_picker.value]
+    def pick(self, name: str, client: Any = None) -> None:
+        """A browser chose scene ``name`` in the picker."""
         if self.scene is None or name != self.scene.name:
-            self.switch_scene(name, client=getattr(event, "client", None))
+            self.switch_scene(name, client=client)
 
     def _on_connect(self, client: viser.ClientHandle) -> None:
         if self.scene is not None:
@@ -226,8 +174,8 @@ class Simulation:
     def load_lecture(self, lecture: Lecture, *, check: bool = True) -> None:
         """Follow a lecture (:class:`app.teaching.following.Following`); ValueError names a bad step."""
         self.following.load(lecture, check=check)
-        if self.following.folder not in self._panel:
-            self._panel.append(self.following.folder)
+        if self.following.folder not in self.panel.handles:
+            self.panel.handles.append(self.following.folder)
 
     def go_to_step(self, index: int) -> None:
         """Show step ``index`` (0-based, clamped) of the lecture followed."""
@@ -265,15 +213,15 @@ class Simulation:
     @property
     def time(self) -> float:
         """Simulation time, s."""
-        return self._t
+        return self.clock.t
 
     @property
     def playing(self) -> bool:
-        return self._playing
+        return self.clock.playing
 
     @property
     def speed(self) -> float:
-        return self._speed
+        return self.clock.speed
 
     @property
     def messages(self) -> list[tuple[str, str]]:
@@ -332,13 +280,13 @@ class Simulation:
     def set_time(self, t: float) -> None:
         """Put the clock at ``t`` (s), the scene untouched (a refused change puts the time back)."""
         with self.lock:
-            self._t = float(t)
+            self.clock.t = float(t)
             self._dirty = True
 
     def restart(self) -> None:
         """t = 0 with the current parameters (the Reset button; scenes call it after a parameter change)."""
         with self.lock:
-            self._t = 0.0
+            self.clock.t = 0.0
             if self.scene is not None:
                 self.scene.reset()
             self._dirty = True
@@ -352,24 +300,23 @@ class Simulation:
 
     def set_playing(self, playing: bool) -> None:
         with self.lock:
-            self._playing = bool(playing)
-            self.play_button.label = "Pause" if self._playing else "Play"
-            self.play_button.icon = viser.Icon.PLAYER_PAUSE if self._playing else viser.Icon.PLAYER_PLAY
-            if self._playing:
+            self.clock.playing = bool(playing)
+            self.panel.show_playing(self.clock.playing)
+            if self.clock.playing:
                 self.clear_status()
 
     def step(self) -> None:
         """Pause and advance one frame's worth of simulation time (1/60 s × speed)."""
         with self.lock:
             self.set_playing(False)
-            self._steps += 1
+            self.clock.steps += 1
 
     def set_speed(self, speed: float) -> None:
         speed = float(speed)
         if not (math.isfinite(speed) and SPEED_MIN - 1e-9 <= speed <= SPEED_MAX + 1e-9):
             raise ValueError(f"speed must be between {SPEED_MIN}× and {SPEED_MAX}×, got {speed}")
         with self.lock:
-            self._speed = speed
+            self.clock.speed = speed
             position = position_of(speed)
             if abs(self.speed_slider.value - position) > 1e-9:
                 self.speed_slider.value = position  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
@@ -403,11 +350,7 @@ class Simulation:
                     raise
                 scene = self._build(previous)
             cls = type(scene)
-            self._switching = True
-            try:
-                self.scene_picker.value = cls.title  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
-            finally:
-                self._switching = False
+            self.panel.show_scene(cls.title)
             self.legend.content = legend_html(cls.quantities)
             self.clear_status()  # the status line belongs to the scene
             self.view = cls.camera
@@ -418,7 +361,7 @@ class Simulation:
                 self.server.initial_camera.fov = FOV
                 self.server.initial_camera.position = position
                 self.server.initial_camera.look_at = look_at
-            self._t = 0.0
+            self.clock.t = 0.0
             self._dirty = True
 
     def _build(self, cls: type[Scene]) -> Scene:
@@ -467,12 +410,11 @@ class Simulation:
         with self.lock:
             self.closed = True
             self._teardown()
-            for handle in [*self._panel, self._grid]:
-                try:
-                    handle.remove()
-                except Exception:  # noqa: BLE001 - its browser may have gone already
-                    pass
-            self._panel = []
+            self.panel.remove()
+            try:
+                self._grid.remove()
+            except Exception:  # noqa: BLE001 - its browser may have gone already
+                pass
 
     # ------------------------------------------------------------------ the frame
     def frame(self, wall_dt: float = 1.0 / FPS) -> bool:
@@ -483,30 +425,24 @@ class Simulation:
             scene = self.scene
             if scene is None or self.closed or self.gone():
                 return False
-            if self._playing:
-                advance = min(max(wall_dt, 0.0), MAX_FRAME_DT) * self._speed
-            elif self._steps:
-                advance = self._steps * self._speed / self.fps
-                self._steps = 0
-            else:
-                advance = 0.0
+            advance = self.clock.advance(wall_dt)
             if advance == 0.0 and not self._dirty:
                 return False
-            t_new = self._t + advance
+            t_new = self.clock.t + advance
             try:
                 state = scene.compute(t_new, advance)
                 check_finite(state)
             except Exception as exc:  # noqa: BLE001 - pause with a message; keep the last valid picture
                 self.failed(exc)
                 return False
-            self._t = t_new
+            self.clock.t = t_new
             try:
                 with self.server.atomic():
                     scene.draw(state)
                     now = time.monotonic()
-                    if now - self._last_time_text > 0.1 or not self._playing:
+                    if now - self._last_time_text > 0.1 or not self.clock.playing:
                         self._last_time_text = now
-                        self.time_text.value = f"{self._t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
+                        self.time_text.value = f"{self.clock.t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
             except Exception as exc:  # noqa: BLE001
                 self.failed(exc)
                 return False
@@ -527,6 +463,6 @@ class Simulation:
             else "an error"
         )
         self.pause(
-            f"{what} at t = {self._t:.3f} s — {type(exc).__name__}: {exc}. The last valid state is shown; "
+            f"{what} at t = {self.clock.t:.3f} s — {type(exc).__name__}: {exc}. The last valid state is shown; "
             "change a parameter or press Reset."
         )

@@ -14,7 +14,7 @@ import pytest
 from PIL import Image
 from scipy.ndimage import binary_erosion
 
-from app.drawing.look import MIN_TEXT_PX
+from app.panel.look import MIN_TEXT_PX
 from app.scenes import scene_names
 from app.serving.framing import free_region
 from tests.harness import click, control_id, open_page, running_app, wait_for
