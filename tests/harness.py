@@ -1,7 +1,7 @@
 """Shared helpers for the app's headless and browser tests (both app helpers use them).
 
 * :func:`free_port` — a free TCP port on 127.0.0.1 (one per test server).
-* :func:`running_app` — an :class:`app.serving.app.App` on a free port, stopped afterwards.
+* :func:`running_app` — an :class:`app.server.App` on a free port, stopped afterwards.
 * :func:`chromium_or_skip` — Debian's Chromium through Playwright's sync API, or a skip when it is
   missing; under ``RBL_REQUIRE_BROWSER=1`` (CI) a missing browser is a failure, never a skip.
 * :func:`open_page` — load the app in a page and wait until the server sees the client and the
@@ -76,7 +76,7 @@ def running_app(
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
     127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``share``: viser's share
     button shown; ``lecture``: a lecture file or name to follow); stopped on exit."""
-    from app.serving.app import App
+    from app.server import App
 
     app = App(
         host="127.0.0.1",

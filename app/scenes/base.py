@@ -13,7 +13,7 @@ __all__ = ["Scene", "SceneContext", "register", "REGISTRY"]
 
 
 class SceneContext(Protocol):
-    """What a scene may use from the server (implemented by :class:`app.serving.app.App`'s context)."""
+    """What a scene may use from its simulation (:class:`app.serving.simulation.Simulation` implements it)."""
 
     server: Any  # viser.ViserServer
     root: str
