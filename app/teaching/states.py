@@ -12,13 +12,11 @@ import math
 import zlib
 from typing import Any
 
+from app.guards.inputs import MAX_TEXT  # the longest text the panel's text box takes: a state text fits it
 from app.scenes import scene_names
 
 PREFIX = "rbl1:"
 """Version 1 of the state text."""
-
-MAX_TEXT = 2000
-"""Longest state text read, characters (the panel's text box takes as many)."""
 
 MAX_JSON = 16_384
 """Most bytes a state text may decompress to (a state is a few hundred)."""
