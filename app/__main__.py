@@ -1,7 +1,7 @@
 """The ``rigid-body-lab`` command: start the viser server and print the addresses to open.
 
 ``rigid-body-lab export --scene NAME [--preset P | --state TEXT] --seconds S --out DIR`` records a motion
-without a browser instead (:mod:`app.export`).
+without a browser instead (:mod:`app.recording.export`).
 """
 
 from __future__ import annotations
@@ -12,8 +12,9 @@ import time
 
 def export_main(argv: list[str]) -> None:
     """``rigid-body-lab export``: write DIR/index.html, DIR/NAME.csv and DIR/NAME.png."""
-    from app.export import EXPORT_FPS, MAX_SECONDS, export, terminal_progress
+    from app.recording.export import EXPORT_FPS, MAX_SECONDS, terminal_progress
     from app.scenes import scene_names
+    from app.serving.app import export
 
     parser = argparse.ArgumentParser(
         prog="rigid-body-lab export",
@@ -93,9 +94,9 @@ def main(argv: list[str] | None = None) -> None:
     )
     args = parser.parse_args(argv)
 
-    from app.addresses import is_loopback, urls
-    from app.presenter import check_pin
-    from app.server import App
+    from app.serving.addresses import is_loopback, urls
+    from app.serving.app import App
+    from app.teaching.presenter import check_pin
 
     if args.pin is not None:
         try:
@@ -105,14 +106,14 @@ def main(argv: list[str] | None = None) -> None:
     if args.private and args.presenter:
         parser.error("choose --presenter or --private, not both")
     if args.state is not None:
-        from app.states import parse_state
+        from app.teaching.states import parse_state
 
         try:
             parse_state(args.state)
         except ValueError as exc:
             parser.error(f"--state: {exc}")
     if args.lecture is not None:
-        from app.lectures import read_lecture
+        from app.teaching.lectures import read_lecture
 
         try:
             read_lecture(args.lecture)

@@ -61,7 +61,7 @@ def main(argv: list[str] | None = None) -> str:
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "frame_time.md")
     args = parser.parse_args(argv)
 
-    from app.server import App
+    from app.serving.app import App
 
     app = App(port=0, start_loop=False)
     rows = []

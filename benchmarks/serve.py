@@ -5,7 +5,7 @@ browser) run in a second process so that reading does not compete with the serve
 GIL. Each row lets a case play at 1× for a few seconds while every client reads continuously, and
 reports per client the bytes/s it received and its frames/s: the websocket messages that carry the pose
 of the case's body (``SetOrientationMessage`` / ``SetPositionMessage`` for its node, which the loop
-sends once per drawn frame when the body moved, :mod:`app.wire`). A message without it (a 10 Hz
+sends once per drawn frame when the body moved, :mod:`app.guards.wire`). A message without it (a 10 Hz
 readout, a plot, a notification) is not a frame. Per row: the median and the largest bytes/s, the
 slowest client's and the median client's frames/s, the websocket messages/s, the server's CPU time per
 second of wall time and its resident memory.
@@ -114,7 +114,7 @@ def case_state(case: Case) -> str | None:
         with app.lock:
             if case.preset is not None and not scene.presets.choose(case.preset):
                 raise RuntimeError(f"{case.name}: preset {case.preset!r} refused: {scene.presets.panel.last_refusal}")
-            inputs = {str(h.label): h for h in app._scene_inputs}
+            inputs = {str(h.label): h for h in app.scene_inputs}
             for label, value in case.controls.items():
                 inputs[label].value = value  # runs the control's callback, as a browser's change does
                 if inputs[label].value != value:

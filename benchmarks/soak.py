@@ -5,7 +5,7 @@ One server in this process (presenter or private mode) plays the heavy top while
 of them explore on their own (a copy of the lecture each); in private mode each has a session of its
 own and half of them switch it to another scene. Every ``--every`` seconds (and once at the end), after
 everyone has left: the server's resident memory (``/proc/self/statm``), the sessions and connected clients
-left, the :class:`app.server.Simulation` objects still alive after a full garbage collection (a session
+left, the :class:`app.serving.app.Simulation` objects still alive after a full garbage collection (a session
 dropped but still referred to stays alive), and the size of viser's broadcast buffer. The results file
 (``benchmarks/results/soak.md``, or ``--out``) is rewritten after every sample, so a run cut short keeps
 what it measured; private mode writes ``benchmarks/results/soak_private.md``. Bounded by ``--minutes``;
@@ -52,11 +52,11 @@ def settled(count: Callable[[], int], settle: float = 5.0, pause: float = 0.5) -
 
 
 def simulations_alive(settle: float = 5.0) -> int:
-    """How many :class:`app.server.Simulation` objects (sessions and explorers' copies, not the App) are
+    """How many :class:`app.serving.app.Simulation` objects (sessions and explorers' copies, not the App) are
     alive after a full collection. A copy can still be in the making for a browser that pressed "Explore"
     just before it left (a worker thread builds it, then drops it): up to ``settle`` seconds are given for
     the count to fall to 0, and the last count is returned."""
-    from app.server import Simulation
+    from app.serving.simulation import Simulation
 
     def alive() -> int:
         gc.collect()

@@ -23,7 +23,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from app.upload import MAX_BYTES
+from app.uploads.limits import MAX_BYTES
 from tests.harness import glb_with_nodes
 
 RESULTS = Path(__file__).resolve().parent / "results" / "upload_memory.md"

@@ -61,7 +61,7 @@ class Coin(Scene):
 
 
 def main(argv: list[str] | None = None) -> None:
-    from app.server import App
+    from app.serving.app import App
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--port", type=int, default=8080)

@@ -1,12 +1,6 @@
 """A body in free fall: the same torque-free wobble while the centre of mass follows a parabola.
 
-Gravity acts at the centre of mass, so it exerts no torque about it (lecture): the rotation is exactly
-the torque-free motion of :mod:`app.scenes.wobble`, and the centre of mass moves on
-``r(τ) = r0 + v0 τ − ½ g τ² ẑ``. The throw repeats every flight time (τ = t mod T), the spin does not.
-
-Real time: at 1× the clock advances by the wall time between frames (:meth:`app.server.Simulation.frame`),
-so a throw lasts its physical flight time, 2 v0z/g = 1.02 s for a rise of 1.27 m; that is how long a real
-throw of that height takes, short as it looks (tests/app/scenes/test_free_fall.py, tests/browser/test_real_time.py).
+More in docs/app-notes.md (``app.scenes.free_fall``).
 """
 
 from __future__ import annotations
@@ -16,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from app import draw
-from app.scenes import register
+from app.scenes.base import register
 from app.scenes.wobble import Wobble
 from physics import G
 

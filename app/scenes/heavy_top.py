@@ -18,9 +18,9 @@ import viser
 from scipy.spatial.transform import Rotation
 
 from app import controls, draw
-from app.columns import euler_columns, vector_columns
-from app.ghost import IntegratorGhost
-from app.scenes import Scene, register
+from app.drawing.ghost import IntegratorGhost
+from app.recording.columns import euler_columns, vector_columns
+from app.scenes.base import Scene, register
 from physics import G
 from physics.heavy_top import HeavyTop
 from physics.integrators import GravityTorque
@@ -255,11 +255,6 @@ class HeavyTopScene(Scene):
         start = _start(values)
         if values["friction"] < 0:
             raise ValueError("friction must be zero or positive")
-        if values["friction"] > 0:
-            try:
-                from physics import integrators  # noqa: F401 - the stepping model needs it
-            except ImportError:
-                raise ValueError("friction needs physics.integrators, which is not installed yet") from None
         motion = top.trajectory(*start)  # solved once: a frame only evaluates it
         sol = motion.at(np.zeros(1))
         self.top, self.values, self.start, self.exact, self.motion = top, dict(values), start, sol, motion

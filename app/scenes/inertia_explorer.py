@@ -1,10 +1,7 @@
 """Inertia explorer: pick or upload a body; see its principal axes, moments and inertia ellipsoid, and the
 tensor about a movable pivot by the parallel-axis theorem.
 
-Model: :mod:`physics.inertia` (``MassProperties``: principal moments ``I1 >= I2 >= I3`` and axes,
-``tensor_about(point)`` = ``I_CM + M (a² δ − a aᵀ)``). Uploaded meshes are checked by :mod:`app.upload`:
-a refused file leaves the previous body in place and says why. "Spin it" hands the body to the
-torque-free tennis-racket scene.
+More in docs/app-notes.md (``app.scenes.inertia_explorer``).
 """
 
 from __future__ import annotations
@@ -16,10 +13,10 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
-from app.columns import vector_columns
-from app.scenes import Scene, register
-from app.upload import NotWatertightError, UploadedBody, body_from_mesh
-from app.upload_worker import body_in_worker
+from app.recording.columns import vector_columns
+from app.scenes.base import Scene, register
+from app.uploads.reading import NotWatertightError, UploadedBody, body_from_mesh
+from app.uploads.worker import body_in_worker
 from assets import ASSETS, load_mesh, mass_properties
 from physics.inertia import MassProperties, box, point_masses, rod, solid_cylinder, solid_sphere
 

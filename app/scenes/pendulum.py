@@ -1,10 +1,6 @@
 """Physical pendulum and the centre of percussion: a bat or rod swinging from a pivot, and a strike.
 
-Model: :class:`physics.pendulum.PhysicalPendulum` — exact swing at any amplitude (Jacobi elliptic
-functions), ``I = I_CM + M a⊥² = M k²``, effective length ``ℓ = k²/a⊥``; a blow ``J`` at a point
-changes the angular velocity by ``Δω`` and the pivot supplies the impulse ``M Δv_cm − J``, which
-vanishes when the blow lands at the centre of percussion ``ℓ`` below the pivot (lecture, the
-baseball story; docs/conventions.md erratum 2: *no* impulse from the pivot is needed there).
+More in docs/app-notes.md (``app.scenes.pendulum``).
 """
 
 from __future__ import annotations
@@ -17,8 +13,8 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
-from app.scenes import Scene, register
-from app.wire import send_position
+from app.guards.wire import send_position
+from app.scenes.base import Scene, register
 from assets import load_mesh, mass_properties
 from physics import G
 from physics.inertia import MassProperties, rod

@@ -1,14 +1,6 @@
 """The tennis racket (the intermediate axis): any asymmetric body spun about a principal axis, torque-free.
 
-Model: :class:`physics.free_body.FreeBody`, evaluated in closed form at the clock's time (Jacobi
-elliptic functions), so a flip is exact however close the start is to the separatrix. Lecture, end
-of the free-body section: linearising about spin Ω on axis i gives
-``η̈ = −[Ω² (I_i − I_j)(I_i − I_k) / (I_j I_k)] η`` — an oscillation about the largest and the
-smallest axis, exponential growth (the flip) about the intermediate one.
-
-This is also the general torque-free scene: the inertia explorer's "Spin it" hands its body here,
-symmetric ones too (a cylinder, a sphere): with two equal moments there is no intermediate axis, so the
-body precesses steadily (lecture, "the symmetric body": ``Ω = ω_s (I⊥ − I_s)/I⊥``) and never flips.
+More in docs/app-notes.md (``app.scenes.tennis_racket``).
 """
 
 from __future__ import annotations
@@ -21,10 +13,10 @@ import trimesh
 import viser
 
 from app import controls, draw
-from app.columns import euler_columns, vector_columns
-from app.ghost import IntegratorGhost
-from app.scenes import Scene, register
-from app.wire import send_position
+from app.drawing.ghost import IntegratorGhost
+from app.guards.wire import send_position
+from app.recording.columns import euler_columns, vector_columns
+from app.scenes.base import Scene, register
 from assets import ASSETS, load_mesh, mass_properties
 from physics.free_body import FreeBody
 from physics.inertia import MassProperties, validate_moments

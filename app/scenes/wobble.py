@@ -12,9 +12,9 @@ from typing import Any, ClassVar
 import numpy as np
 
 from app import controls, draw
-from app.columns import euler_columns, vector_columns
-from app.ghost import IntegratorGhost
-from app.scenes import Scene, register
+from app.drawing.ghost import IntegratorGhost
+from app.recording.columns import euler_columns, vector_columns
+from app.scenes.base import Scene, register
 from physics.free_body import FreeBody
 from physics.inertia import validate_moments
 from physics.rotations import frame_from_axis

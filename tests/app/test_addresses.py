@@ -9,7 +9,7 @@ import sys
 
 from viser import _messages
 
-from app.addresses import is_loopback, lan_addresses, urls
+from app.serving.addresses import is_loopback, lan_addresses, urls
 from tests.harness import free_port, running_app
 
 

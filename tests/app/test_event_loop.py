@@ -1,11 +1,11 @@
-"""viser's asyncio events are changed only on viser's event loop (app.event_loop)."""
+"""viser's asyncio events are changed only on viser's event loop (app.guards.event_loop)."""
 
 from __future__ import annotations
 
 import asyncio
 import threading
 
-from app.event_loop import LoopEvent
+from app.guards.event_loop import LoopEvent
 from tests.harness import raw_client, running_app, still_connected, wait_for
 
 

@@ -1,4 +1,4 @@
-"""``rigid-body-lab export`` and :mod:`app.export`: the files, their numbers against the physics API, refusals.
+"""``rigid-body-lab export`` and :mod:`app.recording.export`: the files, their numbers against the physics API, refusals.
 
 The CSV is checked against an independent evaluation of the same motion by the physics package, for every
 scene driven by a closed form (the heavy top released from rest; the wobble, the free fall and the tennis
@@ -23,8 +23,8 @@ import numpy as np
 import pytest
 
 from app.__main__ import main
-from app.export import export, export_zip
 from app.scenes import scene_names
+from app.serving.app import export, export_zip
 from physics import G
 from physics.euler_angles import euler_attitude
 from physics.free_body import FreeBody
@@ -267,8 +267,8 @@ class _Client:
 def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, outcome, title: str) -> None:
     """The progress note ends as "Exported", "Export refused" or "Export failed", not loading, and closes after
     NOTIFY_SECONDS like every other notification (it stayed open until clicked)."""
-    import app.export_button as export_button
-    from app.server import NOTIFY_SECONDS
+    from app.panel.export_folder import ExportFolder
+    from app.serving.notices import NOTIFY_SECONDS
 
     def fake_export(text, seconds, progress):
         progress(1, 2)
@@ -276,9 +276,11 @@ def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, o
             raise outcome
         return outcome
 
-    monkeypatch.setattr(export_button, "export_zip", fake_export)
     client = _Client()
-    export_button.ExportFolder._run(None, client, "rbl1:x", 2.0, "pendulum")  # type: ignore[arg-type]
+    from types import SimpleNamespace
+
+    folder = SimpleNamespace(export=fake_export, auto_close_seconds=NOTIFY_SECONDS)
+    ExportFolder._run(folder, client, "rbl1:x", 2.0, "pendulum")  # type: ignore[arg-type]
     (note,) = client.notes
     assert note.title == title and note.loading is False
     assert note.auto_close_seconds == NOTIFY_SECONDS

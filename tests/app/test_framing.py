@@ -1,4 +1,4 @@
-"""Framing the camera clear of the panel (app.framing): the scene's look-at point lands at the centre of
+"""Framing the camera clear of the panel (app.serving.framing): the scene's look-at point lands at the centre of
 the part of the view the panel leaves free, and the scene's own view fits in that part."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from app.framing import FILL, REFERENCE_ASPECT, SHEET_MARGIN_PX, framed, free_region
+from app.serving.framing import FILL, REFERENCE_ASPECT, SHEET_MARGIN_PX, framed, free_region
 
 FOV = math.radians(50.0)
 SCENE = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
@@ -66,7 +66,7 @@ class _Camera:
 
 
 class _Client:
-    """What Simulation._show_scene_to touches of a viser ClientHandle."""
+    """What app.serving.framing.show_scene_to touches of a viser ClientHandle."""
 
     def __init__(self, width, height):
         self.camera = _Camera(self, width, height)
@@ -92,20 +92,20 @@ def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_fir
     camera is re-framed."""
     import time
 
-    from app import server
-    from app.server import FRAMING_GRACE, Simulation
+    from app.serving import framing
+    from app.serving.framing import FRAMING_GRACE, show_scene_to
 
     now = [1000.0]
     monkeypatch.setattr(time, "monotonic", lambda: now[0])
     scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
     client = _Client(800, 600)
-    Simulation._show_scene_to(client, scene_eye, scene_target)
+    show_scene_to(client, scene_eye, scene_target)
     assert client._rbl_framing[0] == (800, 600)
     now[0] += 1.0
     client.report(1280, 800, position=(3.0, -3.0, 2.0))  # still easing: not at the eye framed for 800x600
     size, eye = client._rbl_framing[:2]
     assert size == (1280, 800) and np.array_equal(client.camera.position, eye)  # framed for the settled size
-    np.testing.assert_allclose(eye, server.framed(scene_eye, scene_target, 1280, 800, server.FOV)[0])
+    np.testing.assert_allclose(eye, framing.framed(scene_eye, scene_target, 1280, 800, framing.FOV)[0])
     now[0] += FRAMING_GRACE + 1.0
     client.report(1024, 768, position=tuple(np.asarray(eye) + 0.5))  # the viewer orbited, then resized
     assert client._rbl_framing[0] == (1280, 800)  # theirs now: left alone

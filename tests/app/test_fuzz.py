@@ -39,8 +39,9 @@ from typing import Any
 import pytest
 import trimesh
 
-from app import upload
-from app.server import Simulation, check_finite
+from app.serving.finite import check_finite
+from app.serving.simulation import Simulation
+from app.uploads import limits
 from tests.harness import (
     drain,
     glb_with_nodes,
@@ -119,7 +120,7 @@ def send_random_upload(rng: random.Random, ws: Any, button: str, counts: Counter
         send_upload(ws, button, f"garbage.{ext}", garbage)
         counts["uploads: garbage"] += 1
     elif roll < 0.65:
-        size = upload.MAX_BYTES + rng.randrange(1, 10**9)
+        size = limits.MAX_BYTES + rng.randrange(1, 10**9)
         transfer = start_upload(ws, button, "oversized.stl", size, math.ceil(size / (512 * 1024)))
         for index in range(3):  # the page sends its parts at once, without waiting for an answer
             send_part(ws, button, transfer, index, rng.randbytes(512))
@@ -147,7 +148,7 @@ class Browser:
 
 def own_simulation(app: Any, mode: str, browser: Browser) -> Any:
     """The simulation this browser drives (or follows): its private session or copy, else the app."""
-    with app._sessions_lock:
+    with app.sessions_lock:
         own = app.sessions.get(browser.cid)
     return own if own is not None or mode == "private" else app
 
@@ -170,7 +171,7 @@ def describe(simulation: Any) -> str:
     scene = simulation.scene
     return (
         f"(scene {getattr(scene, 'name', None)}, frames {simulation.frames}, playing {simulation.playing}, "
-        f"closed {simulation._closed}, browser gone {simulation._gone()}, messages {simulation.messages[-3:]})"
+        f"closed {simulation.closed}, browser gone {simulation.gone()}, messages {simulation.messages[-3:]})"
     )
 
 
@@ -205,18 +206,18 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
     rng = random.Random(SEED)
     errors: list[str] = []
     failed_frames: list[str] = []  # the scene and its values when a frame failed, to reproduce it
-    real_failed = Simulation._failed
+    real_failed = Simulation.failed
 
     def failed(self, exc):
         scene = self.scene
         params = getattr(scene, "params", None)
         failed_frames.append(
             f"{getattr(scene, 'name', None)} t={self.time!r} values={getattr(params, 'values', None)} "
-            f"payload={'yes' if self._payload is not None else 'no'}: {type(exc).__name__}: {exc}"
+            f"payload={'yes' if self.payload is not None else 'no'}: {type(exc).__name__}: {exc}"
         )
         real_failed(self, exc)
 
-    monkeypatch.setattr(Simulation, "_failed", failed)
+    monkeypatch.setattr(Simulation, "failed", failed)
 
     class Collect(logging.Handler):
         def emit(self, record: logging.LogRecord) -> None:

@@ -1,4 +1,4 @@
-"""Exact beside numerical (:mod:`app.ghost`): the ghost and its error plot against an independent computation.
+"""Exact beside numerical (:mod:`app.drawing.ghost`): the ghost and its error plot against an independent computation.
 
 The independent computation: the physics API's :func:`physics.integrators.integrate` (or ``advance`` for
 classical RK4, whose R leaves SO(3)) from the scene's start with the same step, compared with
@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from app.ghost import METHODS, chordal_angle
+from app.drawing.ghost import METHODS, chordal_angle
 from physics import G
 from physics.free_body import FreeBody
 from physics.heavy_top import HeavyTop
@@ -113,7 +113,7 @@ def test_reset_rewind_and_choices():
         _run(app, 1)
         assert ghost.t0 == 0.0 and ghost.steps == 0 and app.time > 0.0
         with app.lock:
-            app._t = 500.0  # a jump (an opened state): restart there, not 10,000 steps
+            app.set_time(500.0)  # a jump (an opened state): restart there, not 10,000 steps
             app.request_redraw()
         _run(app, 1)
         assert ghost.t0 > 499.0 and ghost.steps <= 1

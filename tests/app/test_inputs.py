@@ -1,6 +1,6 @@
-"""Every value a browser sends is checked on the server (app.inputs) before viser or a scene sees it.
+"""Every value a browser sends is checked on the server (app.guards.inputs) before viser or a scene sees it.
 
-The unit tests call :func:`app.inputs.check_update` with viser's own props objects; the websocket tests
+The unit tests call :func:`app.guards.inputs.check_update` with viser's own props objects; the websocket tests
 connect real clients to a running server on 127.0.0.1 and send the messages a browser (or a hostile
 script) could send: the server keeps running, every other client stays connected, the values in force
 stay, and only the sender hears of the refusal.
@@ -13,7 +13,7 @@ from typing import Any
 
 import pytest
 
-from app.inputs import MAX_INT, MAX_TEXT, InputRefused, check_update
+from app.guards.inputs import MAX_INT, MAX_TEXT, InputRefused, check_update
 from tests.harness import raw_client, running_app, send_value, still_connected, wait_for
 
 
@@ -219,7 +219,7 @@ def test_a_refusal_on_viser_s_event_loop_waits_for_the_notice_lock(gui_app):
         with app.lock:  # a frame or a scene switch in progress does not hold the refusal up ...
             send_value(sender, app.speed_slider._impl.uuid, "fast (locked)")
             wait_for(lambda: told("fast (locked)"), what="the refusal while the simulation is locked")
-        with app._notice_lock:  # ... but the notice lock does: nothing is written while another holds it
+        with app.notices.lock:  # ... but the notice lock does: nothing is written while another holds it
             send_value(sender, app.speed_slider._impl.uuid, "fast (notice)")
             deadline = time.monotonic() + 0.5
             while time.monotonic() < deadline:

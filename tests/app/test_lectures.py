@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from app.__main__ import main
-from app.lectures import LECTURES, read_lecture
+from app.teaching.lectures import LECTURES, read_lecture
 from tests.harness import running_app
 
 SHIPPED = LECTURES / "rigid-body-motion.toml"
@@ -34,11 +34,11 @@ def test_the_shipped_lecture_follows_the_lectures_order_and_every_step_shows():
         for k, step in enumerate(lecture.steps):
             app.go_to_step(k)
             assert app.scene.name == step.scene
-            assert f"step {k + 1} of {len(lecture.steps)}" in app._lecture_text.content
+            assert f"step {k + 1} of {len(lecture.steps)}" in app.following.text.content
             if step.preset:
                 assert app.scene.presets.last == step.preset
             for label, choice in step.choices.items():
-                assert next(h for h in app._scene_inputs if str(h.label) == label).value == choice
+                assert next(h for h in app.scene_inputs if str(h.label) == label).value == choice
             for key, value in step.values.items():
                 assert app.scene.params.values[key] == value
         app.go_to_step(len(lecture.steps) + 5)  # Next at the last step stays there
@@ -241,10 +241,10 @@ def test_a_step_with_seconds_moves_on_by_itself_and_the_last_stays(tmp_path):
         assert app.scene.name == "wobble"
         app.frame(1.0 / 60.0)
         assert app.step_index == 0  # not yet
-        app._step_started -= 1.0  # as if a second had passed
+        app.following.step_started -= 1.0  # as if a second had passed
         app.frame(1.0 / 60.0)
         assert (app.step_index, app.scene.name) == (1, "pendulum")
-        app._step_started -= 1.0
+        app.following.step_started -= 1.0
         app.frame(1.0 / 60.0)
         assert app.step_index == 1
 
@@ -271,7 +271,7 @@ def test_the_shipped_file_is_plain_toml():
 def _main_with_a_stand_in_app(argv: list[str], monkeypatch) -> dict:
     """``rigid-body-lab ARGV`` parsed by app.__main__.main up to the server it would start (returns what the
     App would have been given)."""
-    import app.server
+    import app.serving.app
 
     given: dict = {}
 
@@ -283,7 +283,7 @@ def _main_with_a_stand_in_app(argv: list[str], monkeypatch) -> dict:
             given.update(kwargs)
             raise Started
 
-    monkeypatch.setattr(app.server, "App", StandIn)
+    monkeypatch.setattr(app.serving.app, "App", StandIn)
     with pytest.raises(Started):
         main(argv)
     return given
@@ -298,18 +298,18 @@ def test_the_command_line_finds_the_shipped_lecture_by_name(monkeypatch):
 
 STAND_IN = """
 import sys
-import app.server
+import app.serving.app
 from app.__main__ import main
 
 class StandIn:
     def __init__(self, **kwargs):
-        from app.lectures import LECTURES, read_lecture
+        from app.teaching.lectures import LECTURES, read_lecture
         lecture = read_lecture(kwargs["lecture"])
-        print("APP", app.server.__file__)
+        print("APP", app.serving.app.__file__)
         print("LECTURE", lecture.source, len(lecture.steps))
         sys.exit(0)
 
-app.server.App = StandIn
+app.serving.app.App = StandIn
 main(["--lecture", "rigid-body-motion", "--port", "0"])
 """
 

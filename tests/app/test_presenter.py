@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app import presenter
-from app.presenter import Classroom, check_pin, new_pin
-from app.server import Simulation
+from app.serving.simulation import Simulation
+from app.teaching import presenter
+from app.teaching.presenter import Classroom, check_pin, new_pin
 from tests.harness import click_button, raw_client, received, running_app, send_value, still_connected, wait_for
 
 PIN = "4321"
@@ -70,7 +70,7 @@ def test_pin_is_six_random_digits_or_checked():
 
 
 def test_a_non_loopback_host_means_presenter_mode_and_private_is_exclusive():
-    from app.server import App
+    from app.serving.app import App
 
     with pytest.raises(ValueError, match="not both"):
         App(port=0, private=True, presenter=True, start_loop=False)
@@ -254,7 +254,7 @@ def test_exploring_copies_an_uploaded_body_and_its_state_text_is_refused_by_name
 
     import trimesh
 
-    from app.states import state_text
+    from app.teaching.states import state_text
 
     with running_app("inertia_explorer", presenter=True, pin=PIN) as app:
         brick = trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(file_type="stl")

@@ -16,7 +16,8 @@ import pytest
 
 from app import draw
 from app.scenes import REGISTRY, load_all, scene_names
-from app.server import App, NumericalFailure, check_finite
+from app.serving.app import App
+from app.serving.finite import NumericalFailure, check_finite
 from tests.harness import FRAME, free_port, open_scene, running_app
 
 SCENES = ["heavy_top", "wobble", "free_fall"]
@@ -89,7 +90,7 @@ def test_buttons_and_speed_slider_drive_the_clock(app):
     for cb in app.play_button._impl.update_cb:  # a click from the page arrives like this
         cb(None)
     assert not app.playing and app.play_button.label == "Play"
-    app.speed_slider.value = 0.5  # the slider is logarithmic (app.speed): half-way right is 10^0.5×
+    app.speed_slider.value = 0.5  # the slider is logarithmic (app.panel.speed): half-way right is 10^0.5×
     assert app.speed == pytest.approx(10**0.5, rel=1e-15) and app.speed_slider.label == "Speed 3.2×"
     app.speed_slider.value = -1.0
     assert app.speed == pytest.approx(0.01, rel=1e-15) and app.speed_slider.label == "Speed 0.01×"

@@ -21,7 +21,7 @@ from typing import Any
 
 import pytest
 
-from app.server import App
+from app.serving.app import App
 from tests.harness import click_button, free_port, raw_client, received, running_app, wait_for
 
 

@@ -10,7 +10,7 @@ import weakref
 
 import pytest
 
-from app.server import Simulation
+from app.serving.simulation import Simulation
 from tests.harness import raw_client, running_app, send_value, still_connected, wait_for
 
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from app.speed import POSITION_MARKS, POSITION_STEP, SPEED_MAX, SPEED_MIN, position_of, speed_at, speed_label
+from app.panel.speed import POSITION_MARKS, POSITION_STEP, SPEED_MAX, SPEED_MIN, position_of, speed_at, speed_label
 
 
 def test_ends_and_middle():

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from app.__main__ import main
-from app.states import MAX_JSON, PREFIX, parse_state, state_text
+from app.teaching.states import MAX_JSON, PREFIX, parse_state, state_text
 from tests.harness import raw_client, running_app, wait_for
 
 FRICTION = "sleeping top with friction: falls"
@@ -56,7 +56,7 @@ def test_the_copy_button_writes_the_text_and_open_brings_it_back_with_the_camera
     with running_app("pendulum", start_loop=False) as app:
         camera = SimpleNamespace(position=np.array([1.0, -2.0, 0.5]), look_at=np.array([0.0, 0.0, 0.3]))
         client = SimpleNamespace(camera=camera, client_id="someone")
-        app._on_copy_state(SimpleNamespace(client=client))
+        app.panel.on_copy_state(SimpleNamespace(client=client))
         text = app.state_box.value
         assert parse_state(text)["camera"] == {"position": [1.0, -2.0, 0.5], "look_at": [0.0, 0.0, 0.3]}
         app.switch_scene("wobble")

@@ -1,4 +1,4 @@
-"""No public tunnel unless the server was started with --share, and then only a driver opens it (app.tunnel).
+"""No public tunnel unless the server was started with --share, and then only a driver opens it (app.guards.tunnel).
 
 viser answers a ``ShareUrlRequest`` from any websocket client by publishing the server; a hidden share
 button does not stop a page or a script from sending one. These tests send the messages through a real
@@ -13,7 +13,7 @@ import time
 import msgspec
 import pytest
 
-from app.tunnel import NOT_SHARED
+from app.guards.tunnel import NOT_SHARED
 from tests.harness import click_button, raw_client, received, running_app, send_value, still_connected, wait_for
 
 

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from app import upload
-from app.upload import MAX_BYTES, NotWatertightError, body_from_upload, read_mesh
+from app.uploads import limits
+from app.uploads.limits import MAX_BYTES
+from app.uploads.reading import NotWatertightError, body_from_upload, read_mesh
 from physics.inertia import box
 
 EXTENTS = (0.3, 0.2, 0.1)
@@ -80,7 +81,7 @@ def test_unreadable_file_is_refused(name, content):
 
 def test_too_many_triangles_is_refused(monkeypatch):
     # The real limit is 500,000; a smaller one keeps the test fast and exercises the same branch.
-    monkeypatch.setattr(upload, "MAX_FACES", 100)
+    monkeypatch.setattr(limits, "MAX_FACES", 100)
     sphere = trimesh.creation.icosphere(subdivisions=2)  # 320 faces
     with pytest.raises(ValueError, match=r"ball\.stl has 320 triangles; the limit is 100"):
         read_mesh("ball.stl", sphere.export(file_type="stl"))

@@ -1,4 +1,4 @@
-"""Uploads are checked when they start, before viser stores any part (app.upload_guard).
+"""Uploads are checked when they start, before viser stores any part (app.guards.uploads).
 
 Real websocket clients send the messages a page sends for an upload (tests/harness.py's
 ``send_upload``), truthfully or not. viser acknowledges every part it stores (``FileTransferPartAck``
@@ -14,7 +14,7 @@ import contextlib
 import pytest
 import trimesh
 
-from app import upload, upload_guard
+from app.uploads import limits
 from tests.harness import (
     raw_client,
     received,
@@ -73,7 +73,7 @@ def test_an_oversized_declared_size_is_refused_before_any_part_is_stored(explore
     with raw_client(app) as sender, raw_client(app) as other:
         received(other, 0.2)
         before, refused = len(app.messages), app.scene.upload_refusals
-        size = upload.MAX_BYTES + 1
+        size = limits.MAX_BYTES + 1
         transfer = start_upload(sender, _button(app), "huge.stl", size, 41)
         for index in range(3):  # the page sends its parts without waiting for an answer
             send_part(sender, _button(app), transfer, index, b"\0" * 1024)
@@ -98,9 +98,9 @@ def test_an_oversized_declared_size_is_refused_before_any_part_is_stored(explore
     [
         (-5, 1, "a.stl", "in a form this server does not take"),
         (2**64 - 1, 1, "a.stl", "in a form this server does not take"),
-        (10, upload_guard.MAX_PARTS + 1, "a.stl", "in a form this server does not take"),
+        (10, limits.MAX_PARTS + 1, "a.stl", "in a form this server does not take"),
         (10, 0, "a.stl", "in a form this server does not take"),
-        (10, 1, "x" * (upload_guard.MAX_NAME + 1), "file name is at most"),
+        (10, 1, "x" * (limits.MAX_NAME + 1), "file name is at most"),
     ],
 )
 def test_a_transfer_no_page_would_announce_is_refused(explorer, readers, size, parts, name, message):
@@ -133,7 +133,7 @@ def test_parts_adding_up_to_more_than_the_declared_size_drop_the_transfer(explor
 def test_uploads_in_flight_are_limited_per_browser_and_for_the_server(explorer, readers):
     app = explorer
     with contextlib.ExitStack() as stack:
-        clients = [stack.enter_context(raw_client(app)) for _ in range(upload_guard.MAX_TRANSFERS + 1)]
+        clients = [stack.enter_context(raw_client(app)) for _ in range(limits.MAX_TRANSFERS + 1)]
         first = clients[0]
         before = len(app.messages)
         held = start_upload(first, _button(app), "slow.stl", 2000, 2)
@@ -142,14 +142,14 @@ def test_uploads_in_flight_are_limited_per_browser_and_for_the_server(explorer, 
         start_upload(first, _button(app), "second.stl", 10, 1)
         wait_for(lambda: _refusals(app, before), what="the second file from the same browser refused")
         assert "previous file is still arriving" in _refusals(app, before)[0]
-        for ws in clients[1 : upload_guard.MAX_TRANSFERS]:  # the server's other places
+        for ws in clients[1 : limits.MAX_TRANSFERS]:  # the server's other places
             start_upload(ws, _button(app), "slow.stl", 2000, 2)
-        wait_for(lambda: len(_stored(app)) == upload_guard.MAX_TRANSFERS, what="every place taken")
+        wait_for(lambda: len(_stored(app)) == limits.MAX_TRANSFERS, what="every place taken")
         before = len(app.messages)
         start_upload(clients[-1], _button(app), "late.stl", 10, 1)
         wait_for(lambda: _refusals(app, before), what="one transfer too many refused")
-        assert f"receiving {upload_guard.MAX_TRANSFERS} other files" in _refusals(app, before)[0]
-        assert len(_stored(app)) == upload_guard.MAX_TRANSFERS
+        assert f"receiving {limits.MAX_TRANSFERS} other files" in _refusals(app, before)[0]
+        assert len(_stored(app)) == limits.MAX_TRANSFERS
     # The browsers left: viser dropped their transfers, and the places are free again.
     wait_for(lambda: not _stored(app), what="the transfers of departed browsers to be dropped")
     with raw_client(app) as ws:
@@ -163,8 +163,8 @@ def test_a_stalled_transfer_gives_its_place_to_the_next(explorer, readers, monke
     with raw_client(app) as stalled, raw_client(app) as next_one:
         held = start_upload(stalled, _button(app), "stalled.stl", 2000, 2)
         wait_for(lambda: held in _stored(app), what="the stalled transfer")
-        monkeypatch.setattr(upload_guard, "STALL_SECONDS", 0.0)  # it has waited long enough
-        monkeypatch.setattr(upload_guard, "MAX_TRANSFERS", 1)
+        monkeypatch.setattr(limits, "STALL_SECONDS", 0.0)  # it has waited long enough
+        monkeypatch.setattr(limits, "MAX_TRANSFERS", 1)
         send_upload(next_one, _button(app), "next.stl", b"solid x\nendsolid x\n")
         wait_for(lambda: "next.stl" in readers, what="the next upload to take the place")
         assert held not in _stored(app)

@@ -1,4 +1,4 @@
-"""Uploads are limited before and while they are parsed (app.upload_limits, app.upload_worker).
+"""Uploads are limited before and while they are parsed (app.uploads.limits, app.uploads.worker).
 
 A file whose header declares more than the limits is refused before anything parses it; the parse runs
 in a worker process whose memory and time are capped, so no upload can take the server's memory or
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from app.upload import MAX_BYTES, NotWatertightError, body_from_upload
-from app.upload_limits import MAX_FACES, MAX_NODES, check_declared_size
-from app.upload_worker import body_in_worker
+from app.uploads.limits import MAX_BYTES, MAX_FACES, MAX_NODES, READERS, check_declared_size
+from app.uploads.reading import NotWatertightError, body_from_upload
+from app.uploads.worker import body_in_worker
 from tests.harness import glb_with_nodes
 
 
@@ -89,7 +89,7 @@ def test_a_worker_out_of_memory_or_time_is_refused_and_the_server_goes_on():
 
 
 def test_an_upload_that_finds_every_reader_busy_is_refused_at_once_without_a_worker(monkeypatch):
-    from app import upload_worker
+    from app.uploads import worker as upload_worker
 
     def no_worker(*_args, **_kwargs):
         raise AssertionError("a worker was started while every reader was busy")
@@ -99,7 +99,7 @@ def test_an_upload_that_finds_every_reader_busy_is_refused_at_once_without_a_wor
     try:
         while upload_worker._readers.acquire(blocking=False):  # every reader busy with another upload
             taken += 1
-        assert taken == upload_worker.READERS
+        assert taken == READERS
         monkeypatch.setattr(upload_worker, "_read_in_worker", no_worker)
         start = time.monotonic()
         with pytest.raises(upload_worker.ReadersBusy, match=r"box\.stl was not read: .* Upload it again"):
@@ -115,7 +115,7 @@ def test_an_upload_that_finds_every_reader_busy_is_refused_at_once_without_a_wor
 def test_concurrent_uploads_run_at_most_readers_workers_at_once(monkeypatch):
     import threading
 
-    from app import upload_worker
+    from app.uploads import worker as upload_worker
 
     real = upload_worker._read_in_worker
     running, peak, lock = [0], [0], threading.Lock()
@@ -147,6 +147,6 @@ def test_concurrent_uploads_run_at_most_readers_workers_at_once(monkeypatch):
         thread.start()
     for thread in threads:
         thread.join(timeout=120)
-    assert len(outcomes) == 8 and 1 <= peak[0] <= upload_worker.READERS
+    assert len(outcomes) == 8 and 1 <= peak[0] <= READERS
     bodies = [o for o in outcomes if not isinstance(o, Exception)]
     assert bodies and len(bodies) + sum(isinstance(o, upload_worker.ReadersBusy) for o in outcomes) == 8

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import viser
 
-from app.wire import send_orientation, send_points, send_position
+from app.guards.wire import send_orientation, send_points, send_position
 
 
 @pytest.fixture(scope="module")

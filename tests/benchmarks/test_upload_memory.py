@@ -5,8 +5,7 @@ from __future__ import annotations
 
 import trimesh
 
-from app.upload import MAX_BYTES
-from app.upload_limits import MAX_FACES, MAX_NODES
+from app.uploads.limits import MAX_BYTES, MAX_FACES, MAX_NODES
 from benchmarks import upload_memory
 
 

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.export import export
-from app.server import NOTIFY_SECONDS
+from app.serving.app import export
+from app.serving.notices import NOTIFY_SECONDS
 from tests.harness import click, free_port, image_difference, image_stats, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser

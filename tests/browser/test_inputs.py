@@ -1,6 +1,6 @@
 """An absurd number typed into a slider's number box (issue 10, deliver 7, the third browser test).
 
-Before the input checks (:mod:`app.inputs`), ``99999999999999999999999`` typed into a number box made
+Before the input checks (:mod:`app.guards.inputs`), ``99999999999999999999999`` typed into a number box made
 viser fail to encode the value it rebroadcast and close every other browser's connection (code 1011).
 Two pages in Debian's headless Chromium: one types it, as a person does, and presses Enter; the value in
 force is the slider's maximum (clamped on the server, shown back in that page), and the other page stays

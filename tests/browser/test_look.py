@@ -14,9 +14,9 @@ import pytest
 from PIL import Image
 from scipy.ndimage import binary_erosion
 
-from app.framing import free_region
-from app.look import MIN_TEXT_PX
+from app.panel.look import MIN_TEXT_PX
 from app.scenes import scene_names
+from app.serving.framing import free_region
 from tests.harness import click, control_id, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser
@@ -106,7 +106,7 @@ def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, n
             app.switch_scene(name)
         app.set_playing(False)
         app.restart()  # the traces cleared: the picture is of the pose alone, whatever ran before
-        app._t = SCENE_TIME
+        app.set_time(SCENE_TIME)
         app.request_redraw()
         drawn = app.frames
     wait_for(lambda: app.frames > drawn, 30, what="the paused frame")

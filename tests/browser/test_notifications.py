@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from app.server import NOTIFY_SECONDS
+from app.serving.notices import NOTIFY_SECONDS
 from tests.harness import click, open_page, pick_scene, running_app, wait_for
 
 pytestmark = pytest.mark.browser

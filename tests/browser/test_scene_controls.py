@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 import trimesh
 
-import app.upload as app_upload
+import app.uploads.limits as app_upload
 from app.scenes import REGISTRY
 from tests.harness import (
     click,
@@ -100,7 +100,7 @@ def test_an_upload_over_the_limit_is_refused_when_it_starts_and_the_button_works
     explorer_app, page_and_client, monkeypatch
 ):
     # The limit is lowered to 2 MB for this test (the server runs in this process): the page announces a
-    # file of 2 MB and 1 kB, and the server refuses it before it keeps any part (app.upload_guard).
+    # file of 2 MB and 1 kB, and the server refuses it before it keeps any part (app.guards.uploads).
     monkeypatch.setattr(app_upload, "MAX_BYTES", 2 * 1024 * 1024)
     page, _ = page_and_client
     scene = explorer_app.scene

@@ -56,10 +56,10 @@ class _FakeClock:
 
 
 def test_free_fall_runs_in_real_time_through_the_loop(app, monkeypatch):
-    """The real-time loop (App._run) on a fake clock whose pauses overrun by 0 to 12 ms: after 10 s of wall
+    """The real-time loop (App.run) on a fake clock whose pauses overrun by 0 to 12 ms: after 10 s of wall
     time the free fall's simulated time is 10 s (to within the last frame) and the body is where the
     parabola puts it then; a throw lasts its flight time, 1.02 s (issue 12: "a second too fast")."""
-    import app.server as server
+    import app.serving.app as server
     from app.scenes.free_fall import FLIGHT_TIME, START, VELOCITY
 
     scene = open_scene(app, "free_fall")
@@ -68,15 +68,15 @@ def test_free_fall_runs_in_real_time_through_the_loop(app, monkeypatch):
     monkeypatch.setattr(server.time, "perf_counter", clock.perf_counter)
     monkeypatch.setattr(app, "_stop", clock)
     times = []
-    frame = app.frame
+    frame = app.shared.frame
 
     def recording(dt):
         drawn = frame(dt)
         times.append((clock.now, app.time))
         return drawn
 
-    monkeypatch.setattr(app, "frame", recording)
-    app._run()
+    monkeypatch.setattr(app.shared, "frame", recording)
+    app.run()
     wall = np.array([w for w, _ in times]) - 1000.0
     simulated = np.array([t for _, t in times])
     assert len(times) > 400  # about 48 frames a second: 16.7 ms a frame, and the pauses overrun

@@ -16,7 +16,8 @@ from viser import UploadedFile
 
 import app.scenes.inertia_explorer as explorer_module
 from app.scenes.tennis_racket import AXES, snap_symmetric
-from app.upload import MAX_BYTES, body_from_upload
+from app.uploads.limits import MAX_BYTES
+from app.uploads.reading import body_from_upload
 from assets import mass_properties
 from physics.inertia import box, parallel_axis
 from tests.harness import FRAME, open_scene

@@ -1,26 +1,6 @@
 """Uploads checked when they start, before viser keeps a single byte of them.
 
-viser keeps every part of a file transfer in memory until the last one arrives, whatever size the
-browser declared, and only then calls the upload button's callback, where the 20 MB limit used to be
-checked (:mod:`app.upload_worker`). :func:`guard_uploads` puts a check in front of viser's handler for
-``FileTransferStartUpload`` (and one in front of ``FileTransferPart``), as :func:`app.inputs.guard_inputs`
-does for a control's value. A transfer is refused at its start, before any part is stored, when
-
-* the browser may not drive the simulation (presenter mode: a follower without the PIN);
-* its declared size is over :data:`app.upload.MAX_BYTES`, or its size, part count or file name is not
-  what a page sends (:data:`MAX_PARTS`, :data:`MAX_NAME`);
-* that browser already has an upload in flight (:data:`PER_CLIENT`), or the server has
-  :data:`MAX_TRANSFERS` in flight from all browsers (a transfer unfinished after :data:`STALL_SECONDS`
-  is dropped when another starts: it holds no place for ever).
-
-A transfer already accepted is dropped the moment its parts add up to more bytes than it declared. A
-refusal goes to that browser only: its page's upload button is released (an acknowledgement of the whole
-size, so the button works again, and viser's "Uploading" notification is taken away) and it gets one
-notification saying why. Nothing else hears of it.
-
-This wraps two private pieces of viser 1.1.1 (its handler lists for the two messages, and its dict of
-transfers in flight); viser is pinned, and ``tests/app/test_upload_guard.py`` sends the messages through a
-real websocket to prove the wrapper is in place.
+More in docs/app-notes.md (``app.guards.uploads``).
 """
 
 from __future__ import annotations
@@ -35,24 +15,9 @@ from typing import Any
 import viser
 from viser import _messages
 
-from app import upload
+from app.uploads import limits
 
-__all__ = ["MAX_TRANSFERS", "PER_CLIENT", "MAX_PARTS", "MAX_NAME", "STALL_SECONDS", "guard_uploads"]
-
-MAX_TRANSFERS = 4
-"""Uploads in flight at once from all browsers together (each holds at most 20 MB until it is complete)."""
-
-PER_CLIENT = 1
-"""Uploads in flight at once from one browser (its page sends one file at a time)."""
-
-MAX_PARTS = 1024
-"""Most parts a transfer may declare (a page sends 512 kB parts: 40 for 20 MB)."""
-
-MAX_NAME = 255
-"""Longest file name taken, characters."""
-
-STALL_SECONDS = 300.0
-"""A transfer unfinished after this long, s, is dropped when another starts (20 MB at 70 kB/s)."""
+__all__ = ["guard_uploads"]
 
 _lock = threading.Lock()
 _guis: weakref.WeakSet[Any] = weakref.WeakSet()  # every guarded GUI: the in-flight count spans them all
@@ -63,7 +28,7 @@ def guard_uploads(
     gui: viser.GuiApi, refuse: Callable[[Any, str], None], permit: Callable[[Any], str | None] | None = None
 ) -> None:
     """Check every upload that reaches ``gui`` (a server's or a client's GUI) when it starts, and every
-    part it sends; ``refuse`` and ``permit`` are those of :func:`app.inputs.guard_inputs`, which calls this
+    part it sends; ``refuse`` and ``permit`` are those of :func:`app.guards.inputs.guard_inputs`, which calls this
     (``refuse`` runs on viser's event loop). A GUI is guarded once: later calls do nothing."""
     if getattr(gui, "_rbl_uploads_guarded", False):
         return
@@ -117,30 +82,24 @@ def guard_uploads(
 def _refusal(client_id: Any, message: _messages.FileTransferStartUpload) -> str | None:
     """Why this transfer may not start, or None."""
     size, count, filename = message.size_bytes, message.part_count, message.filename
-    if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > MAX_NAME:
-        return f"Upload refused: a file name is at most {MAX_NAME} characters of text."
+    if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > limits.MAX_NAME:
+        return f"Upload refused: a file name is at most {limits.MAX_NAME} characters of text."
     name = PurePath(filename or "upload").name
-    if not _count(size) or not _count(count) or count > MAX_PARTS or (count == 0) != (size == 0):
+    if not _count(size) or not _count(count) or count > limits.MAX_PARTS or (count == 0) != (size == 0):
         return f"Upload refused: {name} was sent in a form this server does not take (size {size!r}, {count!r} parts)."
-    if size > upload.MAX_BYTES:  # read at call time: tests lower it
-        return (
-            f"Upload refused: {name} is {_megabytes(size)}; the limit is {_megabytes(upload.MAX_BYTES)}. "
-            "Simplify the mesh (fewer triangles) and upload it again."
-        )
+    too_large = limits.size_refusal(name, size)
+    if too_large is not None:
+        return f"Upload refused: {too_large}"
     mine, everyone = _in_flight(client_id)
-    if mine >= PER_CLIENT:
+    if mine >= limits.PER_CLIENT:
         return f"Upload refused: {name} was sent while your previous file is still arriving; wait for it."
-    if everyone >= MAX_TRANSFERS:
+    if everyone >= limits.MAX_TRANSFERS:
         return f"Upload refused: the server is receiving {everyone} other files; upload {name} again in a moment."
     return None
 
 
 def _count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 2**53
-
-
-def _megabytes(n_bytes: int) -> str:
-    return f"{n_bytes / 1024 / 1024:.1f} MB"
 
 
 def _in_flight(client_id: Any) -> tuple[int, int]:
@@ -154,7 +113,7 @@ def _in_flight(client_id: Any) -> tuple[int, int]:
         for transfer, state in list(states.items()):
             with _lock:
                 started = _started.setdefault(transfer, now)
-            if now - started > STALL_SECONDS:
+            if now - started > limits.STALL_SECONDS:
                 states.pop(transfer, None)
                 _forget(transfer)
                 continue

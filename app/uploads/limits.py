@@ -1,11 +1,8 @@
-"""Limits an uploaded mesh file must meet before anything parses it.
+"""Every limit on an upload, and the check a file's bytes must pass before anything parses them.
 
-A small file can describe a huge mesh: a 1.1 MB GLB of 20,000 instanced nodes took the server to 5.9 GB
-once trimesh had expanded it. These checks read only each format's header (the GLB's JSON chunk, the
-binary STL's triangle count, the PLY header, the OBJ's element lines), so they cost microseconds and
-bounded memory, and they refuse a file whose declared content is over the limits with a message that
-says what and how much. The parse itself then runs in a worker process with its own memory and time
-limits (:mod:`app.upload_worker`).
+:func:`check_upload` reads only the size (:func:`check_size`) and each format's header (a 1 MB GLB of 20,000 instanced nodes
+expands to gigabytes once parsed), so it costs microseconds and bounded memory. The transfer limits are
+applied on the wire (:mod:`app.guards.uploads`), the worker's by :mod:`app.uploads.worker`.
 """
 
 from __future__ import annotations
@@ -15,8 +12,29 @@ import re
 import struct
 from pathlib import PurePath
 
-__all__ = ["MAX_FACES", "MAX_NODES", "MAX_MESHES", "MAX_ACCESSORS", "MAX_ELEMENTS", "check_declared_size"]
+__all__ = [
+    "MAX_BYTES",
+    "MAX_FACES",
+    "MAX_NODES",
+    "MAX_MESHES",
+    "MAX_ACCESSORS",
+    "MAX_ELEMENTS",
+    "MAX_TRANSFERS",
+    "PER_CLIENT",
+    "MAX_PARTS",
+    "MAX_NAME",
+    "STALL_SECONDS",
+    "MEMORY_LIMIT",
+    "TIME_LIMIT",
+    "READERS",
+    "size_refusal",
+    "check_size",
+    "check_upload",
+    "check_declared_size",
+]
 
+MAX_BYTES = 20 * 1024 * 1024
+"""Largest upload accepted, bytes (20 MB)."""
 MAX_FACES = 500_000
 """Most triangles a file may declare."""
 MAX_NODES = 1_000
@@ -28,7 +46,54 @@ MAX_ACCESSORS = 4_000
 MAX_ELEMENTS = 3 * MAX_FACES * 3
 """Most numbers a GLB's accessors may hold together (vertices and indices, components counted)."""
 
+# In flight, on the wire (app.guards.uploads).
+MAX_TRANSFERS = 4
+"""Uploads in flight at once from all browsers together (each holds at most MAX_BYTES until complete)."""
+PER_CLIENT = 1
+"""Uploads in flight at once from one browser (its page sends one file at a time)."""
+MAX_PARTS = 1024
+"""Most parts a transfer may declare (a page sends 512 kB parts: 40 for 20 MB)."""
+MAX_NAME = 255
+"""Longest file name taken, characters."""
+STALL_SECONDS = 300.0
+"""A transfer unfinished after this long, s, is dropped when another starts (20 MB at 70 kB/s)."""
+
+# While it is parsed (app.uploads.worker).
+MEMORY_LIMIT = 1024 * 1024 * 1024
+"""Address space a worker may use, bytes (1 GiB)."""
+TIME_LIMIT = 30.0
+"""Seconds a worker may take to read one file."""
+READERS = 2
+"""Workers that may read files at once (one per core of a small server)."""
+
 _COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+
+
+def _size_text(n_bytes: int) -> str:
+    return f"{n_bytes / 1024 / 1024:.1f} MB" if n_bytes >= 1024 * 1024 else f"{n_bytes / 1024:.0f} kB"
+
+
+def size_refusal(name: str, n_bytes: int) -> str | None:
+    """Why a file of ``n_bytes`` is refused (over :data:`MAX_BYTES`, read when called), or None."""
+    if n_bytes <= MAX_BYTES:
+        return None
+    return (
+        f"{name} is {_size_text(n_bytes)}; the limit is {_size_text(MAX_BYTES)}. "
+        "Simplify the mesh (fewer triangles) and upload it again."
+    )
+
+
+def check_size(filename: str, content: bytes) -> None:
+    """Refuse (ValueError) a file over :data:`MAX_BYTES`."""
+    refusal = size_refusal(PurePath(filename or "upload").name, len(content))
+    if refusal is not None:
+        raise ValueError(refusal)
+
+
+def check_upload(filename: str, content: bytes) -> None:
+    """The check before a worker parses a file: its size, then what its header declares (ValueError)."""
+    check_size(filename, content)
+    check_declared_size(filename, content)
 
 
 def check_declared_size(filename: str, content: bytes) -> None:

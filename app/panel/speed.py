@@ -1,10 +1,6 @@
 """The clock's speed slider: logarithmic, 0.01× to 10×, with 1× in the middle.
 
-A lecturer slows a tennis-racket flip to 0.05× far more often than speeding it up, so a linear slider
-crowds the useful speeds into its first millimetre. The slider's value is a *position* p in [−1, 1]:
-the left half is 100^p (0.01× … 1×), the right half 10^p (1× … 10×). Each half is logarithmic, and the
-slider's label shows the speed; its number box, which would show the position, is hidden
-(:func:`app.look.hide_number_box`).
+More in docs/app-notes.md (``app.panel.speed``).
 """
 
 from __future__ import annotations

@@ -1,25 +1,6 @@
 """Every value a browser sends is checked on the server before viser or a scene sees it.
 
-viser applies a browser's ``GuiUpdateMessage`` to the control's state, casts it to the control's type and
-rebroadcasts it to every other browser (and to every later one). A value that cannot be encoded again
-(``int(1e23)`` does not fit msgpack's 64 bits) then closes every connection with code 1011, and the
-stored value is replayed to whoever joins next. A disabled control, a dropdown option that does not
-exist, a string of megabytes or a NaN would also pass straight through.
-
-:func:`guard_inputs` puts a check in front of viser's handler for those messages. A value is accepted
-only when it has the control's type; numbers must be finite and are clamped to the control's range
-(a slider's, or a number box's ``min``/``max``); integers must fit in 53 bits; a dropdown's value must be
-one of its options; text is at most :data:`MAX_TEXT` characters; a disabled control takes nothing; and
-only the ``value`` property may change. A refused message never reaches viser: the browser that sent it
-gets its control set back to the current value and one notification saying why, and nobody else hears
-of it. A clamped value is sent back to its sender too, so every browser shows the value in force.
-A browser that sends more than :data:`RATE` changes a second (after a burst of :data:`BURST`) has the
-excess dropped, so no one browser can flood the simulation everyone shares. Files a browser uploads are
-checked when their transfer starts, by the same function (:mod:`app.upload_guard`).
-
-This wraps one private piece of viser 1.1.1 (its handler list for ``GuiUpdateMessage``); viser is pinned,
-and ``tests/app/test_inputs.py`` sends the messages through a real websocket to prove the wrapper is in
-place.
+More in docs/app-notes.md (``app.guards.inputs``).
 """
 
 from __future__ import annotations
@@ -32,7 +13,7 @@ from typing import Any
 import viser
 from viser import _messages
 
-from app.upload_guard import guard_uploads
+from app.guards.uploads import guard_uploads
 
 __all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
 
@@ -152,7 +133,7 @@ def guard_inputs(
         may not (presenter mode: a follower without the PIN).
 
     Uploads to ``gui`` are guarded with the same ``refuse`` and ``permit``
-    (:func:`app.upload_guard.guard_uploads`). A GUI is guarded once: later calls for the same ``gui`` do
+    (:func:`app.guards.uploads.guard_uploads`). A GUI is guarded once: later calls for the same ``gui`` do
     nothing.
     """
     guard_uploads(gui, refuse, permit)

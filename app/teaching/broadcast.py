@@ -1,19 +1,6 @@
 """Who receives the shared simulation: each browser's view of viser's broadcast stream.
 
-In presenter mode the lecture is one simulation drawn on the server (viser's broadcast: serialised once
-per browser, no per-browser Python work). Three things differ per browser, and this module does them in
-the broadcast stream itself, so they stay in order with it:
-
-* **Detached** (a student exploring on their own): the browser gets nothing of the lecture. On detaching,
-  it first gets the removal of every node and panel element the lecture had shown it.
-* **Attached again** ("Follow the lecturer"): the browser gets the lecture's current state, exactly what a
-  browser joining now would get (viser's persistent buffer), then the live stream.
-* **Read-only** (a follower without the PIN): every control of the lecture arrives disabled. When the
-  browser becomes a presenter it gets each control's real ``disabled`` state.
-
-Changes are made by the next window of the broadcast stream; :meth:`BroadcastView.poke` sends a small
-update that makes one. This wraps one private piece of viser 1.1.1 (its broadcast buffer's window
-generator); viser is pinned, and ``tests/app/test_presenter.py`` drives it through real websockets.
+More in docs/app-notes.md (``app.teaching.broadcast``).
 """
 
 from __future__ import annotations

@@ -1,21 +1,6 @@
 """Presenter mode: one lecture on the projector, followed by every browser, driven only with the PIN.
 
-``rigid-body-lab --host 0.0.0.0`` (any address other than loopback) serves the lecture: one shared
-simulation drawn for everyone. Each browser has its own small panel on top of the lecture's:
-
-* **Following** (every browser at first): the lecture's controls arrive disabled and anything it sends
-  to them is refused on the server; its camera is its own.
-* **Presenter PIN**: the PIN printed in the terminal (random at each start, or ``--pin``) makes that
-  browser a presenter: it drives the lecture for everyone. Wrong PINs are limited (:data:`ATTEMPTS` per
-  browser, then :data:`LOCKOUT` seconds; at most :data:`CLASS_ATTEMPTS` a minute for the whole room).
-* **Explore on my own**: the browser gets its own copy of the lecture, starting from its current state
-  (a :class:`app.server.Simulation` drawn for that browser only), and stops receiving the lecture
-  (:class:`app.broadcast.BroadcastView`). **Follow the lecturer** drops the copy and brings the lecture
-  back as it is now.
-
-What it protects: the projector from a student's clicks, typing and uploads; one student's experiments
-from the others. What it does not: the PIN travels in clear over the LAN's HTTP (anyone who can sniff
-the network can read it), and anyone who can reach the port can watch.
+More in docs/app-notes.md (``app.teaching.presenter``).
 """
 
 from __future__ import annotations
@@ -30,8 +15,8 @@ from typing import Any
 
 import viser
 
-from app.broadcast import BroadcastView
-from app.inputs import guard_inputs
+from app.guards.inputs import guard_inputs
+from app.teaching.broadcast import BroadcastView
 
 __all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "Classroom", "new_pin", "check_pin"]
 
@@ -79,11 +64,11 @@ class _Panel:
 
 
 class Classroom:
-    """Presenter mode for an :class:`app.server.App`: followers, presenters and explorers.
+    """Presenter mode for an :class:`app.serving.app.App`: followers, presenters and explorers.
 
     Parameters
     ----------
-    app : app.server.App
+    app : app.serving.app.App
         The lecture (the shared simulation). Its ``sessions`` dict receives the explorers' copies.
     pin : str
         The presenter PIN (see :func:`check_pin`).
@@ -114,7 +99,7 @@ class Classroom:
 
     def exploring(self, client_id: Any) -> bool:
         """Whether this browser has a copy of its own (and so no longer follows the lecture)."""
-        with self.app._sessions_lock:
+        with self.app.sessions_lock:
             return client_id in self.app.sessions
 
     # ------------------------------------------------------------------ browsers come and go
@@ -132,7 +117,7 @@ class Classroom:
             self.presenters.discard(client.client_id)
             self._wrong.pop(client.client_id, None)
             self._toggling.pop(client.client_id, None)
-        with self.app._sessions_lock:
+        with self.app.sessions_lock:
             self.app.sessions.pop(client.client_id, None)
         self.view.forget(client.client_id)
 
@@ -194,12 +179,12 @@ class Classroom:
     def explore(self, client: viser.ClientHandle) -> Any:
         """Give ``client`` its own copy of the lecture, from the lecture's current state; returns it."""
         cid = client.client_id
-        with self.app._sessions_lock:
+        with self.app.sessions_lock:
             existing = self.app.sessions.get(cid)
         if existing is not None:
             return existing
         copy = self._copy(client)
-        with self.app._sessions_lock:
+        with self.app.sessions_lock:
             self.app.sessions[cid] = copy
         self.view.detach(cid)
         if cid not in self.app.server.get_clients():  # it left while its copy was being made
@@ -214,7 +199,7 @@ class Classroom:
     def follow(self, client: viser.ClientHandle) -> None:
         """Drop ``client``'s own copy and show it the lecture as it is now."""
         cid = client.client_id
-        with self.app._sessions_lock:
+        with self.app.sessions_lock:
             copy = self.app.sessions.pop(cid, None)
         if copy is not None:
             copy.close()

@@ -1,22 +1,9 @@
-"""Checking a mesh a student uploads before it becomes a body in the inertia explorer.
+"""Reading an uploaded mesh file into a body of uniform density, or a ValueError saying what to fix.
 
-Pure functions: bytes in, a :class:`UploadedBody` out, or :class:`ValueError` with a message that
-says what is wrong and what to do. Nothing here touches viser, so the checks are tested headless and
-the scene only shows the message (and keeps its previous body).
-
-What is refused, in the order it is checked:
-
-1. a file over :data:`MAX_BYTES` (20 MB) — before it is parsed;
-2. a file type other than STL, OBJ, PLY, GLB;
-3. a file the loader cannot read, or reads as *nothing* (trimesh returns an empty scene for an empty
-   or garbage STL without raising);
-4. a mesh over :data:`MAX_FACES` (500,000 triangles), or with non-finite vertices;
-5. a mesh that is not watertight: it encloses no definite volume, so it has no mass distribution.
-   :class:`NotWatertightError` carries its convex hull, which the user may accept instead;
-6. a mesh of zero volume (flat) — :func:`physics.inertia.from_mesh` refuses it.
-
-Units: meshes are taken as metres. CAD exports are usually in millimetres, so a mesh larger than
-:data:`MILLIMETRE_GUESS` metres is scaled by 1/1000, and the note says so.
+Pure functions (nothing touches viser). Refused in this order: a file over the size limit (:mod:`app.uploads.limits`), a
+type other than STL, OBJ, PLY, GLB, a file read as nothing, too many triangles or non-finite vertices, a
+mesh that is not watertight (:class:`NotWatertightError` offers its convex hull), a flat mesh. Meshes are
+in metres; one larger than :data:`MILLIMETRE_GUESS` is read as millimetres, and the note says so.
 """
 
 from __future__ import annotations
@@ -29,23 +16,21 @@ from pathlib import PurePath
 import numpy as np
 import trimesh
 
-from app.upload_limits import MAX_FACES
+from app.uploads import limits
 from physics.inertia import MassProperties, from_mesh
 
 __all__ = [
-    "MAX_BYTES",
-    "MAX_FACES",
     "FORMATS",
     "MILLIMETRE_GUESS",
     "UploadedBody",
     "NotWatertightError",
     "read_mesh",
+    "parse_mesh",
     "body_from_mesh",
     "body_from_upload",
+    "body_from_parsed_upload",
 ]
 
-MAX_BYTES = 20 * 1024 * 1024
-"""Largest upload accepted, bytes (20 MB)."""
 FORMATS = ("stl", "obj", "ply", "glb")
 """File extensions accepted (lower case)."""
 MILLIMETRE_GUESS = 5.0
@@ -72,10 +57,6 @@ class UploadedBody:
     note: str
 
 
-def _size_text(n_bytes: int) -> str:
-    return f"{n_bytes / 1024 / 1024:.1f} MB" if n_bytes >= 1024 * 1024 else f"{n_bytes / 1024:.0f} kB"
-
-
 def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
     """Parse an uploaded file into one triangle mesh, refusing what is not a usable mesh.
 
@@ -98,12 +79,13 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
         Too large, unknown type, unreadable, empty, too many faces, or non-finite vertices; the
         message names the file and the problem.
     """
+    limits.check_size(filename, content)
+    return parse_mesh(filename, content)
+
+
+def parse_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
+    """:func:`read_mesh` for a file whose size was checked already (:func:`app.uploads.limits.check_size`)."""
     name = PurePath(filename or "upload").name
-    if len(content) > MAX_BYTES:
-        raise ValueError(
-            f"{name} is {_size_text(len(content))}; the limit is {_size_text(MAX_BYTES)}. "
-            "Simplify the mesh (fewer triangles) and upload it again."
-        )
     ext = PurePath(name).suffix.lower().lstrip(".")
     if ext not in FORMATS:
         raise ValueError(
@@ -117,7 +99,7 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
         # part smaller than 1e-8 m into one point; the vertices are merged below, at unit scale.
         loaded = trimesh.load(io.BytesIO(content), file_type=ext, process=False)
     except MemoryError:
-        raise  # not the file's form but its size: the worker's memory limit says so (app.upload_worker)
+        raise  # not the file's form but its size: the worker's memory limit says so (app.uploads.worker)
     except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable mesh"
         raise ValueError(f"{name} could not be read as a {ext.upper()} mesh ({type(exc).__name__}: {exc}).") from exc
     if isinstance(loaded, trimesh.Scene):
@@ -129,9 +111,9 @@ def read_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
             f"{name} contains no triangles: the file is empty or is not really a {ext.upper()} mesh "
             "(a point cloud, lines only, or garbage)."
         )
-    if len(loaded.faces) > MAX_FACES:
+    if len(loaded.faces) > limits.MAX_FACES:
         raise ValueError(
-            f"{name} has {len(loaded.faces):,} triangles; the limit is {MAX_FACES:,}. "
+            f"{name} has {len(loaded.faces):,} triangles; the limit is {limits.MAX_FACES:,}. "
             "Decimate the mesh and upload it again."
         )
     stl = " (an STL file stores 32-bit numbers: sizes beyond 3.4e38 become infinite)" if ext == "stl" else ""
@@ -212,6 +194,15 @@ def body_from_upload(
     """:func:`read_mesh` then :func:`body_from_mesh`: the whole check of one uploaded file."""
     name = PurePath(filename or "upload").name
     return body_from_mesh(read_mesh(filename, content), name, use_convex_hull=use_convex_hull, mass=mass)
+
+
+def body_from_parsed_upload(
+    filename: str, content: bytes, *, use_convex_hull: bool = False, mass: float = DEFAULT_MASS
+) -> UploadedBody:
+    """:func:`body_from_upload` for a file that has passed :func:`app.uploads.limits.check_upload` already
+    (the worker's: its caller checked the file before handing it over)."""
+    name = PurePath(filename or "upload").name
+    return body_from_mesh(parse_mesh(filename, content), name, use_convex_hull=use_convex_hull, mass=mass)
 
 
 def _open_edge_count(mesh: trimesh.Trimesh) -> int:

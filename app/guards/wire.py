@@ -1,16 +1,6 @@
 """A frame's scene-node updates, sent as viser's own messages without the setters' per-call checks.
 
-viser's property setters cast, validate and compare every value before queueing it (``np.allclose`` for
-a pose, ``np.array_equal`` for points): 45-90 µs a call on the machine of record. A frame sets about ten
-of them, and a private-mode server draws thirty sessions sixty times a second, so those checks alone
-were half of a frame. The functions here queue the same messages the setters queue
-(``SetOrientationMessage``, ``SetPositionMessage``, ``SceneNodeUpdateMessage``), through the same
-owner-stamping queue of the handle's scene API (broadcast or one browser's), after our own cheap
-comparison (12-15 µs). They update the handle's stored value as the setters do, so a later ordinary
-assignment compares against what browsers last received.
-
-Measured by ``benchmarks/serve.py`` (private mode); checked against the setters by
-``tests/app/test_wire.py`` (same messages on the wire).
+More in docs/app-notes.md (``app.guards.wire``).
 """
 
 from __future__ import annotations

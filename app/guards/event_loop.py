@@ -1,22 +1,6 @@
 """Keep viser's asyncio events on viser's event loop.
 
-viser 1.1.1 wakes a connection's sender by calling ``asyncio.Event.set()`` on its message buffer's event
-*directly from whichever thread queued the message* (our frame loop, viser's callback pool), besides
-scheduling the same call with ``loop.call_soon_threadsafe`` (at once, or when an ``atomic()`` block ends). ``asyncio.Event`` is not thread-safe: ``set``
-iterates the event's waiters while the loop may be adding one, and once this raised "deque mutated during
-iteration" inside a frame and paused the simulation.
-
-:func:`confine_events` replaces the event of every message buffer (the broadcast one, and each browser's
-when it connects, before its sender starts) with a :class:`LoopEvent`, whose ``set()`` from another thread
-does nothing. That is enough: viser already schedules every wake-up through ``call_soon_threadsafe``, so
-the direct call is a duplicate, and no asyncio object is touched off its loop any more. Our own code holds no asyncio
-objects.
-
-The same hook sets each buffer's window (:data:`WINDOW_SECONDS`), so every frame reaches a page as its
-own message.
-
-This wraps private pieces of viser 1.1.1 (its buffers' ``message_event`` and ``window_duration_sec``); viser is pinned, and
-``tests/app/test_event_loop.py`` checks the replacement is in place for the server and for a browser.
+More in docs/app-notes.md (``app.guards.event_loop``).
 """
 
 from __future__ import annotations

@@ -1,14 +1,6 @@
 """A simulation's state as a short text, and back: what "Copy state" shows and ``--state TEXT`` opens.
 
-The text is ``rbl1:`` followed by URL-safe base64 of zlib-compressed JSON: the scene, its controls by
-label (in order), its own motion state (the friction top's attitude and angular momentum), the time,
-speed and clock, and the camera of the browser that copied it. About 300 characters; it fits the panel's
-text box, a lecture file and a shell command.
-
-Reading is strict, because a text may come from anywhere: a size limit before and while decompressing,
-the version, every field's type and finiteness, a known scene. Anything else is a ValueError that says
-what was wrong. The controls' values are checked again against each control (range, options) when they
-are applied (:func:`app.inputs.check_update`).
+More in docs/app-notes.md (``app.teaching.states``).
 """
 
 from __future__ import annotations
@@ -20,11 +12,11 @@ import math
 import zlib
 from typing import Any
 
+from app.guards.inputs import MAX_TEXT  # the longest text the panel's text box takes: a state text fits it
+from app.scenes import scene_names
+
 PREFIX = "rbl1:"
 """Version 1 of the state text."""
-
-MAX_TEXT = 2000
-"""Longest state text read, characters (the panel's text box takes as many)."""
 
 MAX_JSON = 16_384
 """Most bytes a state text may decompress to (a state is a few hundred)."""
@@ -33,7 +25,7 @@ __all__ = ["MAX_TEXT", "PREFIX", "parse_state", "state_text"]
 
 
 def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None = None) -> str:
-    """The text of a :meth:`app.server.Simulation.snapshot` (and optionally a camera).
+    """The text of a :meth:`app.serving.simulation.Simulation.snapshot` (and optionally a camera).
 
     Raises
     ------
@@ -111,8 +103,6 @@ def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:
     if not isinstance(state, dict):
         raise ValueError("this state text does not hold a state")
     if scenes is None:
-        from app.scenes import scene_names
-
         scenes = scene_names()
     scene = state.get("scene")
     if scene not in scenes:

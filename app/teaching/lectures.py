@@ -1,22 +1,6 @@
 """Lectures: a TOML file of steps that the panel walks through with "Previous" and "Next".
 
-A file holds an optional ``title`` and a list of ``[[step]]`` tables with the keys::
-
-    scene    = "heavy_top"                  # a scene name (required unless ``state`` is given)
-    preset   = "cusps (θ̇0 = 0)"             # one of the scene's presets
-    choices  = { Body = "Solid cylinder" }  # dropdown choices, by the dropdown's label in the panel
-    values   = { I1 = 0.02, friction = 0 }  # slider values under the scene's keys (SI units, README)
-    caption  = "**Cusps.** ..."             # markdown shown in the panel for this step
-    camera   = { position = [2, -2, 1.5], look_at = [0, 0, 0.5] }   # m
-    seconds  = 20                           # go to the next step by itself after this long
-    state    = "rbl1:..."                   # a state text (the panel's "Copy state") instead of the above
-
-:func:`read_lecture` checks the file's shape (keys, types, finite numbers) and names the step and the key
-of anything wrong; what only a scene can check (a preset's name, a dropdown and its choice, a value in a
-slider's range, a possible body) is checked by walking every step once before the lecture starts
-(:meth:`app.server.Simulation.load_lecture`), so nothing starts half-built. ``rigid-body-lab --lecture NAME``
-finds ``NAME.toml`` among the lectures shipped with the app (the ``lectures`` package, installed as package
-data).
+More in docs/app-notes.md (``app.teaching.lectures``).
 """
 
 from __future__ import annotations
@@ -27,6 +11,9 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+from app.scenes import scene_names
+from app.teaching.states import parse_state
 
 
 def _shipped_folder() -> Path:
@@ -110,8 +97,6 @@ def read_lecture(name_or_path: str, scenes: list[str] | None = None) -> Lecture:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path}: not a TOML file ({exc})") from None
     if scenes is None:
-        from app.scenes import scene_names
-
         scenes = scene_names()
     title = document.get("title", path.stem)
     if not isinstance(title, str):
@@ -135,8 +120,6 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
             raise ValueError(f"{where}: unknown key {key!r} (a step has {', '.join(KEYS)})")
     state = raw.get("state")
     if state is not None:
-        from app.states import parse_state
-
         if not isinstance(state, str):
             raise ValueError(f"{where}, state: a state text, as “Copy state” gives it")
         try:

@@ -1,11 +1,6 @@
 """A picture of the scene without a browser: the kept scene nodes drawn in software, for the export's PNG.
 
-The browser renders with three.js; here the same nodes (meshes, spheres, arrows, line segments, the ground
-grid) are projected through a pinhole camera and painted back to front (painter's algorithm, per triangle
-and per segment), with Lambert shading from a light at the camera. It is a faithful sketch of the last
-frame, not a copy of the browser's pixels: labels and shadows are left out. Pillow (a dependency of viser's,
-through imageio) paints the polygons; the picture is drawn at twice the size and reduced, which smooths
-its edges.
+More in docs/app-notes.md (``app.recording.picture``).
 """
 
 from __future__ import annotations

@@ -1,17 +1,6 @@
 """Exact beside numerical: a translucent "ghost" of the body moved by an integrator from the same start.
 
-A scene that has an exact solution composes one :class:`IntegratorGhost`: a dropdown "Compare with
-integrator" (none; classical RK4, not geometric; the Lie–Poisson splitting, order 2; the Yoshida 6
-composition of that splitting, the project's best), a step-size slider, the ghost mesh and a plot of
-log₁₀ of the angle between ghost and exact body (rad) and of the ghost's relative energy drift. The class
-sees a careless integrator lose the intermediate-axis flip or a top's precession while a geometric one
-keeps it.
-
-The ghost steps with exactly the chosen step ``h`` (never a fraction of it): it runs to the last multiple
-of ``h`` not after the clock and is compared with the exact solution at its own time (it may lag the clock
-by less than one step). A rewind, a reset or a jump of the clock restarts it from the exact state there. A
-step the method refuses for the motion (classical RK4 with |ω| h past its stability limit) or a ghost that
-diverges stops the ghost with a notification saying why; the scene goes on.
+More in docs/app-notes.md (``app.drawing.ghost``).
 """
 
 from __future__ import annotations
@@ -24,7 +13,9 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from app import controls, draw
+from app.drawing.palette import COLOURS, GHOST_OPACITY, hex_colour
+from app.drawing.pieces import BodyMesh
+from app.panel.drift import InvariantDrift
 from physics.integrators import ClassicalRK4, LiePoissonStrang, Yoshida6, advance
 
 __all__ = ["IntegratorGhost", "METHODS", "chordal_angle"]
@@ -77,17 +68,17 @@ class IntegratorGhost:
     def __init__(self, ctx: Any, name: str, mesh: trimesh.Trimesh) -> None:
         self.ctx = ctx
         gui = ctx.server.gui
-        self.body = draw.BodyMesh(ctx.server, name, mesh, colour=draw.COLOURS["ghost"], opacity=draw.GHOST_OPACITY)
+        self.body = BodyMesh(ctx.server, name, mesh, colour=COLOURS["ghost"], opacity=GHOST_OPACITY)
         self.body.handle.visible = False
         self.choice = gui.add_dropdown("Compare with integrator", options=tuple(METHODS), initial_value="none")
         low, high, resolution, default = STEP
         self.step_slider = gui.add_slider(
             "integrator step h (s)", min=low, max=high, step=resolution, initial_value=default
         )
-        self.plot = controls.InvariantDrift(
+        self.plot = InvariantDrift(
             ctx,
             ("angle", "E"),
-            (draw.hex_colour("blue"), draw.hex_colour("black")),
+            (hex_colour("blue"), hex_colour("black")),
             title="Ghost − exact: log₁₀ angle (rad), log₁₀ energy drift",
         )
         self.plot.handle.visible = False

@@ -1,20 +1,24 @@
 """Frame a scene's camera clear of the control panel, for the browser's own viewport.
 
-A scene states its camera for the whole view (``Scene.camera``: position and look-at, m). viser's panel
-then covers part of it: on a laptop a floating panel of :data:`PANEL_PX` at the right, on a phone
-(narrower than viser's ``xs`` breakpoint, :data:`PHONE_PX`) a sheet over up to the bottom
-:data:`SHEET_FRACTION` of the screen. :func:`framed` moves the camera back until the scene's extent fits
-the free part of the view, and pans it so that the look-at point sits in that part's centre.
+More in docs/app-notes.md (``app.serving.framing``).
 """
 
 from __future__ import annotations
 
 import math
+import time
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["PANEL_PX", "PHONE_PX", "SHEET_FRACTION", "free_region", "framed"]
+__all__ = ["FOV", "FRAMING_GRACE", "PANEL_PX", "PHONE_PX", "SHEET_FRACTION", "free_region", "framed", "show_scene_to"]
+
+FOV = math.radians(50.0)
+"""Vertical field of view (viser's default 75° makes the scene look far away)."""
+FRAMING_GRACE = 10.0
+"""Seconds after a camera is framed for a page during which a new page size always re-frames it: the page
+reports its settled size as it loads, possibly before it has eased to the framed camera."""
 
 PANEL_PX = 400.0
 """Width the floating panel takes at the right, its margins included (viser's "large" control width)."""
@@ -84,3 +88,36 @@ def framed(
     dy = 0.5 * (top + bottom) - 0.5 * height  # (down is positive)
     shift = metres_per_px * (-dx * right + dy * up)
     return target + shift - distance * forward, target + shift
+
+
+def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
+    """Point a browser's camera at a scene (its camera ``position``, ``look_at``), framed clear of the panel.
+
+    A page reports its real size only after its layout settles (and again when the window or a phone's
+    orientation changes): until the viewer moves the camera, a new size re-frames it, and always within
+    :data:`FRAMING_GRACE` of the last framing (the page may report its settled size before it has eased to
+    the camera it was sent, which would look like a viewer's move).
+    """
+    size = (client.camera.image_width, client.camera.image_height)
+    eye, target = framed(position, look_at, size[0], size[1], FOV)
+    first = getattr(client, "_rbl_framing", None) is None
+    client._rbl_framing = (size, eye, position, look_at, time.monotonic())
+    with client.atomic():
+        client.camera.fov = FOV
+        client.camera.position = eye
+        client.camera.look_at = target
+    if first:
+        client.camera.on_update(_reframe)
+
+
+def _reframe(camera: Any) -> None:
+    client = camera.client
+    size, eye, position, look_at, when = client._rbl_framing
+    if (camera.image_width, camera.image_height) == size:
+        return
+    # The page echoes the position in float32 and after its own easing: "unmoved" is to 1e-3 of the
+    # distance (an orbit by a person moves it by far more).
+    moved = np.linalg.norm(np.asarray(camera.position) - eye) > 1e-3 * max(1.0, float(np.linalg.norm(eye)))
+    if moved and time.monotonic() - when > FRAMING_GRACE:
+        return  # the viewer has moved the camera: theirs now
+    show_scene_to(client, position, look_at)

@@ -1,14 +1,9 @@
 """Reading an uploaded mesh in a worker process with its own memory and time limits.
 
-trimesh can expand a small file into a very large mesh (instancing, subdivision, a lying header), and a
-pathological file can make a parser loop for a long time. Whatever an upload does, it must not take the
-server's memory or the simulation's frames with it: the file is first checked against its declared
-sizes (:mod:`app.upload_limits`, microseconds), then :func:`app.upload.body_from_upload` runs in a
-separate process whose address space is capped at :data:`MEMORY_LIMIT` and which is killed after
-:data:`TIME_LIMIT`. The server process only receives the finished body (or the reason for a refusal).
-At most :data:`READERS` workers run at once (a semaphore): 32 browsers uploading together cannot start
-32 workers of 1 GiB each; an upload that finds them all busy is refused at once (:class:`ReadersBusy`)
-and its browser is told to try again.
+The file is checked first (:func:`app.uploads.limits.check_upload`, in this process: a refused file costs
+no worker), then read by :func:`app.uploads.reading.body_from_parsed_upload` in a process capped at
+:data:`~app.uploads.limits.MEMORY_LIMIT` and killed after :data:`~app.uploads.limits.TIME_LIMIT`; at most
+:data:`~app.uploads.limits.READERS` run at once, and an upload finding them busy is refused at once.
 """
 
 from __future__ import annotations
@@ -19,18 +14,10 @@ from multiprocessing.connection import Connection
 from pathlib import PurePath
 from typing import Any
 
-from app import upload
-from app.upload import NotWatertightError, UploadedBody
-from app.upload_limits import check_declared_size
+from app.uploads.limits import MEMORY_LIMIT, READERS, TIME_LIMIT, check_upload
+from app.uploads.reading import NotWatertightError, UploadedBody, body_from_parsed_upload
 
-__all__ = ["MEMORY_LIMIT", "TIME_LIMIT", "READERS", "ReadersBusy", "body_in_worker"]
-
-MEMORY_LIMIT = 1024 * 1024 * 1024
-"""Address space a worker may use, bytes (1 GiB)."""
-TIME_LIMIT = 30.0
-"""Seconds a worker may take to read one file."""
-READERS = 2
-"""Workers that may read files at once (one per core of a small server)."""
+__all__ = ["ReadersBusy", "body_in_worker"]
 
 _readers = threading.BoundedSemaphore(READERS)
 
@@ -47,7 +34,7 @@ def _read(conn: Connection, filename: str, content: bytes, use_convex_hull: bool
     name = PurePath(filename or "upload").name
     outcome: tuple[Any, ...]
     try:
-        outcome = ("body", upload.body_from_upload(filename, content, use_convex_hull=use_convex_hull))
+        outcome = ("body", body_from_parsed_upload(filename, content, use_convex_hull=use_convex_hull))
     except NotWatertightError as exc:
         outcome = ("open", str(exc), exc.hull)
     except MemoryError:
@@ -72,12 +59,12 @@ def body_in_worker(
     memory_limit: int = MEMORY_LIMIT,
     time_limit: float = TIME_LIMIT,
 ) -> UploadedBody:
-    """:func:`app.upload.body_from_upload` in a worker process with memory and time limits.
+    """:func:`app.uploads.reading.body_from_upload` in a worker process with memory and time limits.
 
     Raises
     ------
     NotWatertightError
-        As :func:`~app.upload.body_from_upload` (with the convex hull to offer).
+        As :func:`~app.uploads.reading.body_from_upload` (with the convex hull to offer).
     ReadersBusy
         :data:`READERS` workers are reading other uploads (a ValueError: the message says to try again).
     ValueError
@@ -85,9 +72,7 @@ def body_in_worker(
         memory or time; the message names the file and the limit.
     """
     name = PurePath(filename or "upload").name
-    if len(content) > upload.MAX_BYTES:  # before anything else reads it (read at call time: tests lower it)
-        upload.read_mesh(filename, content)
-    check_declared_size(filename, content)
+    check_upload(filename, content)
     if not _readers.acquire(blocking=False):
         raise ReadersBusy(
             f"{name} was not read: the server is reading {READERS} other uploads just now. "

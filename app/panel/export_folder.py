@@ -1,33 +1,50 @@
 """The panel's Export folder: the current state recorded for some seconds and downloaded as a zip.
 
-The click takes the browser's state text (scene, controls, time, its camera) and hands it to
-:func:`app.export.export_zip` in a thread of its own, so the clock and the other browsers go on; a
-notification in that browser shows the progress and then the download starts (viser's file download); the
-final note (exported, refused or failed) closes by itself after :data:`app.server.NOTIFY_SECONDS`, as every
-other notification does. At most one export runs in the server at a time; a second click meanwhile is told so.
+A click takes the browser's state text and hands it to the export it was given (a callable, run in a thread
+of its own so the clock and the other browsers go on); a notification shows the progress, then the
+download starts, and the final note closes by itself like every other notification.
 """
 
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any
 
 import viser
 
-from app.export import export_zip
-from app.wire import departed
+from app.guards.wire import departed
 
-__all__ = ["ExportFolder", "EXPORT_SECONDS"]
+__all__ = ["ExportFolder", "EXPORT_SECONDS", "ExportRun"]
 
 EXPORT_SECONDS = (1.0, 60.0, 10.0)
 """The panel's choice of recording length (s): least, most, default (the CLI allows longer)."""
 
+ExportRun = Callable[[str, float, Callable[[int, int], None]], bytes]
+"""What the folder is given: (state text, seconds, progress(done, total)) -> the zip's bytes."""
+
 
 class ExportFolder:
-    """The "Export" folder of a simulation's panel (seconds, and the button)."""
+    """The "Export" folder of a simulation's panel (seconds, and the button).
 
-    def __init__(self, simulation: Any, order: float | None = None) -> None:
+    Parameters
+    ----------
+    simulation : Simulation
+        Whose panel, state text and notifications it uses.
+    export : ExportRun
+        Records a state text for some seconds and returns the zip (ValueError: refused, with the reason).
+    auto_close_seconds : float
+        How long the final note stays (as every notification).
+    order : float, optional
+        The folder's place in the panel.
+    """
+
+    def __init__(
+        self, simulation: Any, export: ExportRun, auto_close_seconds: float, order: float | None = None
+    ) -> None:
         self.simulation = simulation
+        self.export = export
+        self.auto_close_seconds = auto_close_seconds
         gui = simulation.server.gui
         low, high, default = EXPORT_SECONDS
         with gui.add_folder("Export a recording", expand_by_default=False, order=order) as self.folder:
@@ -56,8 +73,6 @@ class ExportFolder:
         self.running.start()
 
     def _run(self, client: Any, text: str, seconds: float, name: str) -> None:
-        from app.server import NOTIFY_SECONDS  # (app.server imports this module)
-
         if departed(client):
             return
         try:
@@ -73,7 +88,7 @@ class ExportFolder:
                 note.body = f"{seconds:g} s of {name}: {percent} %"
 
         try:
-            archive = export_zip(text, seconds, progress)
+            archive = self.export(text, seconds, progress)
             if departed(client):
                 return  # it left while the export ran: nobody to send it to
             client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
@@ -87,4 +102,4 @@ class ExportFolder:
         # Every update carries all the props (viser keeps the latest): the note stops loading, says how it
         # ended and closes by itself like every other notification.
         note.title, note.body, note.color, note.loading = final[0], final[1], final[2], False
-        note.auto_close_seconds = NOTIFY_SECONDS
+        note.auto_close_seconds = self.auto_close_seconds

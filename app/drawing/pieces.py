@@ -1,0 +1,448 @@
+"""Kept-handle pieces every scene composes: body meshes, arrows with labels, the principal frame, traces,
+cones, a faint sphere, the inertia ellipsoid.
+
+Each is created once (in a scene's ``build``) and then updated *in place* each frame through its kept
+viser handle (``points``, ``wxyz``, ``position``, ``scale``, ``visible``); nothing is re-added per frame.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import numpy as np
+import trimesh
+import viser
+from numpy.typing import ArrayLike, NDArray
+
+from app.drawing.meshes import rotation_z_to, wxyz
+from app.drawing.palette import COLOURS, instance_colour
+from app.guards.wire import send_orientation, send_points, send_position
+
+__all__ = [
+    "LABEL_SCALE",
+    "TRACE_CHUNK",
+    "add_label",
+    "BodyMesh",
+    "Arrow",
+    "PrincipalFrame",
+    "Trace",
+    "Cone",
+    "faint_sphere",
+    "InertiaEllipsoid",
+]
+
+
+class _Posed:
+    """A node placed by an attitude and a position; only what changed is sent."""
+
+    handle: Any
+
+    def set_pose(self, attitude: ArrayLike, position: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Place the body: ``attitude`` (3, 3) body-to-space or scipy quaternion (4,); position (3,), m."""
+        send_orientation(self.handle, wxyz(attitude))
+        send_position(self.handle, np.asarray(position, dtype=float))  # sent only when it changed
+
+
+class BodyMesh(_Posed):
+    """A body drawn from any ``trimesh.Trimesh`` (rod, cylinder, sphere, box, asset, upload).
+
+    The mesh is given in body coordinates (principal frame, origin at the body's reference point);
+    :meth:`set_pose` places it with a body-to-space attitude and a position.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        mesh: trimesh.Trimesh,
+        *,
+        colour: tuple[int, int, int] = COLOURS["body"],
+        opacity: float | None = None,
+        flat_shading: bool = True,
+    ) -> None:
+        self.handle = server.scene.add_mesh_simple(
+            name,
+            vertices=np.asarray(mesh.vertices, dtype=np.float32),
+            faces=np.asarray(mesh.faces, dtype=np.uint32),
+            color=colour,
+            opacity=opacity,
+            flat_shading=flat_shading,
+        )
+
+    def set_mesh(self, mesh: trimesh.Trimesh) -> None:
+        """Replace the geometry in place (a parameter change, not every frame)."""
+        self.handle.vertices = np.asarray(mesh.vertices, dtype=np.float32)
+        self.handle.faces = np.asarray(mesh.faces, dtype=np.uint32)
+
+
+LABEL_GAP = 0.25
+"""Share of the longer arrow's length within which two arrows' tips count as one place for their labels."""
+
+Anchor = Literal["bottom-left", "top-right"]
+"""The two places a label hangs from an arrow's tip."""
+
+LABEL_ANCHOR: Anchor = "bottom-left"
+"""Where an arrow's label hangs from its tip: its text above and right of the tip."""
+
+LABEL_ANCHOR_APART: Anchor = "top-right"
+"""The same for the second of two arrows whose tips meet: its text below and left, clear of the first's."""
+
+
+LABEL_SCALE = 1.6
+"""Every label in the 3D scene at this multiple of viser's size: readable on a projector from the back."""
+
+
+def add_label(server: Any, name: str, text: str, **kwargs: Any) -> Any:
+    """A label in the 3D scene at :data:`LABEL_SCALE` (the arrows', the markers' and the guides' alike)."""
+    return server.scene.add_label(name, text, font_screen_scale=LABEL_SCALE, **kwargs)
+
+
+class Arrow:
+    """One arrow (L, ω, torque, ...) kept as a viser handle and moved in place.
+
+    ``scale`` converts the quantity's units to metres on screen (e.g. 0.2 m per kg m²/s); the caption of a
+    scene says which. A zero or non-finite vector hides the arrow.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        quantity: str,
+        *,
+        scale: float = 1.0,
+        shaft_radius: float = 0.03,
+        label: str | None = None,
+    ) -> None:
+        self.quantity = quantity
+        self.scale = float(scale)
+        self.shaft_radius = shaft_radius
+        self.handle = server.scene.add_arrows(
+            name,
+            points=np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1e-3]]]),
+            colors=instance_colour(quantity),
+            shaft_radius=shaft_radius,
+            head_radius=2.4 * shaft_radius,
+            head_length=6.0 * shaft_radius,
+        )
+        self.label = add_label(server, name + "_label", label or quantity, anchor=LABEL_ANCHOR) if label else None
+        self.tip = np.zeros(3)
+        self.length = 0.0  # of the arrow last drawn, m
+        self._anchor: Anchor = LABEL_ANCHOR
+        self._vector = np.full(3, np.nan)  # what the browsers were last sent
+        self._head = -1.0
+        self._visible = True
+        self._label_visible = True
+
+    def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0), *, apart_from: Arrow | None = None) -> None:
+        """Draw ``vector`` (the quantity, its own units) from ``origin`` (m).
+
+        With ``apart_from`` (an arrow drawn before this one), this arrow's label hangs below and left of its
+        tip (above and right is every label's place) while the two tips are within :data:`LABEL_GAP` of the
+        longer arrow's length of each other (L and ω lined up): the two labels then sit in opposite corners of
+        one point, at any zoom, and neither moves onto the body.
+        """
+        v = np.asarray(vector, dtype=float) * self.scale
+        o = np.asarray(origin, dtype=float)
+        length = float(np.linalg.norm(v))
+        visible = math.isfinite(length) and length > 1e-6
+        anchor: Anchor = LABEL_ANCHOR
+        if visible:
+            self.tip = o + v
+            self.length = length
+            if apart_from is not None and apart_from._visible:
+                near = LABEL_GAP * max(length, apart_from.length)
+                if float(np.linalg.norm(self.tip - apart_from.tip)) < near:
+                    anchor = LABEL_ANCHOR_APART
+            # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
+            # (the web client does not follow a change of the start point alone). A constant vector
+            # (L of a free body) is not resent.
+            if not np.array_equal(v, self._vector):
+                self._vector = v
+                send_points(self.handle, np.array([[np.zeros(3), v]]))
+            send_position(self.handle, o)  # sent only when it changed
+            # Keep the head in proportion for short arrows.
+            head = min(6.0 * self.shaft_radius, 0.45 * length)
+            if head != self._head:
+                self._head = self.handle.head_length = head
+        if visible != self._visible:
+            self._visible = self.handle.visible = visible
+        if self.label is not None:
+            if self._label_visible != visible:
+                self._label_visible = self.label.visible = visible
+            if visible:
+                send_position(self.label, self.tip)
+                if anchor != self._anchor:  # sent only when it changes
+                    self._anchor = self.label.anchor = anchor
+
+
+class PrincipalFrame(_Posed):
+    """The principal axes e1, e2, e3 of the body as black lines (e3, the symmetry axis, drawn longest).
+
+    Not viser's RGB frame: red and green already mean ω and the body cone in every scene.
+    """
+
+    def __init__(self, server: viser.ViserServer, name: str, *, length: float = 0.6, thickness: float = 3.0) -> None:
+        ends = np.diag([0.8 * length, 0.8 * length, length])
+        points = np.stack([-ends, ends], axis=1)  # each axis through the origin, both ways
+        self.handle = server.scene.add_line_segments(
+            name,
+            points=points.astype(np.float32),
+            colors=COLOURS["axes"],
+            thickness=thickness,
+            thickness_units="screen",
+        )
+
+
+TRACE_CHUNK = 32
+"""Segments per line-segments node of a :class:`Trace`: a frame rewrites one such node, not the trace."""
+
+
+class Trace:
+    """A bounded trace of a point, drawn as line segments in chunks so that a frame sends one chunk.
+
+    Resending a whole trace every frame would send 1,500 segments (36 kB a frame, 2 MB/s a browser), so
+    the segments live in chunks of :data:`TRACE_CHUNK`, each its own viser node; a new point adds
+    one segment to the newest chunk and only that chunk is sent (768 bytes). When it is full, the oldest
+    chunk is emptied and becomes the newest, so the oldest segments drop out a chunk at a time.
+
+    Parameters
+    ----------
+    capacity : int
+        Number of points kept (the oldest drop out); :meth:`resize` changes it. The drawing shows at
+        least the last ``capacity`` points and at most :data:`TRACE_CHUNK` − 1 more.
+    min_step : float
+        A new point closer than this (m) to the last one replaces nothing and is skipped, so a paused or
+        slow motion does not fill the buffer with duplicates.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        *,
+        quantity: str = "trace",
+        capacity: int = 1500,
+        thickness: float = 2.5,
+        min_step: float = 1e-4,
+    ) -> None:
+        self._server = server
+        self._name = name
+        self.quantity = quantity
+        self._thickness = thickness
+        self.min_step = min_step
+        self._chunks: list[viser.LineSegmentsHandle] = []
+        self.resize(capacity)
+
+    def resize(self, capacity: int) -> None:
+        """Change the number of points kept (re-creates the chunks; the trace restarts)."""
+        if capacity < 2:
+            raise ValueError(f"a trace needs at least 2 points, got {capacity}")
+        self.capacity = int(capacity)
+        self._buf = np.zeros((self.capacity, 3))
+        self._count = 0
+        self._head = 0  # index of the next write
+        self.remove()
+        length = min(TRACE_CHUNK, self.capacity - 1)
+        # One chunk more than the capacity needs: the newest may be nearly empty while the oldest is full.
+        n_chunks = -(-(self.capacity - 1) // length) + 1
+        self._segments = np.zeros((n_chunks, length, 2, 3), dtype=np.float32)
+        self._fill = np.zeros(n_chunks, dtype=int)
+        self._newest = 0
+        self._chunks = [
+            self._server.scene.add_line_segments(
+                f"{self._name}/{k}",
+                points=self._segments[k],
+                colors=COLOURS[self.quantity],
+                thickness=self._thickness,
+                thickness_units="screen",
+                visible=False,
+            )
+            for k in range(n_chunks)
+        ]
+
+    def remove(self) -> None:
+        """Remove the trace's nodes from the scene."""
+        for chunk in self._chunks:
+            chunk.remove()
+        self._chunks = []
+
+    def clear(self) -> None:
+        self._count = 0
+        self._head = 0
+        self._fill[:] = 0
+        for chunk in self._chunks:
+            if chunk.visible:
+                chunk.visible = False
+
+    def points(self) -> NDArray[np.float64]:
+        """The kept points, oldest first, shape (k, 3)."""
+        if self._count < self.capacity:
+            return self._buf[: self._count].copy()
+        return np.roll(self._buf, -self._head, axis=0)
+
+    def drawn_segments(self) -> NDArray[np.float32]:
+        """The segments on screen, oldest first, shape (k, 2, 3) (what the browsers were sent)."""
+        n = len(self._chunks)
+        order = [(self._newest + 1 + i) % n for i in range(n)]
+        return np.concatenate([self._segments[k, : self._fill[k]] for k in order])
+
+    def append(self, point: ArrayLike) -> None:
+        """Add a point (m): one segment from the previous point, sent with its chunk only."""
+        p = np.asarray(point, dtype=float)
+        previous = self._buf[(self._head - 1) % self.capacity]
+        if self._count and np.linalg.norm(p - previous) < self.min_step:
+            return
+        self._buf[self._head] = p
+        self._head = (self._head + 1) % self.capacity
+        self._count = min(self._count + 1, self.capacity)
+        if self._count < 2:
+            return
+        k = self._newest
+        if self._fill[k] == self._segments.shape[1]:
+            k = self._newest = (k + 1) % len(self._chunks)  # the oldest chunk becomes the newest
+            self._fill[k] = 0
+        f = self._fill[k]
+        self._segments[k, f, 0] = previous
+        self._segments[k, f, 1] = p
+        self._segments[k, f + 1 :] = p  # unused segments collapse onto the newest point (invisible)
+        self._fill[k] = f + 1
+        chunk = self._chunks[k]
+        send_points(chunk, self._segments[k])
+        if not chunk.visible:
+            chunk.visible = True
+
+
+class Cone:
+    """A translucent cone with its apex at a point, drawn from one unit mesh scaled in place.
+
+    :meth:`set` takes the cone's axis direction, half-angle and slant length; a degenerate cone (angle
+    0 or non-finite) is hidden.
+    """
+
+    def __init__(
+        self, server: viser.ViserServer, name: str, quantity: str, *, opacity: float = 0.25, sections: int = 64
+    ):
+        self.quantity = quantity
+        ang = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
+        # Unit cone: apex at the origin, base circle of radius 1 at z = 1 (open: no base disc).
+        vertices = np.vstack([[0.0, 0.0, 0.0], np.column_stack([np.cos(ang), np.sin(ang), np.ones_like(ang)])])
+        faces = np.array([[0, 1 + i, 1 + (i + 1) % sections] for i in range(sections)], dtype=np.uint32)
+        self.handle = server.scene.add_mesh_simple(
+            name,
+            vertices=vertices.astype(np.float32),
+            faces=faces,
+            color=COLOURS[quantity],
+            opacity=opacity,
+            side="double",
+            cast_shadow=False,
+            receive_shadow=False,
+        )
+        # A child of the cone: it follows the cone's pose, so a frame moves one node, not two. Not its scale:
+        # viser's client scales a mesh's own geometry, not the group its children hang from (BasicMesh.tsx), so
+        # the rim is given the same scale (it was drawn as the unit circle, a metre from the axis).
+        self.rim = server.scene.add_line_segments(
+            name + "/rim",
+            points=np.stack([vertices[1:], np.roll(vertices[1:], -1, axis=0)], axis=1).astype(np.float32),
+            colors=COLOURS[quantity],
+            thickness=2.0,
+            thickness_units="screen",
+        )
+        self._apex: NDArray[np.float64] | None = None
+        self._scale: tuple[float, float, float] | None = None
+        self._shown = True
+
+    def set(self, axis: ArrayLike, half_angle: float, slant: float, apex: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Axis (3,) (any length), half-angle (rad), slant length (m), apex (3,) (m)."""
+        a = np.asarray(axis, dtype=float)
+        n = float(np.linalg.norm(a))
+        ok = math.isfinite(n) and n > 0 and math.isfinite(half_angle) and 1e-4 < half_angle < math.pi - 1e-4
+        if ok != self._shown:  # the rim, a child, is shown and hidden with the cone
+            self._shown = self.handle.visible = ok
+        if not ok:
+            return
+        q = wxyz(rotation_z_to(a / n))
+        r, h = slant * math.sin(half_angle), slant * math.cos(half_angle)
+        apex = np.asarray(apex, dtype=float)
+        moved = self._apex is None or not np.array_equal(apex, self._apex)
+        # A cone of a constant angle and slant is resent only when it really changed (not by roundoff).
+        resized = (
+            self._scale is None
+            or not math.isclose(r, self._scale[0], rel_tol=1e-9)
+            or not math.isclose(h, self._scale[2], rel_tol=1e-9)
+        )
+        self._apex = apex
+        send_orientation(self.handle, q)
+        # Assign only what changed: each assignment is a message to every browser.
+        if resized:  # compared with what was last sent, so a slow drift is sent once it adds up
+            self._scale = (r, r, h)
+            self.handle.scale = self._scale
+            self.rim.scale = self._scale
+        if moved:
+            send_position(self.handle, apex)
+
+
+def faint_sphere(
+    server: viser.ViserServer, name: str, radius: float, *, opacity: float = 0.08
+) -> viser.IcosphereHandle:
+    """A faint reference sphere (the axis tip of a top moves on it), with a thin equator."""
+    handle = server.scene.add_icosphere(
+        name,
+        radius=radius,
+        color=COLOURS["guide"],
+        subdivisions=4,
+        opacity=opacity,
+        cast_shadow=False,
+        receive_shadow=False,
+    )
+    ang = np.linspace(0, 2 * np.pi, 97)
+    ring = radius * np.column_stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)])
+    server.scene.add_line_segments(
+        name + "_equator",
+        points=np.stack([ring[:-1], ring[1:]], axis=1),
+        colors=COLOURS["guide"],
+        thickness=1.0,
+        thickness_units="screen",
+    )
+    return handle
+
+
+class InertiaEllipsoid:
+    """The inertia ellipsoid ``xᵀ I x = const`` of a body: semi-axes along the principal axes, in
+    proportion ``1/√I_i`` (long where the moment is small), drawn translucent from one unit sphere
+    scaled in place.
+
+    A zero moment (a rod) would make one semi-axis infinite: it is capped at ``cap`` times the
+    shortest, so the drawing stays finite and still shows the direction.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        *,
+        colour: tuple[int, int, int] = COLOURS["ellipsoid"],
+        opacity: float = 0.25,
+        cap: float = 4.0,
+    ) -> None:
+        self.cap = float(cap)
+        self.handle = server.scene.add_icosphere(
+            name, radius=1.0, color=colour, subdivisions=4, opacity=opacity, cast_shadow=False, receive_shadow=False
+        )
+
+    def semi_axes(self, moments: ArrayLike, largest: float) -> NDArray[np.float64]:
+        """Semi-axes (m), shape (3,), for principal ``moments`` (kg m²), the longest equal to ``largest``."""
+        m = np.asarray(moments, dtype=float)
+        if not np.any(m > 0):
+            return np.full(3, float(largest))
+        inv = np.where(m > 0, 1.0 / np.sqrt(np.where(m > 0, m, 1.0)), np.inf)
+        inv = np.minimum(inv, self.cap * float(np.min(inv)))
+        return float(largest) * inv / float(np.max(inv))
+
+    def set(self, moments: ArrayLike, axes: ArrayLike, largest: float, centre: ArrayLike = (0.0, 0.0, 0.0)) -> None:
+        """Moments (3,), principal axes as columns (3, 3) (right-handed), longest semi-axis (m), centre (3,)."""
+        a, b, c = (float(s) for s in self.semi_axes(moments, largest))
+        self.handle.scale = (a, b, c)
+        self.handle.wxyz = wxyz(np.asarray(axes, dtype=float))
+        self.handle.position = np.asarray(centre, dtype=float)

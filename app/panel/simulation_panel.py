@@ -1,0 +1,125 @@
+"""The panel every scene shares: the title, the scene picker, the clock, the state text, Export, the legend.
+
+Its buttons call the simulation it is built for; the scene's own folder comes between the clock and the
+rest (:data:`LAST_ORDER`), so a scene's controls stay above the fold at 1280×800.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import viser
+
+from app.panel import look
+from app.panel.export_folder import ExportFolder, ExportRun
+from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
+
+__all__ = ["LAST_ORDER", "SimulationPanel"]
+
+LAST_ORDER = 1e6
+"""viser's panel order of what comes after the scene's folder (legend, state, export)."""
+
+
+class SimulationPanel:
+    """The shared panel of one simulation.
+
+    Parameters
+    ----------
+    sim : Simulation
+        What the controls drive (``guarded``, ``set_playing``, ``step``, ``restart``, ``set_speed``,
+        ``state_text``, ``open_state``, ``notify``, ``pick``).
+    titles : dict
+        Scene title -> scene name, in picker order.
+    export : ExportRun
+        What the Export button runs.
+    auto_close_seconds : float
+        How long the Export folder's final note stays.
+    share, dark : bool
+        viser's share button; the dark look (:mod:`app.panel.look`).
+    """
+
+    def __init__(
+        self,
+        sim: Any,
+        titles: dict[str, str],
+        export: ExportRun,
+        auto_close_seconds: float,
+        *,
+        share: bool,
+        dark: bool,
+    ) -> None:
+        self.sim = sim
+        gui = sim.server.gui
+        self.titles = titles
+        self.choosing = False  # the picker is being set to the scene built: not a choice of a browser's
+        style = look.configure(gui, share=share, dark=dark)
+        title = gui.add_markdown("**Rigid Body Lab**")
+        self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=next(iter(titles)))
+        self.scene_picker.on_update(sim.guarded(self._on_pick))
+        with gui.add_folder("Clock") as clock:
+            self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
+            self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
+            self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
+            # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
+            self.speed_slider = gui.add_slider(
+                speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
+            )
+            self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
+        self.play_button.on_click(sim.guarded(lambda _: sim.set_playing(not sim.playing)))
+        self.step_button.on_click(sim.guarded(lambda _: sim.step()))
+        self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
+        self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
+        style.content = look.STYLE + look.hide_number_box(self.speed_slider._impl.uuid)
+        with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
+            self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
+            self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
+            self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
+        self.copy_state_button.on_click(sim.guarded(self.on_copy_state))
+        self.open_state_button.on_click(sim.guarded(self.on_open_state))
+        self.export_folder = ExportFolder(sim, export, auto_close_seconds, order=LAST_ORDER + 2)
+        self.status = gui.add_markdown("")
+        self.legend = gui.add_html("", order=LAST_ORDER)
+        self.handles: list[Any] = [style, title, self.scene_picker, clock, state, self.export_folder.folder]
+        self.handles += [self.status, self.legend]
+
+    def show_playing(self, playing: bool) -> None:
+        """The play button says what a click does."""
+        self.play_button.label = "Pause" if playing else "Play"
+        self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
+
+    def show_scene(self, title: str) -> None:
+        """The picker names the scene built (without taking it for a browser's choice)."""
+        self.choosing = True
+        try:
+            self.scene_picker.value = title  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
+        finally:
+            self.choosing = False
+
+    def remove(self) -> None:
+        """Take the panel away (its browser may have gone already)."""
+        for handle in self.handles:
+            try:
+                handle.remove()
+            except Exception:  # noqa: BLE001 - its browser may have gone already
+                pass
+        self.handles = []
+
+    def _on_pick(self, event: Any) -> None:
+        if not self.choosing:
+            self.sim.pick(self.titles[self.scene_picker.value], client=getattr(event, "client", None))
+
+    def on_copy_state(self, event: Any) -> None:
+        """Copy state: the state text, with the camera of the browser that clicked, in the text box."""
+        client = getattr(event, "client", None)
+        try:
+            self.state_box.value = self.sim.state_text(client)
+        except ValueError as exc:
+            self.sim.notify("No state text", str(exc), client=client, error=True)
+
+    def on_open_state(self, event: Any) -> None:
+        """Open state: go to the state the text box holds, or tell the browser why not."""
+        client = getattr(event, "client", None)
+        try:
+            self.sim.open_state(self.state_box.value)
+        except ValueError as exc:
+            self.sim.notify("State refused", str(exc), client=client, error=True)

@@ -1,0 +1,129 @@
+"""Recording a built app frame by frame: a web page that plays it, its numbers as CSV, a picture of its end.
+
+More in docs/app-notes.md (``app.recording.export``).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import sys
+import threading
+import zipfile
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from app.recording.picture import render_png
+from physics.validation import finite_scalar
+
+__all__ = [
+    "EXPORT_FPS",
+    "MAX_SECONDS",
+    "Export",
+    "check_request",
+    "one_at_a_time",
+    "record",
+    "terminal_progress",
+    "zipped",
+]
+
+EXPORT_FPS = 30.0
+"""Frames recorded per simulated second: smooth playback at a tenth of the bytes of the app's 60."""
+MAX_SECONDS = 600.0
+"""The longest export (s of simulated time): 18,000 frames, a few minutes of work."""
+
+_running = threading.Lock()  # an export is a whole extra server: at most one runs in a process
+
+
+@dataclass(frozen=True)
+class Export:
+    """What an export wrote: the page, the table and the picture, and how many frames they hold."""
+
+    html: Path
+    csv: Path
+    png: Path
+    frames: int
+
+
+@contextmanager
+def one_at_a_time() -> Iterator[None]:
+    """Hold the process's one export place, or refuse (ValueError) while another export runs."""
+    if not _running.acquire(blocking=False):
+        raise ValueError("another export is running in this server; try again when it has finished")
+    try:
+        yield
+    finally:
+        _running.release()
+
+
+def terminal_progress(done: int, total: int) -> None:
+    """A progress bar on stderr, redrawn in place (the CLI's)."""
+    if done < total and done % max(1, total // 100):
+        return  # a hundred redraws in all
+    width = 40
+    filled = width * done // max(total, 1)
+    end = "\n" if done >= total else ""
+    print(f"\rexporting [{'#' * filled}{'.' * (width - filled)}] {done}/{total} frames", end=end, file=sys.stderr)
+    sys.stderr.flush()
+
+
+def check_request(scene: str | None, seconds: Any, preset: str | None, state: str | None, fps: Any) -> None:
+    """Refuse (ValueError) an export request that names no scene, both a preset and a state, or seconds or
+    fps out of range."""
+    if preset is not None and state is not None:
+        raise ValueError("give a preset or a state, not both")
+    if scene is None and state is None:
+        raise ValueError("name a scene (or give a state, which names its scene)")
+    for name, value, low, high in (("seconds", seconds, 1.0 / EXPORT_FPS, MAX_SECONDS), ("fps", fps, 1.0, 120.0)):
+        if not low <= finite_scalar(value, name) <= high:
+            raise ValueError(f"{name} must be between {low:g} and {high:g}, got {float(value):g}")
+
+
+def record(sim: Any, out: Path, frames: int, fps: float, progress: Callable[[int, int], None] | None) -> Export:
+    """Run ``sim`` (a built simulation on a server nobody watches) for ``frames`` frames and write the files.
+
+    Raises
+    ------
+    ValueError
+        The scene stopped (a numerical failure), named with its time and message; nothing is written then.
+    """
+    scene = sim.scene
+    sim.set_playing(False)
+    sim.request_redraw()
+    sim.frame(0.0)  # the start, drawn before the recording begins
+    serializer = sim.server.get_scene_serializer()
+    rows: list[dict[str, float]] = []
+    sim.set_playing(True)
+    for k in range(frames + 1):
+        if k > 0:
+            serializer.insert_sleep(1.0 / fps)
+            if not sim.frame(1.0 / fps):
+                last = sim.messages[-1][1] if sim.messages else "no message"
+                raise ValueError(f"the scene stopped at t = {sim.time:.3f} s: {last}")
+        rows.append({"t (s)": sim.time, **scene.columns(sim.last_state)})
+        if progress is not None and k > 0:
+            progress(k, frames)
+    position, look_at = sim.view  # the whole picture is the scene's: no panel to frame it clear of
+    picture = render_png(sim.server.scene._handle_from_node_name, position, look_at)
+    html = serializer.as_html()
+    out.mkdir(parents=True, exist_ok=True)
+    paths = Export(out / "index.html", out / f"{scene.name}.csv", out / f"{scene.name}.png", frames + 1)
+    paths.html.write_text(html, encoding="utf-8")
+    with paths.csv.open("w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(list(rows[0]))
+        writer.writerows([[repr(float(v)) for v in row.values()] for row in rows])
+    paths.png.write_bytes(picture)
+    return paths
+
+
+def zipped(written: Export) -> bytes:
+    """The three files of an export as one zip archive (the panel's download)."""
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+        for path in (written.html, written.csv, written.png):
+            archive.write(path, arcname=path.name)
+    return buffer.getvalue()

@@ -1,0 +1,124 @@
+"""The Scene base class, the context a scene is given, and the registry scenes join with ``@register``.
+
+How to write a scene, with a complete example: docs/architecture.md ("Adding a scene").
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from typing import Any, ClassVar, Protocol
+
+__all__ = ["Scene", "SceneContext", "register", "REGISTRY"]
+
+
+class SceneContext(Protocol):
+    """What a scene may use from its simulation (:class:`app.serving.simulation.Simulation` implements it)."""
+
+    server: Any  # viser.ViserServer
+    root: str
+    lock: threading.RLock
+
+    @property
+    def time(self) -> float: ...
+
+    @property
+    def playing(self) -> bool: ...
+
+    def guarded(self, fn: Callable[..., Any]) -> Callable[..., Any]: ...
+
+    def notify(self, title: str, body: str, client: Any = None, error: bool = False) -> None: ...
+
+    def restart(self) -> None: ...
+
+    def clear_status(self) -> None: ...
+
+    def request_redraw(self) -> None: ...
+
+    def pause(self, reason: str | None = None) -> None: ...
+
+    def switch_to(self, name: str, payload: Any = None) -> None: ...
+
+    def refusal(self, client_id: Any) -> str | None:
+        """Why this browser may not drive the simulation (presenter mode's followers), or None."""
+        ...
+
+    def set_time(self, t: float) -> None: ...
+
+    def set_playing(self, playing: bool) -> None: ...
+
+
+class Scene:
+    """Base class of a scene: one section of the lecture, one physics model, shared drawing pieces.
+
+    Subclasses set the class attributes and implement :meth:`build`, :meth:`compute`, :meth:`draw`.
+    See the module docstring for a complete example.
+    """
+
+    name: ClassVar[str] = ""
+    title: ClassVar[str] = ""
+    order: ClassVar[int] = 100
+    quantities: ClassVar[tuple[str, ...]] = ()
+    caption: ClassVar[str] = ""
+    camera: ClassVar[tuple[tuple[float, float, float], tuple[float, float, float]]] = (
+        (3.0, -3.0, 2.0),
+        (0.0, 0.0, 0.5),
+    )
+
+    def __init__(self, ctx: SceneContext) -> None:
+        self.ctx = ctx
+        self.traces: list[Any] = []  # app.draw.Trace objects cleared by reset()/restart()
+
+    def build(self) -> None:
+        """Create the scene nodes (under ``ctx.root``) and the GUI (lands in the scene's folder)."""
+        raise NotImplementedError
+
+    def compute(self, t: float, dt: float) -> dict[str, Any]:
+        """The state at simulation time ``t`` (s); ``dt`` (s) is the time advanced since the last frame."""
+        raise NotImplementedError
+
+    def draw(self, state: dict[str, Any]) -> None:
+        """Update the kept handles from ``state`` (inside ``server.atomic()``)."""
+        raise NotImplementedError
+
+    def reset(self) -> None:
+        """Back to t = 0 with the current parameters (the clock's reset and ``ctx.restart()``)."""
+        for trace in self.traces:
+            trace.clear()
+
+    def teardown(self) -> None:
+        """Release what is not a node under ``ctx.root`` or GUI in the scene folder (default: nothing)."""
+
+    def columns(self, state: dict[str, Any]) -> dict[str, float]:
+        """The scene's quantities at a state :meth:`compute` gave, for the export's CSV: header (symbol and
+        SI unit, e.g. ``"theta (rad)"``) to value, in column order (:mod:`app.recording.columns`). Default: none."""
+        return {}
+
+    def snapshot(self) -> dict[str, Any]:
+        """The motion state that the time and the controls do not give (a stepping model's state), to copy
+        the scene into another simulation (default: nothing; closed-form models need only the time)."""
+        return {}
+
+    def prepare(self, motion: dict[str, Any]) -> None:
+        """Before a snapshot's controls are set: adopt what they refer to (an uploaded body the Body
+        dropdown names), from the state :meth:`snapshot` gave (default: nothing)."""
+
+    def restore(self, motion: dict[str, Any]) -> None:
+        """Adopt a state :meth:`snapshot` gave, after its controls are set (default: nothing to adopt)."""
+
+    def accept(self, payload: Any) -> None:
+        """Take a body handed over by another scene (default: refuse)."""
+        raise ValueError(f"the scene {self.title!r} cannot take a body from another scene")
+
+
+REGISTRY: dict[str, type[Scene]] = {}
+
+
+def register(cls: type[Scene]) -> type[Scene]:
+    """Class decorator: add a scene to :data:`REGISTRY` under ``cls.name``."""
+    if not cls.name or not cls.title:
+        raise ValueError(f"{cls.__name__} needs a name and a title to be registered")
+    if cls.name in REGISTRY and REGISTRY[cls.name] is not cls:
+        raise ValueError(f"two scenes are named {cls.name!r}: {REGISTRY[cls.name].__name__} and {cls.__name__}")
+    REGISTRY[cls.name] = cls
+    return cls

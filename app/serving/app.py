@@ -1,0 +1,338 @@
+"""The App: one viser server, the simulations it serves, the real-time loop that drives them; and the export.
+
+More in docs/app-notes.md (``app.serving.app``).
+"""
+
+from __future__ import annotations
+
+import socket
+import tempfile
+import threading
+import time
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import viser
+
+from app.guards.event_loop import confine_events
+from app.guards.tunnel import guard_tunnel
+from app.guards.wire import departed
+from app.panel import look
+from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
+from app.serving.addresses import is_loopback
+from app.serving.simulation import FPS, Simulation, first_scene
+from app.teaching.following import apply_step
+from app.teaching.lectures import Step, read_lecture
+from app.teaching.presenter import Classroom, check_pin, new_pin
+from app.teaching.states import parse_state
+from physics.integrators.warm import warm
+
+__all__ = ["App", "export", "export_zip"]
+
+NETWORK_SHARE = 0.3
+"""Under load, the loop rests this fraction of its busy time between ticks: viser's event loop thread
+serializes and sends the frames meanwhile (one GIL between them). Measured by benchmarks/serve.py."""
+
+
+class App:
+    """The app: the viser server, its simulations and the real-time loop that drives them.
+
+    Three ways to serve. By default every browser sees and drives one shared simulation. In presenter
+    mode (the default on a non-loopback host) the shared simulation is the lecture: every browser follows
+    it read-only until it enters the PIN, and may explore a copy of its own (:mod:`app.teaching.presenter`;
+    the copies are in ``app.sessions``). With ``private=True`` every browser gets its own simulation when it
+    connects (``app.sessions``, by client id), freed when it leaves; there is no shared one.
+
+    Parameters
+    ----------
+    host, port : str, int
+        Where to serve (default http://127.0.0.1:8080).
+    scene : str, optional
+        Name of the first scene (default: the first in the picker).
+    start_loop : bool
+        Start the real-time loop thread (tests and the benchmark drive :meth:`frame` themselves).
+    verbose : bool
+        Let viser print its banner.
+    fps : float
+        Frames per second of the loop.
+    share : bool
+        Show viser's share button, which can publish the server on a public tunnel (off by default).
+    dark : bool
+        The dark look (``--dark``), for a dark lecture room.
+    private : bool
+        One simulation per browser instead of one for all.
+    presenter : bool, optional
+        Presenter mode; default: on when ``host`` is not a loopback address and ``private`` is off.
+    pin : str, optional
+        The presenter PIN (4 to 32 letters or digits); default: six random digits, in ``app.pin``.
+    state : str, optional
+        A state text (:mod:`app.teaching.states`, the panel's "Copy state") to start from; in private mode
+        every browser's session starts from it. A bad text raises ValueError before the server starts.
+    lecture : str, optional
+        A lecture file, by path or by name in ``lectures/`` (:mod:`app.teaching.lectures`); every step is
+        checked before the server serves (ValueError naming the step and the key). In private mode every
+        browser follows it on its own.
+    """
+
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        scene: str | None = None,
+        *,
+        start_loop: bool = True,
+        verbose: bool = False,
+        fps: float = FPS,
+        share: bool = False,
+        dark: bool = False,
+        private: bool = False,
+        presenter: bool | None = None,
+        pin: str | None = None,
+        state: str | None = None,
+        lecture: str | None = None,
+    ) -> None:
+        if state is not None:
+            scene = parse_state(state)["scene"]  # refused here, before anything starts
+        self._state_text = state
+        self._lecture = read_lecture(lecture) if lecture is not None else None
+        self._first, _ = first_scene(scene)
+        if presenter is None:
+            presenter = not private and not is_loopback(host)
+        if presenter and private:
+            raise ValueError("choose presenter mode or private sessions, not both")
+        self.pin = check_pin(pin) if pin is not None else new_pin()
+        self.fps, self.share, self.dark, self.private = float(fps), bool(share), bool(dark), bool(private)
+        server = viser.ViserServer(host=host, port=port, verbose=verbose)
+        confine_events(server)
+        self.server = server
+        self.host, self.port = host, server.get_port()
+        self.sessions: dict[Any, Simulation] = {}
+        self.sessions_lock = threading.Lock()
+        self.shared: Simulation | None = None
+        self.classroom: Classroom | None = None
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        if presenter:
+            self.classroom = Classroom(self, self.pin, self._copy_for)
+        guard_tunnel(server, share=share, permit=self.refusal, refuse=self._refuse)
+        try:
+            if self.private:
+                look.configure(server.gui, share=share, dark=dark)
+                if self._lecture is not None:  # checked once, on a simulation nobody sees, before serving
+                    probe = self._simulation(server)
+                    try:
+                        probe.load_lecture(self._lecture)
+                    finally:
+                        probe.close()
+                server.on_client_connect(self._open_session)
+                server.on_client_disconnect(self._close_session)
+            else:
+                self.shared = self._simulation(server, refusal=self.refusal, shown_to=self._follows)
+                if state is not None:
+                    self.shared.open_state(state)
+                if self._lecture is not None:
+                    self.shared.load_lecture(self._lecture)
+        except ValueError:
+            server.stop()
+            raise
+        if start_loop:
+            self.start()
+
+    @classmethod
+    def headless(cls, scene: str | None = None, *, state: str | None = None, preset: str | None = None) -> App:
+        """An app on 127.0.0.1 that nobody watches and no loop drives, at a scene (and one of its presets)
+        or at a state text: what an export records. ValueError for a bad scene, preset or state."""
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+            s.bind(("127.0.0.1", 0))
+            port = int(s.getsockname()[1])
+        app = cls(host="127.0.0.1", port=port, scene=scene, start_loop=False, presenter=False, state=state)
+        if preset is not None:
+            try:
+                assert app.shared is not None and app.shared.scene is not None
+                apply_step(app.shared, Step(scene=app.shared.scene.name, preset=preset))
+            except ValueError:
+                app.stop()
+                raise
+        return app
+
+    def __getattr__(self, name: str) -> Any:
+        """The shared simulation's attributes (``app.scene``, ``app.frame``, ...) in shared and presenter mode."""
+        shared = self.__dict__.get("shared")
+        if shared is None or name.startswith("__"):
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        return getattr(shared, name)
+
+    @property
+    def scene(self) -> Any:
+        """The shared simulation's scene; None in private mode (every browser has its own)."""
+        return self.shared.scene if self.shared is not None else None
+
+    def _simulation(self, target: Any, **kwargs: Any) -> Simulation:
+        return Simulation(
+            target, self._first, export=export_zip, fps=self.fps, share=self.share, dark=self.dark, **kwargs
+        )
+
+    # ------------------------------------------------------------------ presenter mode
+    @property
+    def mode(self) -> str:
+        """ "shared", "presenter" or "private"."""
+        return "private" if self.private else ("presenter" if self.classroom is not None else "shared")
+
+    def refusal(self, client_id: Any) -> str | None:
+        """Why a browser may not drive the shared simulation (a follower in presenter mode), or None."""
+        return self.classroom.refusal(client_id) if self.classroom is not None else None
+
+    def _refuse(self, client_id: Any, reason: str) -> None:
+        """Tell one browser it was refused, through the simulation it sees."""
+        client = self.server.get_clients().get(client_id)
+        with self.sessions_lock:
+            simulation = self.sessions.get(client_id, self.shared)
+        if client is not None and simulation is not None:
+            simulation.notify("Refused", reason, client=client, error=True)
+
+    def _follows(self, client: Any) -> bool:
+        """Whether a browser is drawn the shared simulation (not one exploring a copy of its own)."""
+        return self.classroom is None or not self.classroom.exploring(client.client_id)
+
+    def _copy_for(self, client: viser.ClientHandle) -> Simulation:
+        """A browser's own copy of the lecture, at the lecture's current state (presenter mode)."""
+        assert self.shared is not None
+        snapshot = self.shared.snapshot()
+        copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
+        copy.restore(snapshot)
+        return copy
+
+    # ------------------------------------------------------------------ private sessions
+    def _open_session(self, client: viser.ClientHandle) -> None:
+        try:
+            session = self._simulation(client)
+            if self._state_text is not None:
+                session.open_state(self._state_text)
+            if self._lecture is not None:
+                session.load_lecture(self._lecture, check=False)
+        except Exception:
+            if departed(client):
+                return  # it left while its session was being built
+            raise
+        with self.sessions_lock:
+            self.sessions[client.client_id] = session
+        if departed(client):  # it left just now: its disconnect may have come before the line above
+            self._close_session(client)
+
+    def _close_session(self, client: viser.ClientHandle) -> None:
+        # The browser has gone: its panel and nodes went with its connection; drop the simulation.
+        with self.sessions_lock:
+            self.sessions.pop(client.client_id, None)
+
+    def simulations(self) -> list[Simulation]:
+        """The simulations the loop drives: the shared one and one per browser that has its own."""
+        with self.sessions_lock:
+            own = list(self.sessions.values())
+        return own if self.shared is None else [self.shared, *own]
+
+    # ------------------------------------------------------------------ the loop
+    def start(self) -> None:
+        """Start the real-time loop thread (daemon), and compile the integrators' kernels beside it."""
+        if self._thread is not None:
+            return
+        # numba compiles (or loads from its cache) in the background: a scene's first step never waits.
+        threading.Thread(target=warm, name="rbl-warm-kernels", daemon=True).start()
+        self._stop.clear()
+        self._thread = threading.Thread(target=self.run, name="rbl-loop", daemon=True)
+        self._thread.start()
+
+    def run(self) -> None:
+        """The real-time loop (the loop thread's body): a tick of every simulation per frame, until stopped."""
+        period = 1.0 / self.fps
+        last = time.perf_counter()
+        while not self._stop.is_set():
+            now = time.perf_counter()
+            dt, last = now - last, now
+            self._tick(dt)
+            busy = time.perf_counter() - now
+            # Under load (many private sessions) a tick takes longer than a frame: each session then
+            # advances by the real elapsed time (the physics is exact at any step), and the loop leaves
+            # the GIL to the network thread for a share of its own time, so that what was drawn is sent.
+            self._stop.wait(max(period - busy, NETWORK_SHARE * busy))
+
+    def _tick(self, dt: float) -> None:
+        """One frame of every simulation. A function of its own so that its loop variable dies with it: a
+        variable of :meth:`run` would keep the last session of a departed browser alive."""
+        for simulation in self.simulations():
+            try:
+                simulation.frame(dt)
+            except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
+                traceback.print_exc()
+
+    def stop(self) -> None:
+        """Stop the loop and the server."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+            self._thread = None
+        self.server.stop()
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.host}:{self.port}"
+
+
+def export(
+    scene: str | None,
+    out: str | Path,
+    seconds: float,
+    *,
+    preset: str | None = None,
+    state: str | None = None,
+    fps: float = EXPORT_FPS,
+    progress: Callable[[int, int], None] | None = None,
+) -> Export:
+    """Run a scene for ``seconds`` of simulated time without a browser and write the page, CSV and PNG
+    (``rigid-body-lab export``; :func:`app.recording.export.record`).
+
+    Parameters
+    ----------
+    scene : str or None
+        A scene name (``rigid-body-lab --scene``); None takes the state's scene.
+    out : str or Path
+        The directory to write (created if missing; files of the same names are replaced).
+    seconds : float
+        Simulated time to record (s), from 1/30 s to :data:`app.recording.export.MAX_SECONDS`.
+    preset : str, optional
+        One of the scene's presets, by its name in the panel.
+    state : str, optional
+        A state text (the panel's "Copy state"): its scene, controls, time and camera.
+    fps : float
+        Frames per simulated second (rows of the CSV, frames of the recording).
+    progress : callable, optional
+        Called as ``progress(frames done, frames in all)`` after every frame.
+
+    Raises
+    ------
+    ValueError
+        A bad scene, preset, state, number of seconds, or a scene that failed while running (named with
+        its time); nothing is written then.
+    """
+    check_request(scene, seconds, preset, state, fps)
+    seconds, fps = float(seconds), float(fps)
+    if state is not None:
+        named = parse_state(state)["scene"]
+        if scene is not None and scene != named:
+            raise ValueError(f"the state is of the scene {named!r}, not {scene!r}")
+        scene = named
+    frames = max(1, round(seconds * fps))
+    with one_at_a_time():
+        app = App.headless(scene, state=state, preset=preset)
+        try:
+            assert app.shared is not None
+            return record(app.shared, Path(out), frames, fps, progress)
+        finally:
+            app.stop()
+
+
+def export_zip(state: str, seconds: float, progress: Callable[[int, int], None] | None = None) -> bytes:
+    """The files :func:`export` writes for a state text, as one zip archive (the panel's Export button)."""
+    with tempfile.TemporaryDirectory(prefix="rbl-export-") as folder:
+        return zipped(export(None, folder, seconds, state=state, progress=progress))

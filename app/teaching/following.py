@@ -1,0 +1,132 @@
+"""Following a lecture: its steps in the panel with Previous and Next, each step put on the simulation.
+
+A step sets a state or a scene, then its dropdown choices, preset, slider values and camera; a step with
+``seconds`` moves on by itself. The simulation followed is any object with the methods used here
+(:class:`app.serving.simulation.Simulation`).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import viser
+
+from app.teaching.lectures import Lecture, Step
+
+__all__ = ["Following", "apply_step"]
+
+
+class Following:
+    """The lecture a simulation follows, its step and when that step began (None: no lecture)."""
+
+    def __init__(self, sim: Any) -> None:
+        self.sim = sim
+        self.lecture: Lecture | None = None
+        self.step_index = 0
+        self.step_started = 0.0
+        self.text: Any = None  # the lecture's markdown in the panel, once a lecture is loaded
+        self.folder: Any = None
+
+    def load(self, lecture: Lecture, *, check: bool = True) -> None:
+        """Follow ``lecture`` from its first step; with ``check`` every step is applied once first, so that
+        what only a scene can check (a preset's name, a slider's range) is checked before it starts.
+
+        Raises
+        ------
+        ValueError
+            Naming the step (1-based) and what was wrong with it; the simulation is left at its first scene.
+        """
+        sim = self.sim
+        with sim.lock:
+            if check:
+                for k, step in enumerate(lecture.steps, start=1):
+                    try:
+                        apply_step(sim, step)
+                    except ValueError as exc:
+                        raise ValueError(f"{Path(lecture.source).name or lecture.title}, step {k}: {exc}") from None
+            self.lecture = lecture
+            if self.folder is None:
+                gui = sim.server.gui
+                with gui.add_folder("Lecture", order=-1.0) as folder:
+                    self.text = gui.add_markdown("")
+                    previous = gui.add_button("Previous", icon=viser.Icon.CHEVRON_LEFT)
+                    following = gui.add_button("Next", icon=viser.Icon.CHEVRON_RIGHT)
+                previous.on_click(sim.guarded(lambda _: self.go_to(self.step_index - 1)))
+                following.on_click(sim.guarded(lambda _: self.go_to(self.step_index + 1)))
+                self.folder = folder
+            self.go_to(0)
+
+    def go_to(self, index: int) -> None:
+        """Show step ``index`` (0-based, clamped to the lecture)."""
+        lecture, sim = self.lecture, self.sim
+        if lecture is None:
+            return
+        with sim.lock:
+            index = min(max(index, 0), len(lecture.steps) - 1)
+            step = lecture.steps[index]
+            self.step_index = index
+            self.step_started = time.monotonic()
+            try:
+                apply_step(sim, step)
+            except ValueError as exc:  # checked when loaded; a body handed over since may refuse it
+                sim.notify(f"Step {index + 1} could not be shown", str(exc), error=True)
+            self.text.content = (
+                f"**{lecture.title}** — step {index + 1} of {len(lecture.steps)}\n\n{step.caption}".rstrip()
+            )
+
+    def advance_if_due(self) -> None:
+        """Go to the next step when the current one has ``seconds`` and they have passed (the last stays)."""
+        lecture = self.lecture
+        if lecture is None or self.step_index + 1 >= len(lecture.steps):
+            return
+        seconds = lecture.steps[self.step_index].seconds
+        if seconds is not None and time.monotonic() - self.step_started >= seconds:
+            self.go_to(self.step_index + 1)
+
+
+def apply_step(sim: Any, step: Step) -> None:
+    """Put ``sim`` at a step: its state or its scene from the defaults, then its dropdown choices, preset,
+    values, camera (ValueError naming the key and what was refused)."""
+    if step.state is not None:
+        sim.open_state(step.state)
+        if step.scene is not None and sim.scene is not None and sim.scene.name != step.scene:
+            raise ValueError(f"scene: the state is of {sim.scene.name!r}, the step says {step.scene!r}")
+    else:
+        assert step.scene is not None  # read_lecture: a step has a scene or a state
+        sim.switch_scene(step.scene)
+    scene = sim.scene
+    assert scene is not None
+    inputs = sim.scene_inputs
+    for label, choice in step.choices.items():  # a dropdown (the body, the axis) before the sliders
+        handle = next((h for h in inputs if str(h.label) == label and hasattr(h, "options")), None)
+        if handle is None:
+            names = [str(h.label) for h in inputs if hasattr(h, "options")]
+            raise ValueError(f"choices.{label}: {scene.name} has no dropdown {label!r}; its dropdowns are {names}")
+        if choice not in handle.options:
+            raise ValueError(f"choices.{label}: no choice {choice!r}; the choices are {list(handle.options)}")
+        handle.value = choice  # runs the dropdown's callback now: the scene adopts it or snaps back
+        if handle.value != choice:
+            why = sim.messages[-1][1] if sim.messages else "the scene refused it"
+            raise ValueError(f"choices.{label}: {choice!r} was refused: {why}")
+    if step.preset is not None:
+        presets = getattr(scene, "presets", None)
+        names = list(presets.presets) if presets is not None else []
+        if presets is None or presets.resolve(step.preset) is None:
+            raise ValueError(f"preset: {scene.name} has no preset {step.preset!r}; its presets are {names}")
+        if not presets.choose(step.preset):
+            raise ValueError(f"preset {step.preset!r} was refused: {presets.panel.last_refusal}")
+    if step.values:
+        params = getattr(scene, "params", None)
+        if params is None:
+            raise ValueError(f"values: {scene.name} has no sliders")
+        for key, value in step.values.items():
+            try:
+                params.checked_number(key, value)
+            except ValueError as exc:
+                raise ValueError(f"values.{key}: {exc}") from None
+        if not params.offer(step.values):
+            raise ValueError(f"values were refused: {params.last_refusal}")
+    if step.camera is not None:
+        sim.set_camera(step.camera["position"], step.camera["look_at"])

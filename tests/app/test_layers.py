@@ -1,0 +1,38 @@
+"""app/'s rooms import one way (docs/architecture.md): serving, teaching, scenes, recording, drawing, panel,
+guards, uploads; a room imports only the rooms after it in that list."""
+
+from __future__ import annotations
+
+from tests.test_architecture import import_graph, read_modules
+
+ORDER = ("serving", "teaching", "scenes", "recording", "drawing", "panel", "guards", "uploads")
+
+
+def room(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in ORDER) else None
+
+
+def upward_imports(graph: dict[str, set[str]]) -> list[str]:
+    found = []
+    for importer, imported in sorted((a, b) for a, targets in graph.items() for b in targets):
+        low, high = room(importer), room(imported)
+        if low in ORDER and high in ORDER and ORDER.index(high) < ORDER.index(low):
+            found.append(f"{importer} -> {imported}")
+    return found
+
+
+def test_every_room_imports_only_the_rooms_below_it() -> None:
+    assert upward_imports(import_graph(read_modules(("app",)))) == []
+
+
+def test_every_module_of_app_is_in_a_room_or_one_of_the_doors_at_its_top() -> None:
+    modules = read_modules(("app",))
+    outside = sorted(m for m in modules if room(m) is None)
+    assert outside == ["app", "app.__main__", "app.controls", "app.draw", "app.server"]
+
+
+def test_the_check_sees_an_upward_import() -> None:
+    """The rule can fail: uploads importing serving is upward, serving importing uploads is not."""
+    graph = {"app.uploads.reading": {"app.serving.app"}, "app.serving.app": {"app.uploads.reading"}}
+    assert upward_imports(graph) == ["app.uploads.reading -> app.serving.app"]
