@@ -32,7 +32,7 @@ import math
 import os
 import random
 import time
-from collections import Counter
+from collections import Counter, deque
 from pathlib import Path
 from typing import Any
 
@@ -58,7 +58,11 @@ SEED = int(os.environ.get("RBL_FUZZ_SEED", "20261124"))
 """The fuzz's seed: fixed, so a failure repeats (``RBL_FUZZ_SEED=N`` explores others)."""
 EVENTS = {"shared": 3000, "presenter": 1500, "private": 1500}
 CAPS = {"shared": 30.0, "presenter": 20.0, "private": 25.0}
-"""Seconds of fuzzing per mode at most: the caps on a very loaded machine (the counts end it when idle)."""
+"""Seconds of fuzzing per mode once the floors below are met (the counts end it when idle)."""
+HARD_CAP = 120.0
+"""Seconds of fuzzing at most in any mode, floors met or not: the test always stops by itself."""
+TRAIL = 12
+"""Events kept to name in a failure: the seed and the last events before it reproduce it."""
 UPLOADS = 0.01
 """Share of the events that are uploads (each file that is read costs a worker process about 0.6 s)."""
 TABLE = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "fuzz.md"
@@ -166,6 +170,19 @@ def explorer_button(simulation: Any) -> str | None:
     return scene.upload._impl.uuid
 
 
+def floors_met(mode: str, events: int, counts: Counter, met: dict[int, Any]) -> bool:
+    """The run tested what it should: the floors the test asserts at its end."""
+    return (
+        events >= EVENTS[mode] // 4
+        and counts["values"] > events // 2
+        and counts["scene switches"] > 10
+        and counts["joins"] >= 3
+        and sum(n for kind, n in counts.items() if kind.startswith("uploads")) >= 5
+        and (mode != "presenter" or (counts["explore/follow"] > 10 and counts["PINs"] > 10))
+        and (mode == "shared" or len(met) > 2)
+    )
+
+
 def describe(simulation: Any) -> str:
     """What a simulation is doing, for a failure message."""
     scene = simulation.scene
@@ -204,6 +221,19 @@ def fuzz_table():
 @pytest.mark.parametrize("mode", ["shared", "presenter", "private"])
 def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
     rng = random.Random(SEED)
+    trail: deque[str] = deque(maxlen=TRAIL)  # the last events, for the failure message
+    events = 0
+
+    def send(ws: Any, uuid: str, value: Any) -> None:
+        trail.append(f"event {events}: {uuid[:8]} <- {str(value)[:60]!r}")
+        send_value(ws, uuid, value)
+
+    def reproduce() -> str:
+        return (
+            f"fuzz ({mode}) with seed {SEED} (RBL_FUZZ_SEED={SEED} reruns it) broke at event {events}; "
+            "the events before it:\n  " + "\n  ".join(trail)
+        )
+
     errors: list[str] = []
     failed_frames: list[str] = []  # the scene and its values when a frame failed, to reproduce it
     real_failed = Simulation.failed
@@ -238,18 +268,31 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
             browsers: list[Browser] = []
             start = time.monotonic()
             events = owed = 0  # owed: uploads waiting for a browser's inertia explorer to show
-            while events < EVENTS[mode] and time.monotonic() - start < CAPS[mode]:
+
+            def go_on() -> bool:
+                # On a loaded machine the cap ends the run, but only once it has tested what it should.
+                elapsed = time.monotonic() - start
+                if elapsed > HARD_CAP:
+                    return False
+                if events < EVENTS[mode] and elapsed < CAPS[mode]:
+                    return True
+                return not floors_met(mode, events, counts, met | {id(s): s for s in app.simulations()})
+
+            while go_on():
                 events += 1
                 roll = rng.random()
                 if not browsers or (roll < 0.01 and len(browsers) < 4):
                     browser = Browser(app)
                     browsers.append(browser)
+                    trail.append(f"event {events}: browser {browser.cid} joins")
                     if mode == "private":
                         wait_for(lambda b=browser: b.cid in app.sessions, what="the new browser's session")
                     counts["joins"] += 1
                     continue
                 if roll < 0.015 and len(browsers) > 1:
-                    browsers.pop(rng.randrange(len(browsers))).leave()
+                    gone = browsers.pop(rng.randrange(len(browsers)))
+                    trail.append(f"event {events}: browser {gone.cid} leaves")
+                    gone.leave()
                     counts["leaves"] += 1
                     continue
                 browser = rng.choice(browsers)
@@ -260,13 +303,13 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                     with_pin = [p for p in panels if not p.pin._impl.removed]  # a presenter's has none
                     if panels:
                         if rng.random() < 0.5 or not with_pin:
-                            send_value(ws, rng.choice(panels).explore._impl.uuid, True)
+                            send(ws, rng.choice(panels).explore._impl.uuid, True)
                             counts["explore/follow"] += 1
                         else:
                             panel = rng.choice(with_pin)
                             pin = "5555" if rng.random() < 0.2 else random_value(rng, panel.pin)
-                            send_value(ws, panel.pin._impl.uuid, pin)
-                            send_value(ws, panel.present._impl.uuid, True)
+                            send(ws, panel.pin._impl.uuid, pin)
+                            send(ws, panel.present._impl.uuid, True)
                             counts["PINs"] += 1
                     continue
                 simulation = own_simulation(app, mode, browser)
@@ -274,12 +317,13 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                     continue
                 if roll < 0.05:
                     titles = list(simulation.scene_picker._impl.props.options)
-                    send_value(ws, simulation.scene_picker._impl.uuid, rng.choice(titles))
+                    send(ws, simulation.scene_picker._impl.uuid, rng.choice(titles))
                     counts["scene switches"] += 1
                     continue
                 button = explorer_button(simulation)
                 if roll < 0.05 + UPLOADS or (owed and button is not None):
                     if button is not None:
+                        trail.append(f"event {events}: browser {browser.cid} uploads")
                         send_random_upload(rng, ws, button, counts)
                         owed = max(owed - 1, 0)
                     elif mode == "presenter" and simulation is app and browser.cid not in app.classroom.presenters:
@@ -288,11 +332,11 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                         # on other scenes sent 2 or 3 uploads).
                         panel = app.classroom._panels.get(browser.cid)
                         if panel is not None:
-                            send_value(ws, panel.explore._impl.uuid, True)
+                            send(ws, panel.explore._impl.uuid, True)
                             counts["explore/follow"] += 1
                         owed = min(owed + 1, 3)
                     else:  # it opens the inertia explorer first, as a person would, and uploads when it shows
-                        send_value(ws, simulation.scene_picker._impl.uuid, "Inertia explorer")
+                        send(ws, simulation.scene_picker._impl.uuid, "Inertia explorer")
                         counts["scene switches"] += 1
                         owed = min(owed + 1, 3)
                     continue
@@ -301,7 +345,7 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                     # meet the lecturer's upload button (and a presenter's are read).
                     titles = list(app.scene_picker._impl.props.options)
                     title = "Inertia explorer" if rng.random() < 0.5 else rng.choice(titles)
-                    send_value(ws, app.scene_picker._impl.uuid, title)
+                    send(ws, app.scene_picker._impl.uuid, title)
                     counts["scene switches"] += 1
                     continue
                 if mode == "shared" or (mode == "private" and rng.random() < 0.95):
@@ -311,7 +355,7 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                 if not handles:
                     continue
                 handle = rng.choice(handles)
-                send_value(ws, handle._impl.uuid, random_value(rng, handle))
+                send(ws, handle._impl.uuid, random_value(rng, handle))
                 counts["values"] += 1
                 if events % 25 == 0:
                     for other in browsers:
@@ -348,11 +392,26 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                     check_finite(simulation.last_state)
             for browser in browsers:
                 browser.leave()
+    except BaseException as exc:
+        exc.add_note(reproduce())
+        raise
     finally:
         for name in server_loggers:
             logging.getLogger(name).removeHandler(handler)
     err = capfd.readouterr().err
     print(summary)  # after the capture is read, so `pytest -s` shows it
+    try:
+        check_the_run(mode, events, counts, met, errors, failed_frames, err)
+    except AssertionError as exc:
+        exc.add_note(reproduce())
+        raise
+    RESULTS[mode] = (events, seconds, counts)  # a mode that passed
+
+
+def check_the_run(
+    mode: str, events: int, counts: Counter, met: dict[int, Any], errors: list[str], failed_frames: list[str], err: str
+) -> None:
+    """No error logged, no frame failed, no traceback, and the run tested what it should."""
     assert not errors, errors[:3]
     assert not failed_frames, failed_frames[:3]
     assert "Traceback" not in err, err[-3000:]
@@ -364,7 +423,6 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
         assert counts["explore/follow"] > 10 and counts["PINs"] > 10
     if mode != "shared":
         assert len(met) > 2  # copies or sessions came and went
-    RESULTS[mode] = (events, seconds, counts)  # a mode that passed
 
 
 def running(mode: str) -> Any:
