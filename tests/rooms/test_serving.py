@@ -123,6 +123,7 @@ def test_a_private_pool_keeps_a_browser_by_its_cookie_and_spreads_browsers_behin
     assert again.getheader("Set-Cookie") is None
 
 
+@pytest.mark.browser
 def test_chromium_opens_a_room_under_its_prefix(department: RunningDepartment, chromium: Any) -> None:
     """The real page at /homework: redirected to /homework/, its script opens viser's websocket at
     /homework (relative to the page, in a web worker) through the proxy with the room's cookie, and the
