@@ -35,6 +35,9 @@ __all__ = ["READY", "check_ports", "main", "run", "write", "write_nginx"]
 READY = "Rooms ready on"
 """The start of the line printed once nginx and every room answer (tests wait for it)."""
 
+SERVING = r"Rigid Body Lab serving on http://\S+:(\d+)"
+"""The app's first line (``app/__main__.py``): the port it really listens on."""
+
 APP_ROOT = str(Path(__file__).resolve().parents[2])
 """The folder holding the ``app`` package: the rooms' processes run this same code."""
 
@@ -103,7 +106,8 @@ def run(department: Department, nginx: str) -> int:
         for room, backend in local:
             label = room.name if len(room.backends) == 1 else f"{room.name} {backend.index}"
             command = (sys.executable, "-m", "app", *app_arguments(room, backend))
-            rooms.append(supervisor.add(ChildSpec(label, command, backend.host, backend.port, env)))
+            spec = ChildSpec(label, command, backend.host, backend.port, env, port_said=SERVING)
+            rooms.append(supervisor.add(spec))
         for room in department.rooms:
             for backend in room.backends:
                 if not is_local_address(backend.host):

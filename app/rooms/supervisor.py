@@ -17,6 +17,7 @@ import contextlib
 import ctypes
 import http.client
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -64,6 +65,7 @@ class ChildSpec:
     host: str
     port: int
     env: dict[str, str] = field(default_factory=dict)  # added to this process's environment
+    port_said: str | None = None  # a regex whose group 1 is the port the child says it serves on
 
 
 PROBE = "/rooms-probe"
@@ -155,6 +157,14 @@ class Child:
             line = raw.decode("utf-8", "replace").rstrip()
             if line and not line.lstrip().startswith(BANNER):
                 self.log(f"[{self.spec.label}] {line}")
+            said = re.search(self.spec.port_said, line) if self.spec.port_said else None
+            if said and int(said.group(1)) != self.spec.port:
+                # viser moves to the next free port when its own is taken: nginx would never reach it.
+                self.log(
+                    f"{self.spec.label} serves on port {said.group(1)}, not {self.spec.port} (taken?): stopping it"
+                )
+                with contextlib.suppress(ProcessLookupError, PermissionError):
+                    os.killpg(process.pid, signal.SIGTERM)
 
     def ready(self) -> bool:
         """Running, and answering at its address."""
@@ -183,6 +193,10 @@ class Child:
             self.process.wait(timeout=grace)
         with contextlib.suppress(ProcessLookupError, PermissionError):
             os.killpg(self.process.pid, signal.SIGKILL)  # anything it left behind in its group
+            deadline = time.monotonic() + grace
+            while time.monotonic() < deadline:  # until the group is empty (a zombie counts until reaped)
+                os.killpg(self.process.pid, 0)
+                time.sleep(0.02)
         if self._reader is not None:
             self._reader.join(timeout=1.0)
 
@@ -225,7 +239,7 @@ class Supervisor:
             time.sleep(0.05)
         for child in children:
             child.ready_announced = True
-        if waiting:
+        if waiting and not self.stopping.is_set():
             raise RuntimeError(
                 "no answer within {:g} s from {}".format(timeout, ", ".join(c.spec.label for c in waiting))
             )

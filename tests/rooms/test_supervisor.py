@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import re
+import signal
 import sys
 import time
 
+from app.rooms.cli import SERVING
 from app.rooms.supervisor import ChildSpec, Supervisor
 from tests.harness import wait_for
 from tests.rooms.running import alive
@@ -54,3 +56,20 @@ def test_stop_kills_a_child_that_ignores_sigterm_and_whatever_it_started() -> No
     assert time.monotonic() - start < 5.0
     assert not alive(pid) and not alive(grandchild)
     assert "stubborn (pid" in lines[-1] and "did not stop within 0.5 s: killed" in lines[-1]
+
+
+def test_a_child_serving_on_another_port_than_its_own_is_stopped() -> None:
+    """viser moves to the next port when its own is taken; nginx would never reach it: stopped, said so."""
+    lines: list[str] = []
+    supervisor = Supervisor(lines.append)
+    said = "import time; print('Rigid Body Lab serving on http://127.0.0.1:8102', flush=True); time.sleep(60)"
+    spec = ChildSpec("moved", (sys.executable, "-c", said), "127.0.0.1", 8101, port_said=SERVING)
+    child = supervisor.add(spec)
+    child.start()
+    try:
+        assert child.process is not None
+        child.process.wait(timeout=20)
+        assert child.process.returncode == -signal.SIGTERM
+        assert "moved serves on port 8102, not 8101 (taken?): stopping it" in lines
+    finally:
+        supervisor.stop()
