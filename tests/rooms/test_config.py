@@ -9,6 +9,8 @@ from typing import Any
 
 import pytest
 
+import app.server
+from app.__main__ import main as app_main
 from app.rooms.cli import main as rooms_main
 from app.rooms.config import Backend, RoomsError, app_arguments, parse_rooms, read_rooms
 from app.rooms.nginx import NginxMissing, find_nginx
@@ -160,3 +162,28 @@ def test_the_rigid_body_lab_command_dispatches_rooms(tmp_path: Path) -> None:
     )
     assert result.returncode == 2, result.stderr
     assert "room 'hw' (room 1), key 'processes': must be at least 1, got 0" in result.stderr
+
+
+def test_shared_is_a_mode_on_any_host(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """A shared room on another machine binds a non-loopback address, where the app's default is presenter
+    mode: ``--shared`` keeps it shared (``presenter=False``), and only one of the three modes may be given."""
+    given: dict[str, Any] = {}
+
+    class Started(Exception):
+        pass
+
+    class StandIn:
+        def __init__(self, **kwargs: Any) -> None:
+            given.update(kwargs)
+            raise Started
+
+    monkeypatch.setattr(app.server, "App", StandIn)
+    with pytest.raises(Started):
+        app_main(["--host", "10.0.0.5", "--port", "0", "--shared"])
+    assert given["presenter"] is False and given["private"] is False
+    with pytest.raises(Started):
+        app_main(["--host", "10.0.0.5", "--port", "0"])
+    assert given["presenter"] is None  # the default: presenter mode off loopback
+    with pytest.raises(SystemExit):
+        app_main(["--shared", "--private"])
+    assert "choose one of --presenter, --private and --shared" in capsys.readouterr().err
