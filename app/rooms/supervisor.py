@@ -180,6 +180,13 @@ class Child:
         with contextlib.suppress(ProcessLookupError, PermissionError):
             os.killpg(self.process.pid, signum)
 
+    def clear_group(self) -> None:
+        """SIGKILL whatever is left of a dead child's process group (nginx's workers outlive a killed master
+        and keep its port)."""
+        if self.process is not None:
+            with contextlib.suppress(ProcessLookupError, PermissionError):
+                os.killpg(self.process.pid, signal.SIGKILL)
+
     def stop(self, grace: float = STOP_GRACE) -> None:
         """SIGTERM (unless already sent), then SIGKILL after ``grace`` s; waits until it is gone."""
         if self.process is None:
@@ -260,6 +267,7 @@ class Supervisor:
                     self.log(f"{child.spec.label} is back (pid {child.pid}), answering {took:.1f} s after its restart")
                 continue
             if child.next_start == 0.0:  # first look since it died
+                child.clear_group()
                 ran = now - child.started
                 child.quick_deaths = child.quick_deaths + 1 if ran < STEADY else 0
                 wait = 0.0 if child.quick_deaths <= 1 else min(MAX_BACKOFF, 2.0 ** (child.quick_deaths - 2))

@@ -191,6 +191,23 @@ def test_a_killed_pool_process_is_back_within_10_s_and_joins_meanwhile_land_on_t
         assert survivor.recv(timeout=2)  # and the survivor never lost its process
 
 
+def test_a_killed_nginx_is_restarted_with_its_workers_gone(department: RunningDepartment) -> None:
+    """nginx's workers outlive a master killed with SIGKILL and hold its port: the supervisor clears the
+    group and starts nginx again, and the rooms answer through it."""
+    start = len(department.lines)
+    master = department.pids()["nginx"]
+    workers = [int(p) for p in Path(f"/proc/{master}/task/{master}/children").read_text().split()]
+    assert workers
+    killed = time.monotonic()
+    os.kill(master, signal.SIGKILL)
+    department.wait_line(r"nginx is back", 10.0, start)
+    assert time.monotonic() - killed < 10.0
+    assert not [pid for pid in workers if alive(pid)]
+    assert get(department.port, "/").status == 200
+    with proxied(department.port, "mech101") as ws:
+        assert ws.recv(timeout=20)
+
+
 def test_sigint_stops_nginx_and_every_process(department: RunningDepartment) -> None:
     pids = department.pids()
     assert set(pids) == {"mech101", "phys202", "homework 1", "homework 2", "nginx"}
