@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -11,9 +12,11 @@ import pytest
 
 import app.server
 from app.__main__ import main as app_main
+from app.rooms.cli import check_ports
 from app.rooms.cli import main as rooms_main
 from app.rooms.config import Backend, RoomsError, app_arguments, parse_rooms, read_rooms
 from app.rooms.nginx import NginxMissing, find_nginx
+from tests.harness import free_port
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "rooms.toml"
@@ -187,3 +190,25 @@ def test_shared_is_a_mode_on_any_host(monkeypatch: pytest.MonkeyPatch, capsys: p
     with pytest.raises(SystemExit):
         app_main(["--shared", "--private"])
     assert "choose one of --presenter, --private and --shared" in capsys.readouterr().err
+
+
+def test_a_port_in_use_is_refused_and_another_machines_backend_is_not_started() -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        free = free_port()
+        d = department(
+            [
+                {"name": "lab", "mode": "private", "hosts": [f"127.0.0.1:{free}", "192.0.2.7:8101"]},
+                {"name": "demo", "mode": "shared", "port": port},
+            ],
+            listen=f"127.0.0.1:{free_port()}",
+        )
+        with pytest.raises(RoomsError, match=rf"room 'demo' \(room 2\), key 'port': 127.0.0.1:{port} is in use"):
+            check_ports(d)
+    # Once the port is free: only this machine's backends are started (192.0.2.7 is not an address here).
+    assert [(room.name, backend.address) for room, backend in check_ports(d)] == [
+        ("lab", f"127.0.0.1:{free}"),
+        ("demo", f"127.0.0.1:{port}"),
+    ]
