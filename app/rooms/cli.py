@@ -116,7 +116,7 @@ def run(department: Department, nginx: str) -> int:
             ChildSpec("nginx", tuple(nginx_command(nginx, folder)), department.listen_host, department.listen_port)
         )
         try:
-            supervisor.start(rooms)
+            supervisor.start(rooms, timeout=60.0 + 5.0 * len(rooms))  # they start at once, sharing the cores
             supervisor.start([proxy], timeout=20.0)
         except RuntimeError as exc:
             log(f"the department did not start: {exc}")
