@@ -232,3 +232,14 @@ def test_sigterm_stops_a_department_started_on_its_own(tmp_path: Path) -> None:
         assert running.stop(signal.SIGTERM) == 0
         assert set(pids) == {"demo", "nginx"} and not [pid for pid in pids.values() if alive(pid)]
     assert port_free("127.0.0.1", port)
+
+
+def test_a_department_killed_with_sigkill_takes_its_processes_with_it(tmp_path: Path) -> None:
+    """No handler runs on SIGKILL: each child was started to get SIGTERM when the supervisor dies."""
+    nginx_or_skip()
+    path, port = rooms_file(tmp_path, [{"name": "demo", "mode": "shared", "free_hosts": ["127.0.0.1"]}])
+    with running_department(path, port) as running:
+        pids = running.pids()
+        assert running.stop(signal.SIGKILL) == -signal.SIGKILL
+        wait_for(lambda: not [pid for pid in pids.values() if alive(pid)], timeout=10, what="the children to go")
+    assert port_free("127.0.0.1", port)
