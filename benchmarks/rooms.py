@@ -3,9 +3,10 @@ a pool process killed with SIGKILL.
 
 ``rigid-body-lab rooms`` runs in a child process exactly as a department runs it (nginx in front, one
 process per room, 127.0.0.2 and 127.0.0.3 standing in for two machines of a private pool). The simulated
-browsers are websocket clients speaking viser's protocol (as :mod:`benchmarks.serve`: no browser), all
-in one further process so that reading does not compete with any server's GIL; each first gets its
-room's cookie from nginx as a page load does, then opens ``/ROOM`` with viser's subprotocol. A frame is
+browsers are websocket clients speaking viser's protocol (as :mod:`benchmarks.serve`: no browser), in
+further processes (two for the pool, one per presenter room: browsers read on their own machines, not
+under one GIL); each first gets its room's cookie from nginx as a page load does, then opens ``/ROOM``
+with viser's subprotocol and reads from then on. A frame is
 a websocket message that sets the pose of the room's body (:func:`benchmarks.serve.posed_nodes`).
 
 Rows:
@@ -74,23 +75,17 @@ def picker_and_nodes(raw: bytes, state: dict[str, Any]) -> None:
             state["scene"] = m["updates"].get("value", state.get("scene"))
 
 
-def clients(port: int, rooms: list[tuple[str, str]], read_for: float, out: Any) -> None:
-    """In a child process: one browser per (room, body node) of ``rooms``; each reads for ``read_for`` s
-    after every browser is connected and reports its process, its frames' times and what it was shown.
-    Puts ("connected", t0) first, then the list of reports."""
-    sockets = []
-    for room, _ in rooms:
-        cookie, _ = room_cookie(port, room)
-        sockets.append(proxied(port, room, cookie or None, timeout=60))
-    t0 = time.monotonic()
-    out.put(("connected", t0))
-    reports: list[dict[str, Any]] = [
-        {"room": room, "backend": backend_of(ws), "frames": [], "nodes": set(), "scene": None, "lost": ""}
-        for (room, _), ws in zip(rooms, sockets, strict=True)
-    ]
+def clients(port: int, rooms: list[tuple[str, str]], read_for: float, out: Any, go: Any, start: Any) -> None:
+    """In a child process: one browser per (room, body node) of ``rooms``, each reading from its connection
+    on (as a page does). Puts ("connected", n) once all are in, waits for ``go``, reads until ``start.value``
+    + ``read_for`` (monotonic s, one clock for every process), then puts the list of reports: per browser
+    its process, its frames' times, the nodes and the Scene picker it was shown, why it lost its connection."""
     stop = threading.Event()
+    reports: list[dict[str, Any]] = []
+    sockets = []
+    readers = []
 
-    def read(ws: Any, body: str, report: dict[str, Any]) -> None:
+    def read(ws: Any, body: str, report: dict[str, Any], connected: float) -> None:
         while not stop.is_set():
             try:
                 message = ws.recv(timeout=0.1)
@@ -100,20 +95,25 @@ def clients(port: int, rooms: list[tuple[str, str]], read_for: float, out: Any) 
                 report["lost"] = f"{type(exc).__name__}: {exc}"
                 return
             now = time.monotonic()
-            if now - t0 < WARMUP:  # the room's GUI and meshes arrive first: read them fully
+            if now - connected < WARMUP:  # the room's GUI and meshes arrive first: read them fully
                 picker_and_nodes(message, report)
             nodes = posed_nodes(message)
             report["nodes"] |= nodes
             if body in nodes:
                 report["frames"].append(now)
 
-    readers = [
-        threading.Thread(target=read, args=(ws, body, report), daemon=True)
-        for ws, (_, body), report in zip(sockets, rooms, reports, strict=True)
-    ]
-    for r in readers:
-        r.start()
-    time.sleep(max(0.0, t0 + read_for - time.monotonic()))
+    for room, body in rooms:
+        cookie, _ = room_cookie(port, room)
+        ws = proxied(port, room, cookie or None, timeout=60)
+        report = {"room": room, "backend": backend_of(ws), "frames": [], "nodes": set(), "scene": None, "lost": ""}
+        reader = threading.Thread(target=read, args=(ws, body, report, time.monotonic()), daemon=True)
+        reader.start()
+        sockets.append(ws)
+        reports.append(report)
+        readers.append(reader)
+    out.put(("connected", len(sockets)))
+    go.wait(600)
+    time.sleep(max(0.0, start.value + read_for - time.monotonic()))
     stop.set()
     for r in readers:
         r.join(timeout=2.0)
@@ -123,15 +123,35 @@ def clients(port: int, rooms: list[tuple[str, str]], read_for: float, out: Any) 
     out.put([{**r, "nodes": sorted(r["nodes"])} for r in reports])
 
 
-def run_clients(port: int, rooms: list[tuple[str, str]], read_for: float) -> tuple[Any, Any, float]:
-    """Start :func:`clients` in a spawned process; returns (process, queue, t0 once every browser is in)."""
-    ctx = mp.get_context("spawn")
-    out = ctx.Queue()
-    child = ctx.Process(target=clients, args=(port, rooms, read_for, out), daemon=True)
-    child.start()
-    tag, t0 = out.get(timeout=180)
-    assert tag == "connected"
-    return child, out, t0
+class Clients:
+    """Simulated browsers in ``processes`` spawned processes (``plan`` cut into that many consecutive
+    parts), each process one GIL of readers, as browsers on their own machines read on their own."""
+
+    def __init__(self, port: int, plan: list[tuple[str, str]], read_for: float, processes: int) -> None:
+        ctx = mp.get_context("spawn")
+        self.out = ctx.Queue()
+        go, start = ctx.Event(), ctx.Value("d", 0.0)
+        size = -(-len(plan) // processes)
+        parts = [plan[i : i + size] for i in range(0, len(plan), size)]
+        self.children = [
+            ctx.Process(target=clients, args=(port, part, read_for, self.out, go, start), daemon=True) for part in parts
+        ]
+        for child in self.children:
+            child.start()
+        for _ in self.children:
+            tag, _n = self.out.get(timeout=300)
+            assert tag == "connected"
+        self.t0 = time.monotonic()  # every browser is in: the clock of the rows starts
+        start.value = self.t0
+        go.set()
+
+    def reports(self, timeout: float) -> list[dict[str, Any]]:
+        found: list[dict[str, Any]] = []
+        for _ in self.children:
+            found += self.out.get(timeout=timeout)
+        for child in self.children:
+            child.join(timeout=10)
+        return found
 
 
 # ------------------------------------------------------------------------------------------ the figures
@@ -188,7 +208,8 @@ def pool_and_kill(folder: Path, sessions: int, seconds: float) -> dict[str, Any]
         started = dict(re.findall(r"started (homework \d) \(pid \d+\) on (\S+)", department.log()))
         first, second = started["homework 1"], started["homework 2"]
         read_for = WARMUP + seconds + 0.5 + 6.0
-        child, out, t0 = run_clients(port, [("homework", BODY[POOL_SCENE])] * sessions, read_for)
+        browsers = Clients(port, [("homework", BODY[POOL_SCENE])] * sessions, read_for, processes=2)
+        t0 = browsers.t0
         window = (t0 + WARMUP, t0 + WARMUP + seconds)
         time.sleep(max(0.0, window[1] + 0.5 - time.monotonic()))
         lines_before = len(department.lines)
@@ -210,8 +231,7 @@ def pool_and_kill(folder: Path, sessions: int, seconds: float) -> dict[str, Any]
             time.sleep(0.5)
         back_after = back.result(timeout=20.0)
         department.wait_line(r"homework 1 is back", 20.0, lines_before)  # and the log says so
-        reports = out.get(timeout=read_for + 60)
-        child.join(timeout=10)
+        reports = browsers.reports(timeout=read_for + 60)
     on_first = [r for r in reports if r["backend"] == first]
     on_second = [r for r in reports if r["backend"] == second]
     rates = [rate(r["frames"], *window) for r in reports]
@@ -240,10 +260,9 @@ def presenter_rooms(folder: Path, followers: int, seconds: float) -> dict[str, A
     with running_department(path, port, timeout=120) as department:
         del department
         plan = [(name, BODY[scene]) for name, scene in PRESENTER_ROOMS for _ in range(followers)]
-        child, out, t0 = run_clients(port, plan, WARMUP + seconds + 0.2)
-        reports = out.get(timeout=WARMUP + seconds + 60)
-        child.join(timeout=10)
-    window = (t0 + WARMUP, t0 + WARMUP + seconds)
+        browsers = Clients(port, plan, WARMUP + seconds + 0.2, processes=len(PRESENTER_ROOMS))
+        reports = browsers.reports(timeout=WARMUP + seconds + 60)
+    window = (browsers.t0 + WARMUP, browsers.t0 + WARMUP + seconds)
     per_room = {}
     for name, _ in PRESENTER_ROOMS:
         rates = [rate(r["frames"], *window) for r in reports if r["room"] == name]
@@ -271,8 +290,9 @@ def report(pool: dict[str, Any], lecture: dict[str, Any], command: str, machine:
         "",
         f"`{command}`. `rigid-body-lab rooms` in a child process (nginx in front on 127.0.0.1; the pool's two "
         "processes on 127.0.0.2 and 127.0.0.3 standing in for two machines). Simulated browsers: websocket "
-        "clients speaking viser's protocol, all in one further process, each getting its room's cookie from nginx "
-        "first as a page load does; a frame is a message that sets the pose of the room's body.",
+        "clients speaking viser's protocol in further processes on the same cores (two for the pool, one per "
+        "presenter room), each getting its room's cookie from nginx first as a page load does; a frame is a "
+        "message that sets the pose of the room's body.",
         "",
         machine,
         "",
