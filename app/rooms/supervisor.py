@@ -36,6 +36,7 @@ __all__ = [
     "ChildSpec",
     "Supervisor",
     "answers",
+    "describe_exit",
     "is_local_address",
     "port_free",
 ]
@@ -209,6 +210,7 @@ class Child:
 
 
 def describe_exit(code: int) -> str:
+    """A child's exit for the log: "exited with code N" or "killed by SIGNAME"."""
     if code < 0:
         try:
             return f"killed by {signal.Signals(-code).name}"
