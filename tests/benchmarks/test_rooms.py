@@ -70,10 +70,12 @@ def test_the_report_judges_each_target() -> None:
         "joins": [(0.1, "127.0.0.3:1", True), (4.8, "127.0.0.2:1 (after the restart)", True)],
         "living": "127.0.0.3:1",
         "back_after": 4.5,
+        "cpu": {"homework 1": 0.9, "homework 2": 0.85},
     }
     lecture = {"followers": 30, "per_room": {n: (56.0, 58.0) for n in ("mech101", "phys202", "sport")}}
-    lecture |= {"frames_min": 56.0, "isolation": [], "lost": 0}
-    text = "\n".join(report(pool, lecture, "cmd", "machine", 1.0))
+    lecture |= {"frames_min": 56.0, "isolation": [], "lost": 0, "cpu": {"mech101": 0.5, "phys202": 0.4, "sport": 0.4}}
+    text = "\n".join(report(pool, lecture, "cmd", "machine", 1.0, "9 CPU seconds"))
+    assert "| 60 | 31.0 | 40.0 | 0.90 + 0.85 |" in text and "| 30 | 56.0 | 58.0 | 0.50 |" in text
     assert "60 sessions at ≥ 30 frames/s each: slowest 31.0 — met" in text
     assert "slowest 56.0 — met" in text
     assert "longest gap between two frames 300 ms" in text and "— NOT met (no gap over 250 ms)" in text
