@@ -367,8 +367,8 @@ def report(
     lines += [
         "",
         "Room process CPU: CPU seconds per second of wall time of each room's process during the measured "
-        "seconds (1.00 = a whole core). The issue's figures assume 2 cores for the department; "
-        f"{used} is what this run and everything it started got from the shared machine.",
+        "seconds (1.00 = a whole core; the pool's two processes together could use both cores of an idle "
+        f"machine). This run and everything it started used {used}, start-up and waits included.",
         "",
         f"Run time: {took:.0f} s.",
     ]
