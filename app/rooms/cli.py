@@ -90,8 +90,8 @@ def run(department: Department, nginx: str) -> int:
     def stop(signum: int, frame: FrameType | None) -> None:
         supervisor.stopping.set()
 
-    signal.signal(signal.SIGTERM, stop)
-    signal.signal(signal.SIGINT, stop)
+    for signum in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):  # systemd, Ctrl-C, a closed terminal
+        signal.signal(signum, stop)
     with tempfile.TemporaryDirectory(prefix="rigid-body-lab-rooms-") as tmp:
         folder = Path(tmp)
         folder.chmod(0o755)  # nginx's workers (user nobody when started as root) write its temp/ files
