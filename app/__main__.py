@@ -1,7 +1,8 @@
 """The ``rigid-body-lab`` command: start the viser server and print the addresses to open.
 
 ``rigid-body-lab export --scene NAME [--preset P | --state TEXT] --seconds S --out DIR`` records a motion
-without a browser instead (:mod:`app.recording.export`).
+without a browser instead (:mod:`app.recording.export`); ``rigid-body-lab rooms ROOMS.toml [--write DIR]`` serves a
+department's rooms behind nginx (:mod:`app.rooms`).
 """
 
 from __future__ import annotations
@@ -60,6 +61,10 @@ def main(argv: list[str] | None = None) -> None:
     if argv[:1] == ["export"]:
         export_main(argv[1:])
         return
+    if argv[:1] == ["rooms"]:
+        from app.rooms.cli import main as rooms_main
+
+        raise SystemExit(rooms_main(argv[1:]))
 
     parser = argparse.ArgumentParser(prog="rigid-body-lab", description=__doc__)
     parser.add_argument("--host", default="127.0.0.1", help="127.0.0.1 (default) or 0.0.0.0 for a classroom LAN")
@@ -82,6 +87,11 @@ def main(argv: list[str] | None = None) -> None:
         help="presenter mode on 127.0.0.1 too (it is the default for any other --host): browsers follow "
         "the lecture read-only until they enter the PIN",
     )
+    parser.add_argument(
+        "--shared",
+        action="store_true",
+        help="one simulation every browser drives, on any --host (the default on 127.0.0.1 only)",
+    )
     parser.add_argument("--pin", default=None, help="presenter PIN, 4 to 32 letters or digits (default: random)")
     parser.add_argument(
         "--state", default=None, metavar="TEXT", help="start from a state text (the panel's “Copy state”)"
@@ -103,8 +113,8 @@ def main(argv: list[str] | None = None) -> None:
             check_pin(args.pin)
         except ValueError as exc:
             parser.error(str(exc))
-    if args.private and args.presenter:
-        parser.error("choose --presenter or --private, not both")
+    if sum((args.private, args.presenter, args.shared)) > 1:
+        parser.error("choose one of --presenter, --private and --shared")
     if args.state is not None:
         from app.teaching.states import parse_state
 
@@ -119,7 +129,7 @@ def main(argv: list[str] | None = None) -> None:
             read_lecture(args.lecture)
         except ValueError as exc:
             parser.error(f"--lecture: {exc}")
-    presenter = True if args.presenter else None
+    presenter = True if args.presenter else (False if args.shared else None)
     try:
         app = App(
             host=args.host,

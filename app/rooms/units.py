@@ -1,0 +1,116 @@
+"""systemd units for a deployment: one service per app process, one for the proxy, and a target for all.
+
+Each room's process is ``rigid-body-lab-NAME.service`` (a pool's are ``rigid-body-lab-NAME-1.service``,
+``-2``, ...), restarted by systemd when it dies. A backend on another machine (the room's ``hosts``)
+gets its unit too: it is copied to that machine (:func:`machines` says which unit goes where). The
+proxy's unit runs nginx with the written configuration; ``rigid-body-lab.target`` starts and stops
+everything that runs on one machine.
+"""
+
+from __future__ import annotations
+
+import shlex
+from collections.abc import Sequence
+from pathlib import Path
+
+from app.rooms.config import Backend, Department, Room, app_arguments
+
+__all__ = ["PROXY_UNIT", "TARGET", "app_unit", "is_loopback_host", "machines", "proxy_unit", "target_unit", "unit_name"]
+
+TARGET = "rigid-body-lab.target"
+PROXY_UNIT = "rigid-body-lab-proxy.service"
+
+
+def unit_name(room: Room, backend: Backend) -> str:
+    """``rigid-body-lab-NAME.service``, or ``rigid-body-lab-NAME-I.service`` for process I of a pool."""
+    suffix = f"-{backend.index}" if len(room.backends) > 1 else ""
+    return f"rigid-body-lab-{room.name}{suffix}.service"
+
+
+def _exec(command: Sequence[str]) -> str:
+    return " ".join(shlex.quote(part) for part in command)
+
+
+def app_unit(room: Room, backend: Backend, python: str, *, workdir: str | None = None) -> str:
+    """The unit of one app process: ``python -m app`` with the room's mode on the backend's address."""
+    command = [python, "-m", "app", *app_arguments(room, backend)]
+    lines = [
+        "[Unit]",
+        f"Description=Rigid Body Lab room {room.name} ({room.mode}), process {backend.index} on {backend.address}",
+        "After=network-online.target",
+        "Wants=network-online.target",
+        f"PartOf={TARGET}",
+        "",
+        "[Service]",
+        f"ExecStart={_exec(command)}",
+        "Environment=PYTHONUNBUFFERED=1",
+    ]
+    if workdir is not None:
+        lines.append(f"WorkingDirectory={workdir}")
+    lines += [
+        "Restart=always",
+        "RestartSec=2",
+        "KillSignal=SIGTERM",
+        "TimeoutStopSec=10",
+        "NoNewPrivileges=yes",
+        "PrivateTmp=yes",
+        "# The app needs no privileges: run it as an ordinary user of your choice.",
+        "# User=rigid-body-lab",
+        "",
+        "[Install]",
+        f"WantedBy={TARGET}",
+    ]
+    if room.mode == "presenter":  # the PIN is in the command line: keep the file from other users
+        lines.insert(lines.index("[Service]") + 1, "# The presenter PIN is on the command line below.")
+    return "\n".join(lines) + "\n"
+
+
+def proxy_unit(nginx: str, folder: Path, local_units: Sequence[str]) -> str:
+    """The proxy's unit: nginx in the foreground with the written configuration (``folder`` is its prefix)."""
+    folder = folder.resolve()
+    after = " ".join(local_units)
+    command = [nginx, "-p", f"{folder}/", "-c", str(folder / "nginx.conf"), "-g", "daemon off;"]
+    lines = [
+        "[Unit]",
+        "Description=Rigid Body Lab rooms: nginx in front of the rooms",
+        "After=network-online.target" + (f" {after}" if after else ""),
+        "Wants=network-online.target",
+        f"PartOf={TARGET}",
+        "",
+        "[Service]",
+        f"ExecStartPre={_exec([nginx, '-t', '-q', '-p', f'{folder}/', '-c', str(folder / 'nginx.conf')])}",
+        f"ExecStart={_exec(command)}",
+        "ExecReload=/bin/kill -HUP $MAINPID",
+        "KillSignal=SIGTERM",
+        "Restart=always",
+        "RestartSec=2",
+        "",
+        "[Install]",
+        f"WantedBy={TARGET}",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def target_unit(units: Sequence[str]) -> str:
+    """The target that starts every unit of one machine (``systemctl start rigid-body-lab.target``)."""
+    wants = f"Wants={' '.join(units)}\n" if units else ""
+    return (
+        "[Unit]\nDescription=Rigid Body Lab rooms (every process on this machine)\n"
+        f"{wants}\n[Install]\nWantedBy=multi-user.target\n"
+    )
+
+
+def is_loopback_host(host: str) -> bool:
+    """127.0.0.0/8, ::1 or localhost: a backend on the proxy's own machine."""
+    return host == "localhost" or host == "::1" or host.startswith("127.")
+
+
+def machines(department: Department) -> dict[str, list[str]]:
+    """Which app units run on which machine: ``"this machine"`` (the proxy's) for loopback backends,
+    otherwise the backend's host."""
+    where: dict[str, list[str]] = {}
+    for room in department.rooms:
+        for backend in room.backends:
+            here = is_loopback_host(backend.host)
+            where.setdefault("this machine" if here else backend.host, []).append(unit_name(room, backend))
+    return where

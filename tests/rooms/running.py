@@ -1,0 +1,247 @@
+"""Helpers for driving ``rigid-body-lab rooms`` as a user does: the command in a child process, its log
+read as it comes, clients through the proxy (a cookie as a browser gets it, viser's websocket).
+
+* :func:`rooms_file` — a rooms file on free loopback ports (127.0.0.2/.3 stand in for other machines);
+* :func:`running_department` — the command running it; always stopped (SIGTERM, then SIGKILL) on exit;
+* :func:`room_cookie` — the cookie nginx gives a browser's first visit to a private room, and who answered;
+* :func:`proxied` — a websocket to ``/ROOM`` through the proxy with viser's subprotocol, as the page opens it.
+
+Used by ``tests/rooms`` and ``benchmarks/rooms.py``; loopback only.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import http.client
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import msgspec
+import pytest
+import viser
+from websockets.sync.client import ClientConnection, connect
+
+from app.rooms.cli import READY
+from app.rooms.nginx import BACKEND_HEADER, NginxMissing, find_nginx
+from tests.harness import free_port
+
+ROOT = Path(__file__).resolve().parents[2]
+SUBPROTOCOL = f"viser-v{viser.__version__}"
+CAMERA = msgspec.msgpack.encode(
+    {
+        "type": "ViewerCameraMessage",
+        "wxyz": (1.0, 0.0, 0.0, 0.0),
+        "position": (3.0, -3.0, 2.0),
+        "fov": 0.9,
+        "near": 0.01,
+        "far": 100.0,
+        "image_height": 480,
+        "image_width": 640,
+        "look_at": (0.0, 0.0, 0.0),
+        "up_direction": (0.0, 0.0, 1.0),
+    }
+)
+PROBE = "/rooms-probe"  # a path every room answers with 404: cheap, and nginx still sets the cookie
+
+
+def nginx_or_skip() -> str:
+    """nginx's binary, or a skip saying how to install it (a skip fails CI: ``RBL_NO_SKIP=1``)."""
+    try:
+        return find_nginx()
+    except NginxMissing as exc:
+        pytest.skip(str(exc))
+
+
+def rooms_file(folder: Path, rooms: list[dict[str, Any]], listen: int | None = None) -> tuple[Path, int]:
+    """Write a rooms file into ``folder``; each room dict is its keys (``port`` and ``hosts`` given as
+    written, or ``free`` = number of processes to place on free ports of 127.0.0.1, or ``free_hosts`` =
+    loopback addresses to place one process each on). Returns the path and the proxy's port."""
+    listen = listen or free_port()
+    lines = [f'listen = "127.0.0.1:{listen}"']
+    for room in rooms:
+        room = dict(room)
+        lines.append("[[room]]")
+        if "free_hosts" in room:
+            room["hosts"] = [f"{h}:{_free_on(h)}" for h in room.pop("free_hosts")]
+        for key, value in room.items():
+            if isinstance(value, str):
+                lines.append(f'{key} = "{value}"')
+            elif isinstance(value, bool):
+                lines.append(f"{key} = {'true' if value else 'false'}")
+            elif isinstance(value, list):
+                lines.append(
+                    f"{key} = [{', '.join(repr(v) if isinstance(v, int) else chr(34) + v + chr(34) for v in value)}]"
+                )
+            else:
+                lines.append(f"{key} = {value}")
+    path = folder / "rooms.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path, listen
+
+
+def _free_on(host: str) -> int:
+    with socket.socket() as s:
+        s.bind((host, 0))
+        return int(s.getsockname()[1])
+
+
+class RunningDepartment:
+    """``python -m app rooms FILE`` in a child process, with its log kept line by line."""
+
+    def __init__(self, path: Path, port: int) -> None:
+        self.port = port
+        self.lines: list[str] = []
+        self._new_line = threading.Condition()
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", "PYTHONPATH": str(ROOT)}
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "app", "rooms", str(path)],
+            cwd=ROOT,
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.process.stdout is not None
+        for line in self.process.stdout:
+            with self._new_line:
+                self.lines.append(line.rstrip("\n"))
+                self._new_line.notify_all()
+
+    def log(self) -> str:
+        return "\n".join(self.lines)
+
+    def wait_line(self, pattern: str, timeout: float, start: int = 0) -> re.Match[str]:
+        """The first log line (from line ``start`` on) matching ``pattern``; AssertionError after ``timeout``."""
+        deadline = time.monotonic() + timeout
+        regex = re.compile(pattern)
+        with self._new_line:
+            while True:
+                for line in self.lines[start:]:
+                    found = regex.search(line)
+                    if found:
+                        return found
+                left = deadline - time.monotonic()
+                if left <= 0 or (self.process.poll() is not None and not self._reader.is_alive()):
+                    raise AssertionError(f"no log line matching {pattern!r} within {timeout} s:\n{self.log()}")
+                self._new_line.wait(min(left, 0.2))
+
+    def pids(self) -> dict[str, int]:
+        """Each child's current pid by its label (``mech101``, ``homework 1``, ``nginx``), from the log."""
+        found: dict[str, int] = {}
+        for line in self.lines:
+            match = re.search(r"\b(?:started|restarted) (.+?) \(pid (\d+)\)", line)
+            if match:
+                found[match.group(1)] = int(match.group(2))
+        return found
+
+    def url(self, path: str) -> str:
+        return f"http://127.0.0.1:{self.port}{path}"
+
+    def stop(self, signum: int = signal.SIGTERM, timeout: float = 15.0) -> int:
+        """Send ``signum`` and wait for the command to end (SIGKILL after ``timeout`` s); its exit code."""
+        if self.process.poll() is None:
+            self.process.send_signal(signum)
+            try:
+                self.process.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait(timeout=10)
+        self._reader.join(timeout=5)
+        return int(self.process.returncode)
+
+
+@contextlib.contextmanager
+def running_department(path: Path, port: int, timeout: float = 90.0) -> Iterator[RunningDepartment]:
+    """The department of ``path`` running until the block ends (then stopped, and every child it started
+    checked gone)."""
+    department = RunningDepartment(path, port)
+    try:
+        department.wait_line(re.escape(READY), timeout)
+        yield department
+    finally:
+        department.stop()
+        left = [pid for pid in department.pids().values() if ours(pid)]
+        for pid in left:  # a child left behind: killed here, and the test says so
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+        if left:
+            raise AssertionError(f"pids {left} outlived their department:\n{department.log()}")
+
+
+def alive(pid: int) -> bool:
+    """Whether ``pid`` is a running process (a zombie is not: it has exited)."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            return stat.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+
+
+def ours(pid: int) -> bool:
+    """Whether ``pid`` is still a running room process or nginx (not a pid the system gave to another)."""
+    if not alive(pid):
+        return False
+    try:
+        command = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
+    except OSError:
+        return False
+    return b"app" in command or any(part.endswith(b"nginx") or part.startswith(b"nginx") for part in command)
+
+
+def room_cookie(port: int, room: str) -> tuple[str, str]:
+    """A first visit to ``/room/`` without a cookie: the ``NAME=VALUE`` cookie nginx sets, and the backend
+    that answered (``host:port``)."""
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    try:
+        connection.request("GET", f"/{room}{PROBE}")
+        response = connection.getresponse()
+        response.read()
+        cookie = response.getheader("Set-Cookie") or ""
+        return cookie.split(";")[0], response.getheader(BACKEND_HEADER) or ""
+    finally:
+        connection.close()
+
+
+def get(port: int, path: str, cookie: str | None = None) -> http.client.HTTPResponse:
+    """A GET through the proxy (no redirect followed); the response, its body read into ``.body``."""
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    connection.request("GET", path, headers={"Cookie": cookie} if cookie else {})
+    response = connection.getresponse()
+    response.body = response.read()  # type: ignore[attr-defined]
+    connection.close()
+    return response
+
+
+def proxied(port: int, room: str, cookie: str | None = None, timeout: float = 30.0) -> ClientConnection:
+    """viser's websocket to ``/room`` through the proxy, as the page opens it (its address without the
+    trailing slash, the subprotocol ``viser-vX.Y.Z``, the room's cookie)."""
+    ws = connect(
+        f"ws://127.0.0.1:{port}/{room}",
+        subprotocols=[SUBPROTOCOL],  # type: ignore[list-item]
+        additional_headers={"Cookie": cookie} if cookie else None,
+        max_size=None,
+        open_timeout=timeout,
+        close_timeout=1,
+    )
+    ws.send(CAMERA)  # viser counts a client once it reports its camera, as the page does at once
+    return ws
+
+
+def backend_of(ws: ClientConnection) -> str:
+    """The process that took this websocket (``host:port``, from the proxy's response header, which lists
+    every process nginx tried: the last one answered)."""
+    assert ws.response is not None
+    return str(ws.response.headers.get(BACKEND_HEADER, "")).split(",")[-1].strip()

@@ -1,0 +1,245 @@
+"""``rigid-body-lab rooms`` running a department on loopback, driven as browsers drive it through nginx.
+
+One department for the module (two presenter rooms and a private pool of two processes, on 127.0.0.2 and
+127.0.0.3 standing in for two machines): routing of ``/NAME/`` with viser's websocket through the proxy,
+isolation of the rooms, stickiness by cookie and spreading, Chromium on a room's page, a process
+restarted after SIGKILL, and the clean stop (last: it stops the department).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+import time
+from collections import Counter
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from app.rooms.supervisor import answers, port_free
+from tests.harness import received, wait_for
+from tests.rooms.running import (
+    SUBPROTOCOL,
+    RunningDepartment,
+    alive,
+    backend_of,
+    get,
+    nginx_or_skip,
+    proxied,
+    room_cookie,
+    rooms_file,
+    running_department,
+)
+
+LECTURE_NODE = "/scene/top"  # the heavy top's body
+PENDULUM_NODES = {"/scene/axle", "/scene/cop"}  # the physical pendulum's own nodes
+
+
+@pytest.fixture(scope="module")
+def department(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningDepartment]:
+    nginx_or_skip()
+    path, port = rooms_file(
+        tmp_path_factory.mktemp("rooms"),
+        [
+            {"name": "mech101", "mode": "presenter", "pin": "111111", "scene": "heavy_top"},
+            {"name": "phys202", "mode": "presenter", "pin": "222222", "scene": "pendulum"},
+            {"name": "homework", "mode": "private", "scene": "pendulum", "free_hosts": ["127.0.0.2", "127.0.0.3"]},
+        ],
+    )
+    with running_department(path, port) as running:
+        yield running
+
+
+def pool(department: RunningDepartment) -> list[str]:
+    """The pool's two backends (``host:port``) in order, from the log's start lines."""
+    found = dict(re.findall(r"started (homework \d) \(pid \d+\) on (\S+)", department.log()))
+    return [found["homework 1"], found["homework 2"]]
+
+
+def scene_and_nodes(messages: list[dict[str, Any]]) -> tuple[str | None, bool | None, set[str]]:
+    """What a client was shown: the Scene picker's last value, whether the picker is disabled (a follower),
+    and every scene node named."""
+    picker, value, disabled = None, None, None
+    nodes: set[str] = set()
+    for m in messages:
+        if isinstance(m.get("name"), str):
+            nodes.add(m["name"])
+        if m["type"] == "GuiDropdownMessage" and m["props"].get("label") == "Scene":
+            picker, value, disabled = m["uuid"], m["value"], m["props"].get("disabled")
+        elif m["type"] == "GuiUpdateMessage" and m.get("uuid") == picker:
+            value = m["updates"].get("value", value)
+            disabled = m["updates"].get("disabled", disabled)
+    return value, disabled, nodes
+
+
+def test_the_landing_page_lists_the_rooms_and_a_bare_room_address_is_redirected(department: RunningDepartment) -> None:
+    landing = get(department.port, "/")
+    assert landing.status == 200 and landing.getheader("Content-Type") == "text/html"
+    page = landing.body.decode()  # type: ignore[attr-defined]
+    for name, scene in (("mech101", "heavy_top"), ("phys202", "pendulum"), ("homework", "pendulum")):
+        assert re.search(rf'<a href="/{name}/">{name}</a></td><td>[^<]+</td><td>{scene}</td>', page), page
+    bare = get(department.port, "/mech101")
+    assert bare.status == 301 and bare.getheader("Location") == "/mech101/"  # relative: right behind any proxy
+    room = get(department.port, "/mech101/")
+    assert room.status == 200 and b"<!doctype html>" in room.body[:200].lower()  # type: ignore[attr-defined]
+    assert get(department.port, "/nowhere/").status == 404
+
+
+def test_each_room_routes_to_its_process_and_a_follower_sees_only_its_rooms_scene(
+    department: RunningDepartment,
+) -> None:
+    ports = dict(re.findall(r"started (mech101|phys202) \(pid \d+\) on 127\.0\.0\.1:(\d+)", department.log()))
+    shown = {}
+    for room in ("mech101", "phys202"):
+        with proxied(department.port, room) as ws:
+            assert ws.subprotocol == SUBPROTOCOL  # viser's subprotocol passed through both ways
+            assert backend_of(ws) == f"127.0.0.1:{ports[room]}"
+            shown[room] = scene_and_nodes(received(ws, 2.0))
+    lecture, pendulum = shown["mech101"], shown["phys202"]
+    assert lecture[0] == "Heavy top" and lecture[1] is True  # a follower: the picker is disabled
+    assert LECTURE_NODE in lecture[2] and not PENDULUM_NODES & lecture[2]
+    assert pendulum[0] is not None and pendulum[0].startswith("Physical pendulum") and pendulum[1] is True
+    assert PENDULUM_NODES <= pendulum[2] and LECTURE_NODE not in pendulum[2]
+
+
+def test_a_private_pool_keeps_a_browser_by_its_cookie_and_spreads_browsers_behind_one_address(
+    department: RunningDepartment,
+) -> None:
+    backends = Counter()
+    for _ in range(16):  # sixteen browsers, all from 127.0.0.1 (one NAT address)
+        cookie, first = room_cookie(department.port, "homework")
+        assert re.fullmatch(r"rbl_homework=[0-9a-f]{32}", cookie)
+        for _ in range(2):  # the page's websocket, then a reconnect: the same process each time
+            with proxied(department.port, "homework", cookie) as ws:
+                assert backend_of(ws) == first
+                assert ws.recv(timeout=20)
+        backends[first] += 1
+    assert set(backends) == set(pool(department)), backends  # both processes took browsers
+    # A cookie the browser already has is kept, not replaced.
+    again = get(department.port, "/homework/rooms-probe", cookie="rbl_homework=" + "ab" * 16)
+    assert again.getheader("Set-Cookie") is None
+
+
+@pytest.mark.browser
+def test_chromium_opens_a_room_under_its_prefix(department: RunningDepartment, chromium: Any) -> None:
+    """The real page at /homework: redirected to /homework/, its script opens viser's websocket at
+    /homework (relative to the page, in a web worker) through the proxy with the room's cookie, and the
+    room's panel comes. nginx's access log shows the upgrade (101) with that cookie, on the page's process."""
+    context = chromium.new_context(viewport={"width": 640, "height": 480})
+    try:
+        page = context.new_page()
+        page.goto(department.url("/homework"), wait_until="domcontentloaded")
+        assert page.url == department.url("/homework/")
+        page.wait_for_function(
+            "() => [...document.querySelectorAll('label')].some(l => l.textContent.trim() === 'Scene')",
+            timeout=60_000,
+        )
+        cookies = {c["name"]: c for c in context.cookies()}
+        assert cookies["rbl_homework"]["path"] == "/homework"
+        value = cookies["rbl_homework"]["value"]
+    finally:
+        context.close()  # nginx logs a websocket when it closes
+    folder = re.search(r"nginx configuration and logs in (\S+)", department.log())
+    assert folder is not None
+    access = Path(folder.group(1)) / "logs" / "access.log"
+
+    def lines(request: str) -> list[str]:
+        return [line for line in access.read_text().splitlines() if request in line and f"room_cookie={value}" in line]
+
+    upgraded = wait_for(lambda: lines('"GET /homework HTTP/1.1" 101'), timeout=10, what="the websocket's log line")
+    page_line = lines('"GET /homework/ HTTP/1.1" 200')
+    assert len(upgraded) == 1 and len(page_line) == 1
+    upstream = re.compile(r"upstream=(\S+)")
+    assert upstream.search(upgraded[0]).group(1) == upstream.search(page_line[0]).group(1)  # type: ignore[union-attr]
+
+
+def test_a_killed_pool_process_is_back_within_10_s_and_joins_meanwhile_land_on_the_living(
+    department: RunningDepartment,
+) -> None:
+    first, second = pool(department)
+    # A browser on the process that stays: it keeps receiving while the other dies.
+    while True:
+        cookie, backend = room_cookie(department.port, "homework")
+        if backend == second:
+            break
+    with proxied(department.port, "homework", cookie) as survivor:
+        survivor.recv(timeout=20)
+        start = len(department.lines)
+        victim = department.pids()["homework 1"]
+        killed = time.monotonic()
+        os.kill(victim, signal.SIGKILL)
+        department.wait_line(rf"homework 1 \(pid {victim}\) killed by SIGKILL .*restarting", 5, start)
+        joined = []  # (the process that took it, whether the killed one was back when it joined)
+        while time.monotonic() - killed < 5.0:  # every join within 5 s of the kill works ...
+            back = any("homework 1 is back" in line for line in department.lines[start:])
+            fresh, _ = room_cookie(department.port, "homework")
+            with proxied(department.port, "homework", fresh) as ws:
+                joined.append((backend_of(ws), back))
+                assert ws.recv(timeout=10)
+            assert survivor.recv(timeout=2)
+        # ... and lands on the living process while the killed one is down.
+        assert {backend for backend, back in joined if not back} == {second}, joined
+        department.wait_line(r"homework 1 is back", max(0.1, 10.0 - (time.monotonic() - killed)), start)
+        back = time.monotonic() - killed
+        assert back < 10.0
+        host, port = first.split(":")
+        assert answers(host, int(port))
+        assert department.pids()["homework 1"] != victim and alive(department.pids()["homework 1"])
+        assert survivor.recv(timeout=2)  # and the survivor never lost its process
+
+
+def test_a_killed_nginx_is_restarted_with_its_workers_gone(department: RunningDepartment) -> None:
+    """nginx's workers outlive a master killed with SIGKILL and hold its port: the supervisor clears the
+    group and starts nginx again, and the rooms answer through it."""
+    start = len(department.lines)
+    master = department.pids()["nginx"]
+    workers = [int(p) for p in Path(f"/proc/{master}/task/{master}/children").read_text().split()]
+    assert workers
+    killed = time.monotonic()
+    os.kill(master, signal.SIGKILL)
+    department.wait_line(r"nginx is back", 10.0, start)
+    assert time.monotonic() - killed < 10.0
+    assert not [pid for pid in workers if alive(pid)]
+    assert get(department.port, "/").status == 200
+    with proxied(department.port, "mech101") as ws:
+        assert ws.recv(timeout=20)
+
+
+def test_sigint_stops_nginx_and_every_process(department: RunningDepartment) -> None:
+    pids = department.pids()
+    assert set(pids) == {"mech101", "phys202", "homework 1", "homework 2", "nginx"}
+    assert all(alive(pid) for pid in pids.values())
+    assert department.stop(signal.SIGINT) == 0  # Ctrl-C
+    assert "stopped: nginx and every room process" in department.log()
+    assert not [pid for pid in pids.values() if alive(pid)]
+    assert port_free("127.0.0.1", department.port)
+    for backend in pool(department):
+        host, port = backend.split(":")
+        assert port_free(host, int(port))
+
+
+def test_sigterm_stops_a_department_started_on_its_own(tmp_path: Path) -> None:
+    """A second, one-room department stopped by SIGTERM (systemd's, a terminal closing): nothing left."""
+    nginx_or_skip()
+    path, port = rooms_file(tmp_path, [{"name": "demo", "mode": "shared", "free_hosts": ["127.0.0.1"]}])
+    with running_department(path, port) as running:
+        pids = running.pids()
+        with proxied(port, "demo") as ws:
+            assert ws.recv(timeout=20)
+        assert running.stop(signal.SIGTERM) == 0
+        assert set(pids) == {"demo", "nginx"} and not [pid for pid in pids.values() if alive(pid)]
+    assert port_free("127.0.0.1", port)
+
+
+def test_a_department_killed_with_sigkill_takes_its_processes_with_it(tmp_path: Path) -> None:
+    """No handler runs on SIGKILL: each child was started to get SIGTERM when the supervisor dies."""
+    nginx_or_skip()
+    path, port = rooms_file(tmp_path, [{"name": "demo", "mode": "shared", "free_hosts": ["127.0.0.1"]}])
+    with running_department(path, port) as running:
+        pids = running.pids()
+        assert running.stop(signal.SIGKILL) == -signal.SIGKILL
+        wait_for(lambda: not [pid for pid in pids.values() if alive(pid)], timeout=10, what="the children to go")
+    assert port_free("127.0.0.1", port)

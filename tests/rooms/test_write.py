@@ -1,0 +1,136 @@
+"""``rigid-body-lab rooms ROOMS.toml --write DIR``: nginx accepts what is written (``nginx -t``), the units
+run the right processes, remote ``hosts`` become backends, and the landing page lists every room."""
+
+from __future__ import annotations
+
+import configparser
+import html
+import shlex
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from app.rooms.cli import main as rooms_main
+from app.rooms.config import parse_rooms
+from app.rooms.landing import landing_html
+from app.rooms.nginx import find_nginx, nginx_command, rooms_conf
+
+ROOMS = """
+listen = "0.0.0.0:8080"
+title = "Mechanics: it's $5 \\\\ free"
+[[room]]
+name = "mech101"
+mode = "presenter"
+pin = "111111"
+scene = "heavy_top"
+[[room]]
+name = "demo-room"
+mode = "shared"
+scene = "pendulum"
+port = 9100
+[[room]]
+name = "homework"
+mode = "private"
+hosts = ["10.0.0.5:8101", "10.0.0.6:8101", "127.0.0.1:8101"]
+"""
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("deploy")
+    path = folder / "rooms.toml"
+    path.write_text(ROOMS)
+    assert rooms_main([str(path), "--write", str(folder / "out")]) == 0
+    return folder / "out"
+
+
+def test_nginx_accepts_the_written_configuration(written: Path) -> None:
+    nginx = find_nginx()
+    result = subprocess.run(nginx_command(nginx, written, test=True), capture_output=True, text=True, timeout=30)
+    assert result.returncode == 0, result.stderr
+    # And it is really this configuration nginx read: a broken one is refused the same way.
+    broken = written.parent / "broken"
+    broken.mkdir()
+    (broken / "logs").mkdir()
+    (broken / "nginx.conf").write_text((written / "nginx.conf").read_text())
+    (broken / "rooms.conf").write_text((written / "rooms.conf").read_text().replace("hash ", "hsah ", 1))
+    refused = subprocess.run(nginx_command(nginx, broken, test=True), capture_output=True, text=True, timeout=30)
+    assert refused.returncode != 0 and "hsah" in refused.stderr
+
+
+def test_remote_hosts_are_backends_of_the_pool(written: Path) -> None:
+    conf = (written / "rooms.conf").read_text()
+    pool = conf[conf.index("upstream rbl_homework {") :].split("}", 1)[0]
+    assert "hash $rbl_homework_key consistent;" in pool
+    for address in ("10.0.0.5:8101", "10.0.0.6:8101", "127.0.0.1:8101"):
+        assert f"server {address} max_fails=1" in pool
+    assert "listen 0.0.0.0:8080;" in conf
+    assert "X-Room-Backend" not in conf  # a deployment does not show its backends' addresses
+    assert "upstream rbl_demo_room {\n    server 127.0.0.1:9100;\n}" in conf
+    assert "location = /demo-room {" in conf and "location /demo-room/ {" in conf
+
+
+def _service(path: Path) -> configparser.ConfigParser:
+    unit = configparser.ConfigParser(interpolation=None, strict=False)
+    unit.optionxform = str  # type: ignore[assignment,method-assign]
+    unit.read_string(path.read_text())
+    return unit
+
+
+def test_one_unit_per_process_running_the_rooms_command_line(written: Path) -> None:
+    units = written / "systemd"
+    names = sorted(p.name for p in units.iterdir())
+    assert names == [
+        "rigid-body-lab-demo-room.service",
+        "rigid-body-lab-homework-1.service",
+        "rigid-body-lab-homework-2.service",
+        "rigid-body-lab-homework-3.service",
+        "rigid-body-lab-mech101.service",
+        "rigid-body-lab-proxy.service",
+        "rigid-body-lab.target",
+    ]
+    lecture = shlex.split(_service(units / "rigid-body-lab-mech101.service")["Service"]["ExecStart"])
+    assert lecture[1:] == [
+        "-m", "app", "--host", "127.0.0.1", "--port", "8081", "--scene", "heavy_top", "--presenter", "--pin", "111111",
+    ]  # fmt: skip
+    assert (units / "rigid-body-lab-mech101.service").stat().st_mode & 0o007 == 0  # the PIN: not for others
+    demo = shlex.split(_service(units / "rigid-body-lab-demo-room.service")["Service"]["ExecStart"])
+    assert demo[3:] == ["--host", "127.0.0.1", "--port", "9100", "--scene", "pendulum", "--shared"]
+    remote = _service(units / "rigid-body-lab-homework-2.service")
+    assert shlex.split(remote["Service"]["ExecStart"])[3:] == ["--host", "10.0.0.6", "--port", "8101", "--private"]
+    assert remote["Service"]["Restart"] == "always"
+    proxy = shlex.split(_service(units / "rigid-body-lab-proxy.service")["Service"]["ExecStart"])
+    assert proxy[1:] == ["-p", f"{written}/", "-c", f"{written}/nginx.conf", "-g", "daemon off;"]
+    target = _service(units / "rigid-body-lab.target")["Unit"]["Wants"].split()
+    # The target of the proxy's machine wants its own processes and the proxy, not the other machines'.
+    assert sorted(target) == [
+        "rigid-body-lab-demo-room.service",
+        "rigid-body-lab-homework-3.service",
+        "rigid-body-lab-mech101.service",
+        "rigid-body-lab-proxy.service",
+    ]
+    readme = (written / "README.txt").read_text()
+    assert "10.0.0.5: rigid-body-lab-homework-1.service" in readme
+    assert "10.0.0.6: rigid-body-lab-homework-2.service" in readme
+
+
+def test_the_landing_page_lists_every_room_with_its_link() -> None:
+    department = parse_rooms(
+        {
+            "title": "Mechanics: it's $5 \\ free",
+            "room": [
+                {"name": "mech101", "mode": "presenter", "pin": "111111", "scene": "heavy_top"},
+                {"name": "homework", "mode": "private", "processes": 2},
+            ],
+        }
+    )
+    page = landing_html(department)
+    assert '<a href="/mech101/">mech101</a>' in page and '<a href="/homework/">homework</a>' in page
+    assert "<td>heavy_top</td>" in page and "<td>the first scene</td>" in page
+    assert "lecture: follow the lecturer" in page and "private: a simulation of your own" in page
+    assert "111111" not in page  # never the PIN
+    # Quote, dollar and backslash escaped: the page is one nginx string without variables.
+    assert not {"'", "$", "\\"} & set(page)
+    assert html.unescape(page).count("Mechanics: it's $5 \\ free") == 2  # title and heading
+    assert page in rooms_conf(department)
