@@ -1,14 +1,14 @@
-"""app/'s rooms import one way (docs/architecture.md): serving, teaching, scenes, recording, drawing, panel,
-guards, uploads; a room imports only the rooms after it in that list."""
+"""app/'s packages import one way (docs/architecture.md): rooms, serving, teaching, scenes, recording, drawing,
+panel, guards, uploads; a package imports only the packages after it in that list."""
 
 from __future__ import annotations
 
 from tests.test_architecture import import_graph, read_modules
 
-ORDER = ("serving", "teaching", "scenes", "recording", "drawing", "panel", "guards", "uploads")
+ORDER = ("rooms", "serving", "teaching", "scenes", "recording", "drawing", "panel", "guards", "uploads")
 
 
-def room(module: str) -> str | None:
+def package_of(module: str) -> str | None:
     parts = module.split(".")
     return parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in ORDER) else None
 
@@ -16,19 +16,19 @@ def room(module: str) -> str | None:
 def upward_imports(graph: dict[str, set[str]]) -> list[str]:
     found = []
     for importer, imported in sorted((a, b) for a, targets in graph.items() for b in targets):
-        low, high = room(importer), room(imported)
+        low, high = package_of(importer), package_of(imported)
         if low in ORDER and high in ORDER and ORDER.index(high) < ORDER.index(low):
             found.append(f"{importer} -> {imported}")
     return found
 
 
-def test_every_room_imports_only_the_rooms_below_it() -> None:
+def test_every_package_imports_only_the_packages_below_it() -> None:
     assert upward_imports(import_graph(read_modules(("app",)))) == []
 
 
-def test_every_module_of_app_is_in_a_room_or_one_of_the_doors_at_its_top() -> None:
+def test_every_module_of_app_is_in_a_package_or_one_of_the_doors_at_its_top() -> None:
     modules = read_modules(("app",))
-    outside = sorted(m for m in modules if room(m) is None)
+    outside = sorted(m for m in modules if package_of(m) is None)
     assert outside == ["app", "app.__main__", "app.controls", "app.draw", "app.server"]
 
 
