@@ -5,5 +5,6 @@ Modules (one topic each): :mod:`physics.inertia`, :mod:`physics.rotations`,
 :mod:`physics.integrators`. This package never imports the app or viser.
 """
 
-G = 9.81
-"""Standard gravitational acceleration used by default, m/s² (docs/conventions.md)."""
+from physics.constants import G
+
+__all__ = ["G"]

@@ -81,18 +81,18 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import ellipkm1, elliprc, elliprf, elliprj
+from scipy.special import ellipkm1, elliprf
 
-from physics.double_double import _dd_add, _dd_term, _two_sum
+from physics.double_double import dd_add, dd_term, two_sum
+from physics.elliptic import carlson_rj, jacobi_sn_cn_dn, landen_ladder, reduced_jacobi
 from physics.inertia import validate_moments
-from physics.rotations import _expm_so3
+from physics.rotations import expm_so3_unchecked
 from physics.validation import (
     MAX_RATE,
     bounded_scalar,
     finite_array,
     finite_phase,
     finite_result,
-    finite_scalar,
     rotation_array,
     vector_array,
 )
@@ -101,8 +101,6 @@ if TYPE_CHECKING:
     from physics.free_body_trajectory import FreeBodyTrajectory
 
 Floats = NDArray[np.float64]
-# The descending Landen ladder: the √μ of each step and the total argument scale.
-Ladder = tuple[list[Floats], Floats]
 
 __all__ = [  # noqa: F822 - the trajectory names come from __getattr__ below
     "FreeBody",
@@ -112,117 +110,6 @@ __all__ = [  # noqa: F822 - the trajectory names come from __getattr__ below
     "PrecessionRates",
     "jacobi_sn_cn_dn",
 ]
-
-
-# ---------------------------------------------------------------------------------------------------
-# Jacobi elliptic functions from m and its complement mc = 1 − m (both accurate).
-# ---------------------------------------------------------------------------------------------------
-def _landen_ladder(m: Floats, mc: Floats) -> Ladder:
-    """Descending Landen ladder: the ``√μ`` of each step and the total argument scale.
-
-    Each step maps ``(m, mc)`` to ``μ = ((1 − √mc)/(1 + √mc))²`` (A&S 16.12) computed as
-    ``√μ = m / (1 + √mc)²`` and ``1 − μ = 4 √mc / (1 + √mc)²``, without cancellation; it stops when every
-    ``μ`` is below 1e-17, where ``sn = sin`` to double precision.
-    """
-    roots: list[Floats] = []
-    scale = np.ones_like(m)
-    while np.any(m > 1e-17) and len(roots) < 40:
-        r = np.sqrt(mc)
-        one_r2 = (1.0 + r) ** 2
-        q = m / one_r2
-        roots.append(q)
-        scale = scale * (1.0 + q)
-        m, mc = q * q, 4.0 * r / one_r2
-    return roots, scale
-
-
-# Below this 1 − m the ascending Landen pass loses cn's relative accuracy (its dn cancels) and, below
-# about 1e-130, underflows; the first-order expansion about m = 1 is exact to rounding there (below).
-_MC_NEAR_ONE = 1e-15
-
-
-def _sn_cn_dn_near_one(w: Floats, mc: Floats) -> tuple[Floats, Floats, Floats]:
-    """``sn, cn, dn`` for ``0 ≤ w ≤ K/2`` and ``1 − m = mc ≤ 1e-15`` (A&S 16.15.1-3).
-
-    ``sn = tanh w + (mc/4)(sinh w cosh w − w) sech²w``, ``cn = sech w − (mc/4)(sinh w cosh w − w) tanh w
-    sech w``, ``dn = sech w + (mc/4)(sinh w cosh w + w) tanh w sech w``. The neglected terms are of
-    relative order ``(mc e^{2w})²``, and ``e^{2w} ≤ e^K ≈ 4/√mc`` for ``w ≤ K/2``, so they are below
-    ``16 mc ≤ 2e-14`` relative to the first-order term and below rounding in the result: every value keeps
-    its full relative precision however small ``mc`` is (down to the smallest double), with no underflow
-    (``sech w ≥ sech(K/2) ≈ (√mc/4)^{1/2}``).
-    """
-    # For mc > 0, w ≤ K/2 < 373 (K < 745 down to the smallest 1 − m, see _LOG_KP_DEEP); the cap only keeps the
-    # separatrix's own (mc = 0, w unbounded) entries finite until _reduced_jacobi replaces them with tanh
-    # and sech. mc · sinh · cosh is taken as (mc sinh) cosh: sinh · cosh alone overflows above w ≈ 355.
-    w = np.clip(w, 0.0, 700.0)
-    ch = np.cosh(w)
-    sh = np.sinh(w)
-    th = np.tanh(w)
-    se = 1.0 / ch
-    quarter = 0.25 * mc
-    shch = (quarter * sh) * ch
-    s = th + (shch - quarter * w) * se * se
-    c = se * (1.0 - (shch - quarter * w) * th)
-    d = se * (1.0 + (shch + quarter * w) * th)
-    return s, c, d
-
-
-def _sn_cn_dn_small(w: Floats, m: Floats, mc: Floats, ladder: Ladder) -> tuple[Floats, Floats, Floats]:
-    """``sn, cn, dn`` for ``0 ≤ w ≤ K/2``: the ascending pass of the Landen ladder, or the expansion
-    about ``m = 1`` where ``1 − m ≤ 1e-15``."""
-    near_one = mc <= _MC_NEAR_ONE
-    if np.all(near_one):
-        return _sn_cn_dn_near_one(w, mc)
-    s, c, d = _sn_cn_dn_landen(w, m, mc, ladder)
-    if np.any(near_one):
-        with np.errstate(all="ignore"):
-            s1, c1, d1 = _sn_cn_dn_near_one(np.where(near_one, w, 0.0), mc)
-        s, c, d = np.where(near_one, s1, s), np.where(near_one, c1, c), np.where(near_one, d1, d)
-    return s, c, d
-
-
-def _sn_cn_dn_landen(w: Floats, m: Floats, mc: Floats, ladder: Ladder) -> tuple[Floats, Floats, Floats]:
-    """``sn, cn, dn`` for ``0 ≤ w ≤ K/2`` by the ascending pass of the Landen ladder."""
-    roots, scale = ladder
-    v = w / scale
-    s, c = np.sin(v), np.cos(v)
-    d = np.ones_like(v)
-    # Walk back up: each level keeps the relative accuracy of s, c and d (products and quotients only).
-    for q in reversed(roots):
-        den = 1.0 + q * s * s
-        s, c, d = (1.0 + q) * s / den, c * d / den, (1.0 - q * s * s) / den
-    # dn from cn without cancellation (the ladder's own dn formula cancels near m = 1).
-    d = np.sqrt(mc + m * c * c)
-    return s, c, d
-
-
-def _reduced_jacobi(
-    u: Floats, m: Floats, mc: Floats, kk: Any, ladder: Ladder, kp: Any = None
-) -> tuple[Floats, Floats, Floats, Floats, Floats]:
-    """Jacobi functions of ``u`` reduced to ``v = u − 2 K j`` in ``[−K, K]``.
-
-    Returns ``(j, v, sn(v), cn(v), dn(v))``; ``sn(u) = (−1)^j sn(v)``, ``cn(u) = (−1)^j cn(v)``,
-    ``dn(u) = dn(v)``. On the separatrix (``K = ∞``) ``j = 0`` and tanh/sech are used. ``kp`` is the
-    complementary modulus ``√(1 − m)`` (default ``√mc``); pass it when ``mc`` underflows (below 1e-308 it
-    is 0 while ``kp`` is not, and only ``K`` then says that the motion is not on the separatrix).
-    """
-    sep = ~np.isfinite(kk)
-    kfin = np.where(sep, 1.0, kk)
-    j = np.where(sep, 0.0, np.rint(u / (2.0 * kfin)))
-    v = u - 2.0 * kfin * j
-    a = np.abs(v)
-    flip = a > 0.5 * kfin
-    w = np.where(flip, kfin - a, a)
-    s, c, d = _sn_cn_dn_small(w, m, mc, ladder)
-    # Quarter-period shift sn(K − w) = cd w, cn(K − w) = √mc sd w, dn(K − w) = √mc nd w keeps cn's
-    # relative accuracy near its zero.
-    r = np.sqrt(mc) if kp is None else kp
-    s, c, d = np.where(flip, c / d, s), np.where(flip, r * (s / d), c), np.where(flip, r / d, d)
-    if np.any(sep):
-        th, sh = np.tanh(a), 1.0 / np.cosh(np.minimum(a, 710.0))
-        s, c, d = np.where(sep, th, s), np.where(sep, sh, c), np.where(sep, sh, d)
-    s = np.copysign(s, v)
-    return j, v, s, c, d
 
 
 # Within 1 − m < 1e-40 of the separatrix (k' < 1e-20) the motion is, to double precision, a train of the
@@ -237,55 +124,6 @@ _LOG_KP_DEEP = math.log(1e-20)
 def _pair_exponent(x: Floats, y: Floats) -> NDArray[np.int_]:
     """``e`` with ``max(|x|, |y|) 2^-e`` in [0.5, 1) (0 where both are 0): the pair scaled to order 1."""
     return np.asarray(np.frexp(np.maximum(np.abs(x), np.abs(y)))[1], dtype=int)
-
-
-def jacobi_sn_cn_dn(u: ArrayLike, m: float, mc: float | None = None) -> tuple[Floats, Floats, Floats]:
-    """Jacobi elliptic functions ``sn, cn, dn (u | m)`` accurate up to and on ``m = 1``.
-
-    Parameters
-    ----------
-    u : array_like, shape (n,)
-        Arguments (any size: reduced modulo the period ``4K`` first).
-    m : float
-        Parameter, ``0 ≤ m ≤ 1``.
-    mc : float, optional
-        Complementary parameter ``1 − m``; pass it when it is known more accurately than ``1 − m``
-        (near ``m = 1``). Default ``1 − m``.
-
-    Returns
-    -------
-    sn, cn, dn : ndarray, shape (n,)
-    """
-    uu = finite_array(u, "u")
-    mm = np.asarray(finite_scalar(m, "m"))
-    mmc = np.asarray(1.0 - float(mm) if mc is None else finite_scalar(mc, "mc"))
-    if not (0.0 <= mm <= 1.0 and 0.0 <= mmc <= 1.0):
-        raise ValueError(f"the elliptic parameter must lie in [0, 1], got m = {float(mm)}, 1 - m = {float(mmc)}")
-    kk = ellipkm1(mmc) if mmc > 0 else np.inf
-    j, _, s, c, d = _reduced_jacobi(uu, mm, mmc, kk, _landen_ladder(mm, mmc))
-    sign = 1.0 - 2.0 * np.mod(j, 2.0)
-    return sign * s, sign * c, d
-
-
-def _elliprj(x: ArrayLike, y: ArrayLike, z: ArrayLike, p: ArrayLike) -> Floats:
-    """Carlson's ``R_J(x, y, z, p)``, accurate when ``x`` and ``y`` are both below 1e-150.
-
-    scipy's ``elliprj`` loses about 3 digits once both of its first arguments are below ~1e-200 (they are
-    ``cn²`` and ``dn²`` of a body within 1e-100 of its separatrix). One step of Carlson's duplication
-    (DLMF 19.26.9: ``R_J = 2 R_J(x+λ, y+λ, z+λ, p+λ) + 6 R_C(1, 1+e)/d``, ``λ = √x√y + √x√z + √y√z``,
-    ``d = (√p+√x)(√p+√y)(√p+√z)``, ``e = (p−x)(p−y)(p−z)/d²``) lifts them to about √(x z).
-    """
-    xs, ys, zs, ps = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (x, y, z, p)))
-    out: Floats = elliprj(xs, ys, zs, ps)
-    small = np.maximum(xs, ys) < 1e-150
-    if np.any(small):
-        sx, sy, sz, sp = np.sqrt(xs), np.sqrt(ys), np.sqrt(zs), np.sqrt(ps)
-        lam = sx * sy + sx * sz + sy * sz
-        d = (sp + sx) * (sp + sy) * (sp + sz)
-        e = (ps - xs) * (ps - ys) * (ps - zs) / (d * d)
-        lifted = 2.0 * elliprj(xs + lam, ys + lam, zs + lam, ps + lam) + 6.0 * elliprc(1.0, 1.0 + e) / d
-        out = np.where(small, lifted, out)
-    return out
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -524,12 +362,10 @@ class FreeBody:
         ws_e = ws[ell]
         # Sign of L² − 2 E I2 (double-double, on the pair (ω1, ω3) scaled to order 1) picks the axis the
         # motion circulates around.
-        d12 = _two_sum(i1, -i2)
-        d32 = _two_sum(i3, -i2)
+        d12 = two_sum(i1, -i2)
+        d32 = two_sum(i3, -i2)
         e_mid = _pair_exponent(ws_e[:, 0], ws_e[:, 2])
-        g_mid = _dd_add(
-            _dd_term(i1, d12, np.ldexp(ws_e[:, 0], -e_mid)), _dd_term(i3, d32, np.ldexp(ws_e[:, 2], -e_mid))
-        )
+        g_mid = dd_add(dd_term(i1, d12, np.ldexp(ws_e[:, 0], -e_mid)), dd_term(i3, d32, np.ldexp(ws_e[:, 2], -e_mid)))
         swap = g_mid[0] < 0.0
         q_can = np.where(swap[:, None, None], _SWAP @ self._q_sort, self._q_sort)
         sc = scale[ell]
@@ -538,17 +374,17 @@ class FreeBody:
         ib = np.full_like(ia, i2)
         ic = np.where(swap, i1, i3)
         wa, wb, wcc = wc[:, 0], wc[:, 1], wc[:, 2]
-        dab = _two_sum(ia, -ib)
-        dac = _two_sum(ia, -ic)
-        dbc = _two_sum(ib, -ic)
+        dab = two_sum(ia, -ib)
+        dac = two_sum(ia, -ic)
+        dbc = two_sum(ib, -ic)
         # G_b = L² − 2E I_b, G_a = 2E I_a − L², G_c = L² − 2E I_c; signed like (I_a − I_b). Each is a
         # quadratic form in two components of ω: it is formed (double-double) from that pair scaled by
         # 2^-e_x to order 1, G_x = G̃_x 4^e_x, so that no square underflows however small the pair.
         # G_b is the L² − 2E I2 above (the same pair, scaled alike).
         e_b, e_a, e_c = e_mid, _pair_exponent(wb, wcc), _pair_exponent(wa, wb)
         gb_dd = g_mid
-        ga_dd = _dd_add(_dd_term(ib, dab, np.ldexp(wb, -e_a)), _dd_term(ic, dac, np.ldexp(wcc, -e_a)))
-        gc_dd = _dd_add(_dd_term(ia, dac, np.ldexp(wa, -e_c)), _dd_term(ib, dbc, np.ldexp(wb, -e_c)))
+        ga_dd = dd_add(dd_term(ib, dab, np.ldexp(wb, -e_a)), dd_term(ic, dac, np.ldexp(wcc, -e_a)))
+        gc_dd = dd_add(dd_term(ia, dac, np.ldexp(wa, -e_c)), dd_term(ib, dbc, np.ldexp(wb, -e_c)))
         gb, ga, gc = gb_dd[0] + gb_dd[1], ga_dd[0] + ga_dd[1], gc_dd[0] + gc_dd[1]
         dab_f, dac_f, dbc_f = dab[0] + dab[1], dac[0] + dac[1], dbc[0] + dbc[1]
         with np.errstate(under="ignore"):  # a ratio below the float range is 0 to double precision
@@ -617,7 +453,7 @@ class FreeBody:
         coef = np.where(pole_c, ratio_a * dac_f / (ia * ia), dac_f * n_a / (ia * ic)) * ang / lam
         # Q(K) over R_J(0, 1 − m, 1, 1 − n) / 3; where deep, the separatrix's Q at K (see _third_kind_excess).
         with np.errstate(all="ignore"):
-            jc = np.where(sep | deep, 0.0, _elliprj(0.0, np.where(sep | deep, 1.0, mc), 1.0, 1.0 - n))
+            jc = np.where(sep | deep, 0.0, carlson_rj(0.0, np.where(sep | deep, 1.0, mc), 1.0 - n))
         if np.any(deep):
             jc = np.where(deep, 3.0 * _sep_excess(np.where(deep, kk, 0.0), n), jc)
         p.update(
@@ -641,7 +477,7 @@ class FreeBody:
             rate0=rate0,
             coef=coef,
         )
-        p["ladder"] = _landen_ladder(np.where(sep | deep, 0.0, m), np.where(sep | deep, 1.0, mc))
+        p["ladder"] = landen_ladder(np.where(sep | deep, 0.0, m), np.where(sep | deep, 1.0, mc))
         p["P0"] = _third_kind_excess(p, np.arange(len(m)), u0)
         return p
 
@@ -814,7 +650,7 @@ class FreeBody:
             ws = w[which[sel]]
             out_w[sel] = ws
             if want_attitude:
-                out_r[sel] = r0[which[sel]] @ _expm_so3(t[sel, None] * ws)
+                out_r[sel] = r0[which[sel]] @ expm_so3_unchecked(t[sel, None] * ws)
         # Symmetric body (lecture): ω_⊥ turns by −Ω t about e_s; R = exp(t hat(L)/I⊥) R0 exp(Ω t hat e_s).
         sel = np.nonzero(kind == 1)[0]
         if sel.size:
@@ -832,7 +668,7 @@ class FreeBody:
                 l_space = np.einsum("kij,kj->ki", rs, self.moments * ws)
                 axis = np.zeros((sel.size, 3))
                 axis[:, s] = ang
-                out_r[sel] = _expm_so3(t[sel, None] * l_space / p["i_perp"]) @ rs @ _expm_so3(axis)
+                out_r[sel] = expm_so3_unchecked(t[sel, None] * l_space / p["i_perp"]) @ rs @ expm_so3_unchecked(axis)
         sel = np.nonzero(kind == 2)[0]
         if sel.size:
             if w.shape[0] == 1:
@@ -856,7 +692,7 @@ class FreeBody:
         m, mc, kk = p["m"][e], p["mc"][e], p["K"][e]
         roots, scale = p["ladder"]
         ladder = ([q[e] for q in roots], scale[e])
-        j, v, s, c, d = _reduced_jacobi(u, m, mc, kk, ladder, p["kp"][e])
+        j, v, s, c, d = reduced_jacobi(u, m, mc, kk, ladder, p["kp"][e])
         sign = 1.0 - 2.0 * np.mod(j, 2.0)
         amp = p["amp"][e]
         wc = np.stack([amp[:, 0] * d, amp[:, 1] * sign * s, amp[:, 2] * sign * c], axis=1)
@@ -960,11 +796,11 @@ def _third_kind_excess(
     n, m, mc, kk, jc = p["n"][e], p["m"][e], p["mc"][e], p["K"][e], p["Jc"][e]
     if reduced is None:
         roots, scale = p["ladder"]
-        reduced = _reduced_jacobi(u, m, mc, kk, ([q[e] for q in roots], scale[e]), p["kp"][e])
+        reduced = reduced_jacobi(u, m, mc, kk, ([q[e] for q in roots], scale[e]), p["kp"][e])
     j, v, s, c, d = reduced
     deep = p["deep"][e]
     with np.errstate(all="ignore"):  # R_J's arguments underflow where deep: that branch is not used there
-        out = (2.0 * j * jc + s**3 * _elliprj(c * c, d * d, 1.0, 1.0 - n * s * s)) / 3.0
+        out = (2.0 * j * jc + s**3 * carlson_rj(c * c, d * d, 1.0 - n * s * s)) / 3.0
     sep = ~np.isfinite(kk)
     if np.any(sep | deep):
         # The separatrix, and within 1 − m < 1e-40 of it (see _LOG_KP_DEEP): pulses of the separatrix's Q.

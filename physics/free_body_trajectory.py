@@ -14,9 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import elliprj
 
-from physics.free_body import _MC_NEAR_ONE, _elliprj
+from physics.elliptic import carlson_rj_one, reduced_jacobi_one
 from physics.validation import finite_phase, finite_scalar
 
 if TYPE_CHECKING:
@@ -140,7 +139,7 @@ class FreeBodyTrajectory:
             return FreeBodyState(t, omega, attitude)
         k = self._constants
         u = k["lam"] * t + k["u0"]
-        j, v, s_, c_, d_ = _jacobi_one(u, k["m"], k["mc"], k["K"], self._roots, self._scale, k["kp"])
+        j, v, s_, c_, d_ = reduced_jacobi_one(u, k["m"], k["mc"], k["K"], self._roots, self._scale, k["kp"])
         sign = 1.0 - 2.0 * (j % 2.0)
         a0, a1, a2 = self._amp
         wc = np.array([a0 * d_, a1 * sign * s_, a2 * sign * c_])
@@ -179,40 +178,6 @@ def _expm_one(x: float, y: float, z: float) -> Floats:
     )
 
 
-def _jacobi_one(
-    u: float, m: float, mc: float, kk: float, roots: list[float], scale: float, kp: float
-) -> tuple[float, ...]:
-    """:func:`physics.free_body._reduced_jacobi` for one phase: ``(j, v, sn v, cn v, dn v)``."""
-    if kk == math.inf:  # the separatrix: K = ∞, tanh and sech
-        a = abs(u)
-        th, sh = math.tanh(a), 1.0 / math.cosh(min(a, 710.0))
-        return 0.0, u, math.copysign(th, u), sh, sh
-    j = float(round(u / (2.0 * kk)))
-    v = u - 2.0 * kk * j
-    a = abs(v)
-    flip = a > 0.5 * kk
-    w = kk - a if flip else a
-    if mc <= _MC_NEAR_ONE:  # first order about m = 1 (see physics.free_body._sn_cn_dn_near_one)
-        w = min(max(w, 0.0), 700.0)
-        ch, sh, th = math.cosh(w), math.sinh(w), math.tanh(w)
-        se = 1.0 / ch
-        quarter = 0.25 * mc
-        shch = (quarter * sh) * ch
-        s = th + (shch - quarter * w) * se * se
-        c = se * (1.0 - (shch - quarter * w) * th)
-        d = se * (1.0 + (shch + quarter * w) * th)
-    else:  # the ascending pass of the Landen ladder
-        x = w / scale
-        s, c, d = math.sin(x), math.cos(x), 1.0
-        for q in reversed(roots):
-            den = 1.0 + q * s * s
-            s, c, d = (1.0 + q) * s / den, c * d / den, (1.0 - q * s * s) / den
-        d = math.sqrt(mc + m * c * c)
-    if flip:
-        s, c, d = c / d, kp * (s / d), kp / d
-    return j, v, math.copysign(s, v), c, d
-
-
 def _sep_excess_one(a: float, n: float) -> float:
     """:func:`physics.free_body._sep_excess` of one ``a ≥ 0``."""
     rn = math.sqrt(-n)
@@ -232,7 +197,7 @@ def _excess_one(k: dict[str, float], u: float, j: float, v: float, s: float, c: 
         local = k["Jc"] / 3.0 - (kk - a) / (1.0 - n) if a > 0.5 * kk else _sep_excess_one(a, n)
         return 2.0 * j * k["Jc"] / 3.0 + math.copysign(local, v)
     x2, y2, p = c * c, d * d, 1.0 - n * s * s
-    rj = float(_elliprj(x2, y2, 1.0, p)) if max(x2, y2) < 1e-150 else float(elliprj(x2, y2, 1.0, p))
+    rj = carlson_rj_one(x2, y2, p)
     return (2.0 * j * k["Jc"] + s**3 * rj) / 3.0
 
 

@@ -52,9 +52,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipkm1, elliprf
 
-from physics import G
+from physics.constants import G
 from physics.inertia import MassProperties
-from physics.rotations import _expm_so3, frame_from_axis
+from physics.rotations import expm_so3_unchecked, frame_from_axis
 from physics.validation import broadcast, finite_array, finite_phase, finite_result, finite_scalar
 
 Floats = NDArray[np.float64]
@@ -434,7 +434,7 @@ class PhysicalPendulum:
         ndarray, shape (3, 3) or (n, 3, 3)
         """
         th = finite_array(theta, "theta")
-        return _expm_so3((th - self.model_angle)[..., None] * self.axis)  # the axis: unit, checked when built
+        return expm_so3_unchecked((th - self.model_angle)[..., None] * self.axis)  # the axis: unit, checked when built
 
     def center_of_mass_at(self, theta: ArrayLike) -> NDArray[np.float64]:
         """Centre-of-mass position at angle θ, m, shape (3,) or (n, 3)."""

@@ -60,7 +60,7 @@ as Python callables, about 650 times slower.
 
 from __future__ import annotations
 
-from physics.integrators._base import _Method
+from physics.integrators._base import Method
 from physics.integrators._state import kinetic_energy
 from physics.integrators.classical_rk4 import ClassicalRK4
 from physics.integrators.drivers import Trajectory, advance, integrate
@@ -68,7 +68,7 @@ from physics.integrators.exact_free import ExactFreeSplitting
 from physics.integrators.lie_poisson import LiePoissonStrang
 from physics.integrators.lie_rk4 import LieRK4
 from physics.integrators.suzuki4 import Suzuki4
-from physics.integrators.torques import GravityTorque, SpinFriction
+from physics.integrators.torques import GravityTorque, SpinFriction, TransverseAirDrag
 from physics.integrators.yoshida4 import Yoshida4
 from physics.integrators.yoshida6 import Yoshida6
 from physics.integrators.yoshida8 import Yoshida8
@@ -85,13 +85,15 @@ __all__ = [
     "LieRK4",
     "ClassicalRK4",
     "REGISTRY",
+    "Method",
+    "TransverseAirDrag",
     "advance",
     "Trajectory",
     "integrate",
     "kinetic_energy",
 ]
 
-REGISTRY: dict[str, type[_Method]] = {
+REGISTRY: dict[str, type[Method]] = {
     cls.name: cls
     for cls in (
         LiePoissonStrang,

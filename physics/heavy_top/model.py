@@ -80,15 +80,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics import G
-from physics.euler_angles import _theta_from, euler_attitude, omega_body_from_euler, symmetry_axis
-from physics.heavy_body import FrictionRun, TransverseAirDrag, _simulate_symmetric, simulate_heavy_body
-from physics.nutation_cubic import NutationCubic
-from physics.top_motion import ScaledTop, _Motion, motion_constants
-from physics.top_trajectory import HeavyTopSolution, HeavyTopTrajectory, _times
+from physics.constants import G
+from physics.heavy_top.motion import Motion, ScaledTop, motion_constants
+from physics.heavy_top.nutation_cubic import NutationCubic
+from physics.heavy_top.stepped import SteppedRun, simulate_symmetric
+from physics.heavy_top.trajectory import HeavyTopSolution, HeavyTopTrajectory, times_array
 from physics.validation import (
-    MAX_RATE,
-    MAX_STEPS,
     bounded_scalar,
     broadcast,
     finite_array,
@@ -101,20 +98,7 @@ if TYPE_CHECKING:
 
 Floats = NDArray[np.float64]
 
-__all__ = [
-    "MAX_RATE",
-    "MAX_STEPS",
-    "HeavyTop",
-    "HeavyTopSolution",
-    "HeavyTopTrajectory",
-    "NutationCubic",
-    "FrictionRun",
-    "euler_attitude",
-    "symmetry_axis",
-    "omega_body_from_euler",
-    "simulate_heavy_body",
-    "TransverseAirDrag",
-]
+__all__ = ["HeavyTop"]
 
 _EPS = np.finfo(float).eps
 
@@ -374,7 +358,7 @@ class HeavyTop:
         psidot0: float,
         phi0: float = 0.0,
         psi0: float = 0.0,
-    ) -> _Motion:
+    ) -> Motion:
         # The motion depends on I3/I1 and M g ℓ/I1 only: computed for the moments scaled by a power of two
         # (exactly) to order 1, then L3, Lz and E scaled back, so that 1e-300 or 1e300 kg m² work alike.
         exponent = math.frexp(self.I1)[1]
@@ -421,41 +405,27 @@ class HeavyTop:
         """
         return HeavyTopTrajectory(self, self._motion(theta0, thetadot0, phidot0, psidot0, phi0, psi0))
 
+    # Questions about one motion: its trajectory answers them (these take the same initial data).
     def nutation_cubic(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> NutationCubic | None:
-        """Roots of ``f(u) = u̇²`` (u = cos θ) for these initial data (None for a top exactly vertical
-        at rest in θ, whose θ never moves)."""
-        return self._motion(theta0, thetadot0, phidot0, psidot0).cubic
+        """:attr:`HeavyTopTrajectory.nutation_cubic` of the motion from these initial data."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).nutation_cubic
 
     def turning_points(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> tuple[float, float]:
-        """``(θ_min, θ_max)``: the turning points of θ, rad (roots u2, u1 of the cubic in u = cos θ).
-
-        Starting at a turning point (``thetadot0 = 0``) the known root is deflated, so θ0 is returned
-        exactly.
-        """
-        mo = self._motion(theta0, thetadot0, phidot0, psidot0)
-        if mo.kind == "vertical":
-            return mo.theta0, mo.theta0
-        cu = mo.cubic
-        if mo.kind == "steady" or cu is None:
-            return mo.theta0, mo.theta0
-        return _theta_from(cu.one_minus_u2, cu.one_plus_u2), _theta_from(cu.one_minus_u1, cu.one_plus_u1)
+        """:attr:`HeavyTopTrajectory.turning_points` ``(θ_min, θ_max)``, rad, of the motion from these data."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).turning_points
 
     def conserved_quantities(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> dict[str, float]:
         """``{"L3", "Lz", "energy"}`` from the initial data (kg m²/s, kg m²/s, J)."""
-        mo = self._motion(theta0, thetadot0, phidot0, psidot0)
-        return {"L3": mo.L3, "Lz": mo.Lz, "energy": mo.energy}
+        motion = self.trajectory(theta0, thetadot0, phidot0, psidot0)
+        return {"L3": motion.L3, "Lz": motion.Lz, "energy": motion.energy}
 
     def nutation_period(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> float:
-        """Period of θ(t), ``2 K(m) / λ``, s. For a steady precession the limit ``π/λ`` (the period of
-        small nutations about it); for a top exactly vertical the same limit for nearby motions with
-        ``Lz = ±L3`` (inf below the sleeping threshold, where the vertical is unstable)."""
-        return self._motion(theta0, thetadot0, phidot0, psidot0).period
+        """:attr:`HeavyTopTrajectory.nutation_period` of the motion from these initial data, s."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).nutation_period
 
     def precession_rate(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> float:
-        """Mean precession rate ``⟨φ̇⟩`` over one nutation period, rad/s (exact, complete Π).
-
-        For a fast top it tends to the pseudo-regular ``M g ℓ / (I3 ω3)``."""
-        return self._motion(theta0, thetadot0, phidot0, psidot0).precession_rate
+        """:attr:`HeavyTopTrajectory.precession_rate` of the motion from these initial data, rad/s."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).precession_rate
 
     def solve(
         self,
@@ -490,7 +460,7 @@ class HeavyTop:
         -------
         HeavyTopSolution
         """
-        return self.trajectory(theta0, thetadot0, phidot0, psidot0, phi0=phi0, psi0=psi0).at(_times(t))
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0, phi0=phi0, psi0=psi0).at(times_array(t))
 
     def simulate(
         self,
@@ -507,7 +477,7 @@ class HeavyTop:
         save_every: int = 1,
         phi0: float = 0.0,
         psi0: float = 0.0,
-    ) -> FrictionRun:
+    ) -> SteppedRun:
         """The top with friction, integrated step by step on (R, L_body) by :mod:`physics.integrators`.
 
         Friction model (both at the tip, both only remove energy):
@@ -541,9 +511,9 @@ class HeavyTop:
 
         Returns
         -------
-        FrictionRun
+        SteppedRun
         """
-        return _simulate_symmetric(
+        return simulate_symmetric(
             self,
             theta0,
             thetadot0,
