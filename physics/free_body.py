@@ -1,76 +1,10 @@
-"""The torque-free rigid body, in closed form.
+"""The torque-free rigid body in closed form: ``ω(t)`` and ``R(t)`` at any times, its exact flow, the
+stability of uniform rotation and the precession rates of a symmetric body.
 
-A body with no torque about its centre of mass obeys Euler's equations (lecture, "Euler's equations")
-
-    I1 ω̇1 = ω2 ω3 (I2 − I3),   I2 ω̇2 = ω3 ω1 (I3 − I1),   I3 ω̇3 = ω1 ω2 (I1 − I2),
-
-and its attitude ``R`` (body to space) obeys ``Ṙ = R hat(ω)``. The energy ``E = ½ Σ I_i ω_i²`` and the
-spatial angular momentum ``L_space = R I ω`` are constant. Everything here is evaluated in closed form
-at any time (also negative), vectorised over the times, never step by step:
-
-* ``ω(t)`` by Jacobi elliptic functions. Let ``a`` be the principal axis that the angular momentum
-  circulates around (the largest moment if ``L² > 2 E I2``, the smallest if ``L² < 2 E I2``; the
-  middle axis is ``b``, the third ``c``). Then ``ω_a = ± A_a dn(u|m)``, ``ω_b = A_b sn(u|m)``,
-  ``ω_c = A_c cn(u|m)`` with ``u = λ t + u0`` and, writing ``G_x = |L² − 2 E I_x|``,
-  ``m = (I_b − I_c) G_a / ((I_a − I_b) G_c)``, ``1 − m = (I_a − I_c) G_b / ((I_a − I_b) G_c)``,
-  ``λ² = (I_a − I_b) G_c / (I_a I_b I_c)`` (Landau & Lifshitz, Mechanics §37).
-* The attitude as ``R(t) = Rot(L̂_space, ψ(t) − ψ(0)) R(0) B(0) B(t)ᵀ``, where the columns of ``B(t)``
-  (body coordinates) are ``e_p × L̂``, ``L̂ × (e_p × L̂)`` (normalised) and ``L̂ = I ω / L`` for a pole
-  ``p`` (``a`` or ``c``, see below). The angle
-  turned about ``L`` obeys ``ψ̇ = L (2E − L_p ω_p) / (L² − L_p²)``, which integrates to the elliptic
-  integral of the third kind ``Π(n; am u | m)``; for the pole ``a``,
-  ``n = −I_a (I_b − I_c) / (I_c (I_a − I_b)) ≤ 0``. It is evaluated through Carlson's ``R_J``
-  (:func:`scipy.special.elliprj`; ``u0`` through ``R_F``).
-* A body with two equal moments ("symmetric", the lecture's case ``I1 = I2``) uses the lecture's
-  trigonometric solution: ``ω_⊥`` turns about the symmetry axis ``s`` in the body at
-  ``Ω = ω_s (I_⊥ − I_s) / I_⊥`` and the body turns about ``L`` at ``φ̇ = L / I_⊥``; exactly
-  ``R(t) = exp(t hat(L_space) / I_⊥) R(0) exp(t Ω hat(e_s))``. A sphere is the case ``Ω = 0``.
-* A rod (one moment zero, the other two equal) is a symmetric body with ``I_s = 0``. Spin about the
-  rod's own axis is kinematic: that component of ω carries no angular momentum and no energy, Euler's
-  third equation reads ``0 = 0``, and we define it to stay constant. It then only turns the body frame
-  about the rod (the rod itself moves the same whatever its value).
-
-Accuracy
---------
-Differences of the invariants (``L² − 2 E I_x``) are formed in double-double arithmetic from the
-moments and ``ω0`` as given, so ``1 − m`` keeps full relative precision down to the separatrix
-(``1 − m → 0``) instead of losing ``log10(1/(1 − m))`` digits to cancellation. The Jacobi functions are
-our own (descending Gauss–Landen transformation, A&S 16.12, driven by ``m`` *and* ``1 − m``), after
-reducing ``u`` modulo the period ``4K`` and, above ``K/2``, shifting by the quarter period; scipy's
-``ellipj`` takes only ``m`` and is wrong near ``m = 1`` for large arguments (scipy issue 8480). The
-separatrix itself (``m = 1``) uses ``tanh``/``sech`` and the elementary ``Π(n; ·|1)``.
-
-Each ``G_x`` is a quadratic form in two components of ω and is formed from that pair scaled by a power of
-two to order 1, so no square underflows: a push ``ε`` off the intermediate axis has ``1 − m ∝ ε²``, which
-leaves the float range below ``ε ≈ 1e-154``. The complementary modulus ``k' = √(1 − m) ∝ ε`` is kept
-instead, with its logarithm exact in the exponent, and within ``1 − m < 1e-40`` of the separatrix the
-motion is evaluated as what it is to double precision there, the separatrix's pulses ``2K`` apart with
-``K = ln(4/k')``, ``cn(K − w) = k' sinh w``, ``dn(K − w) = k' cosh w`` (see ``_LOG_KP_DEEP``). Only ω
-exactly along a principal axis is uniform rotation (until issue 15 a component below 1e-140 of the largest
-counted as 0: a push of 1e-150 about the intermediate axis reversed ω after ~1000 s).
-
-Measured against mpmath at 30 digits, and near the separatrix at 30 more than ``1 − m`` has zeros
-(``python -m tests.physics.test_free_body_reference`` prints the table; tests/physics/test_free_body.py
-asserts the bounds), over ±1,000 rotation periods ``2π/|ω0|``: the relative error of ω is at most 3e-13
-and the attitude error at most 3e-12 rad in every regime, including ``1 − m`` = 2e-6, 1e-10, 2e-14,
-1e-40, 1e-140, 1e-300, 3e-320 and 3e-600 (below the float range) and exactly 0, near-symmetric
-(``ΔI/I = 1e-12``), lamina, rod, sphere;
-``|L_space|`` and ``E`` are constant to 2e-15 relative and ``R`` is orthonormal to 2e-15. The error
-grows like ``eps × (phase)``, the rounding of ``λ t`` itself.
-
-Near the separatrix the *evaluation* stays that accurate relative to the exact solution for the
-floating-point ``ω0`` given, but the *problem* becomes ill-conditioned: the period ``4K/λ`` grows like
-``ln(16/(1 − m))``, and a relative change ``δ`` of ω0 changes ``1 − m`` by up to ``δ/(1 − m)``, hence
-the phase after ``N`` periods by about ``N δ / ((1 − m) ln(16/(1 − m)))``. Any computed motion near the
-separatrix (ours, or an integrator's) is only as good as ``ω0`` is known.
-
-The pole of the frame ``B`` is ``e_a`` or ``e_c``, whichever ``L̂`` stays farther from (compared at
-``sn u = 0``): then ``ψ̇`` has no spikes and its two terms do not cancel, also for a body close to a
-rod (measured 9e-13 rad after 1,000 turns for ``I3/I1 = 1e-3``); the pole-c form is
-``ψ̇ = L/I_a + L κ sn²/(1 − n' sn²)``, ``κ = G_a (I_a − I_c)/(I_a² G_c)``, ``n' = −I_c G_a/(I_a G_c)``.
-
-Cost (median, 1,000 times, one initial state; the setup of the last state is cached): ``omega``
-≈ 0.15 ms, ``attitude`` ≈ 0.75 ms; ``flow`` ≈ 3 µs per state for 1,000 states, ≈ 0.14 ms per call.
+:class:`FreeBody` is the model; the constants of one motion and their evaluation are in
+:mod:`physics.free_body_motion`, one motion evaluated at any times in :mod:`physics.free_body_trajectory`.
+The method (Jacobi functions from ``m`` and ``1 − m``, Carlson's ``R_J``) and its measured accuracy are in
+docs/physics-notes.md.
 """
 
 from __future__ import annotations
