@@ -35,7 +35,7 @@ class Method:
 
     def __init__(self, moments: ArrayLike, torque=None) -> None:
         self.moments = check_moments(moments)
-        self._inv = inverse_moments(self.moments)
+        self.inverse_moments = inverse_moments(self.moments)
         self.torques = torque_list(torque)
         self._kicks, self._others = torque_flows(self.torques)
         self._zero_axes = tuple(int(i) for i in np.nonzero(self.moments == 0.0)[0])
@@ -116,11 +116,11 @@ class Splitting(Method):
     # What the free rotation keeps (the class's declaration); an instance narrows it to its torques.
     conserves: tuple = ("orthonormality of R", "|L|", "L_space", "symplectic form")
     _weights: tuple[float, ...] = (1.0,)
-    _sym: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
+    symmetric: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
 
     def __init__(self, moments: ArrayLike, torque=None) -> None:
         super().__init__(moments, torque)
-        self._program = self._build_program()
+        self.program = self._build_program()
         conserves = ["orthonormality of R", "|L| (Casimir) of each free sub-step"]
         if not self.torques:
             conserves = ["orthonormality of R", "|L|", "L_space", "symplectic form"]
@@ -161,8 +161,8 @@ class Splitting(Method):
         return [op for op in merged if op[1] != 0.0]
 
     def _step(self, s, dt, xp):
-        inv = self._inv
-        for kind, frac in self._program:
+        inv = self.inverse_moments
+        for kind, frac in self.program:
             h = frac * dt
             if kind == "X":
                 s = rot_x(s, h * inv[0] * s[9], xp)
@@ -193,7 +193,7 @@ def refuse_unstable(method: Method, L: NDArray[np.float64], dt: float, name: str
     limit = getattr(method, "max_rate_step", None)
     if limit is None:
         return
-    inv = np.asarray(method._inv, dtype=float)
+    inv = np.asarray(method.inverse_moments, dtype=float)
     big, top = float(np.max(np.abs(L), initial=0.0)), float(np.max(inv))
     if big == 0.0:
         return

@@ -23,9 +23,9 @@ def torque_arrays(method: Method) -> tuple[np.ndarray, np.ndarray, np.ndarray] |
     gravity, friction, drag = [], [], []
     for t in method.torques:
         if isinstance(t, GravityTorque):
-            gravity.append(np.asarray(t._w, dtype=float))
+            gravity.append(np.asarray(t.weight_moment, dtype=float))
         elif isinstance(t, SpinFriction):
-            friction.append([t.coefficient, t._s, *t.axis_body, *t._inv])
+            friction.append([t.coefficient, t.axis_inverse_moment, *t.axis_body, *t.inverse_moments])
         elif type(t) is TransverseAirDrag:
             inv = np.where(t.moments > 0.0, 1.0 / np.where(t.moments > 0.0, t.moments, 1.0), 0.0)
             drag.append([t.coefficient, inv[0], inv[1]])
@@ -45,15 +45,15 @@ class CompiledStep:
     def __init__(self, method: Method, torques: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
         self.method = method
         self.gravity, self.friction, self.drag = torques
-        self.inv = np.asarray(method._inv, dtype=float)
+        self.inv = np.asarray(method.inverse_moments, dtype=float)
         self.zero = np.asarray(method.moments == 0.0, dtype=np.bool_)
         self.splitting = isinstance(method, Splitting)
         self.classical = isinstance(method, ClassicalRK4)
         if self.splitting:
-            program: list[Any] = method._program  # type: ignore[attr-defined]
+            program: list[Any] = method.program  # type: ignore[attr-defined]
             self.ops = np.array([_OPS.get(kind, kernels.OP_E) for kind, _ in program], dtype=np.int64)
             self.fracs = np.array([frac for _, frac in program], dtype=float)
-            sym = getattr(method, "_sym", None)
+            sym = getattr(method, "symmetric", None)
             self.sym = np.array(sym if sym is not None else (2, 0.0, 0.0), dtype=float)
 
     def run(self, states: np.ndarray, dt: float, n: int) -> np.ndarray:
@@ -79,7 +79,7 @@ def compile_method(method: Method) -> CompiledStep | None:
     """The compiled step of a method instance, or None when it must run interpreted (see the module)."""
     if not isinstance(method, (Splitting, LieRK4, ClassicalRK4)):
         return None
-    if isinstance(method, ExactFreeSplitting) and method._sym is None:
+    if isinstance(method, ExactFreeSplitting) and method.symmetric is None:
         return None
     torques = torque_arrays(method)
     return None if torques is None else CompiledStep(method, torques)

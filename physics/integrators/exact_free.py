@@ -41,14 +41,14 @@ class ExactFreeSplitting(Splitting):
         super().__init__(moments, torque)
         m = self.moments
         # Symmetric body: s = the odd axis, I⊥ the common moment of the other two (sphere: s = 2).
-        self._sym = None
+        self.symmetric = None
         for s_ax in (2, 0, 1):
             b, c = (s_ax + 1) % 3, (s_ax + 2) % 3
             if m[b] == m[c] and m[b] > 0.0:
-                self._sym = (s_ax, 1.0 / m[b], (1.0 / m[s_ax] if m[s_ax] > 0.0 else 1.0 / m[b]) - 1.0 / m[b])
+                self.symmetric = (s_ax, 1.0 / m[b], (1.0 / m[s_ax] if m[s_ax] > 0.0 else 1.0 / m[b]) - 1.0 / m[b])
                 break
         self._free_body = None
-        if self._sym is None:
+        if self.symmetric is None:
             self._free_body = FreeBody(m)
         self.conserves = self.conserves + ("energy and L_space of the free sub-flow (exact)",)
 
@@ -56,8 +56,8 @@ class ExactFreeSplitting(Splitting):
         return [("E", w)]
 
     def _exact_free(self, s, h, xp):
-        if self._sym is not None:
-            ax, inv_perp, dinv = self._sym
+        if self.symmetric is not None:
+            ax, inv_perp, dinv = self.symmetric
             l0, l1, l2 = s[9], s[10], s[11]
             # H = |L|²/(2 I⊥) + L_s² (1/I_s − 1/I⊥)/2: two commuting exact flows. A rod (I_s = 0) carries
             # no L_s, so its second flow is the identity.

@@ -32,7 +32,7 @@ class LieRK4(Method):
     :func:`integrate` and :func:`advance` refuse such a step up front."""
 
     def _rhs(self, s, xp):
-        i0, i1, i2 = self._inv
+        i0, i1, i2 = self.inverse_moments
         l0, l1, l2 = s[9], s[10], s[11]
         w0, w1, w2 = i0 * l0, i1 * l1, i2 * l2
         d0, d1, d2 = l1 * w2 - l2 * w1, l2 * w0 - l0 * w2, l0 * w1 - l1 * w0
@@ -53,7 +53,7 @@ class LieRK4(Method):
         self._fast: list[Callable[..., Any]] = []
         for t in self.torques:
             if isinstance(t, GravityTorque):
-                w0, w1, w2 = t._w
+                w0, w1, w2 = t.weight_moment
                 self._fast.append(
                     lambda s, xp, w0=w0, w1=w1, w2=w2: (
                         -(w1 * s[8] - w2 * s[7]),
@@ -63,7 +63,7 @@ class LieRK4(Method):
                 )
             elif isinstance(t, SpinFriction):
                 a0, a1, a2 = t.axis_body
-                i0, i1, i2 = t._inv
+                i0, i1, i2 = t.inverse_moments
                 c = t.coefficient
 
                 def fr(s, xp, a0=a0, a1=a1, a2=a2, i0=i0, i1=i1, i2=i2, c=c):

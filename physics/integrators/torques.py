@@ -41,22 +41,22 @@ class GravityTorque:
         self.mass = float(mass)
         self.g = float(g)
         self.center_of_mass_body = vec3(center_of_mass_body, "center_of_mass_body")
-        self._w = self.mass * self.g * self.center_of_mass_body  # M g c, N m
+        self.weight_moment = self.mass * self.g * self.center_of_mass_body  # M g c, N m
 
     def __call__(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
         """Body-frame torque, N m: ``R`` (n,3,3) or (3,3) -> (n,3) or (3,)."""
         R = np.asarray(R, dtype=float)
         up = R[..., 2, :]  # Rᵀ ẑ: the space vertical in body axes
-        return -np.cross(self._w, up)
+        return -np.cross(self.weight_moment, up)
 
     def potential(self, R: ArrayLike) -> NDArray[np.float64]:
         """``V = M g (R c)_z``, J: ``R`` (n,3,3) or (3,3) -> (n,) or ()."""
         R = np.asarray(R, dtype=float)
-        return R[..., 2, :] @ self._w
+        return R[..., 2, :] @ self.weight_moment
 
     def _kick(self, s: State, h: float, xp) -> State:
         r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
-        w0, w1, w2 = self._w
+        w0, w1, w2 = self.weight_moment
         return (
             r00,
             r01,
@@ -103,23 +103,23 @@ class SpinFriction:
         if norm == 0.0:
             raise ValueError("axis_body must be a non-zero vector")
         self.axis_body = a / norm
-        self._inv = inverse_moments(self.moments)
-        self._s = float(np.sum(self.axis_body**2 * self._inv))
+        self.inverse_moments = inverse_moments(self.moments)
+        self.axis_inverse_moment = float(np.sum(self.axis_body**2 * self.inverse_moments))
 
     def __call__(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
         """Body-frame torque, N m: ``L_body`` (n,3) or (3,) -> same shape."""
         L = np.asarray(L_body, dtype=float)
-        wa = (L * self._inv) @ self.axis_body
+        wa = (L * self.inverse_moments) @ self.axis_body
         return -self.coefficient * wa[..., None] * self.axis_body
 
     def _flow(self, s: State, h: float, xp) -> State:
-        if self._s == 0.0 or self.coefficient == 0.0:
+        if self.axis_inverse_moment == 0.0 or self.coefficient == 0.0:
             return s
         a0, a1, a2 = self.axis_body
-        i0, i1, i2 = self._inv
+        i0, i1, i2 = self.inverse_moments
         l0, l1, l2 = s[9], s[10], s[11]
         wa = a0 * i0 * l0 + a1 * i1 * l1 + a2 * i2 * l2
-        f = xp.expm1(-self.coefficient * self._s * h) / self._s * wa
+        f = xp.expm1(-self.coefficient * self.axis_inverse_moment * h) / self.axis_inverse_moment * wa
         return s[:9] + (l0 + f * a0, l1 + f * a1, l2 + f * a2)
 
 
