@@ -3,8 +3,9 @@
 With ``u = cos θ``, ``u̇² = f(u) = 2 (ℰ − a u)(1 − u²) − (α − β u)²`` (``a = Mgℓ/I1``, ``α = Lz/I1``,
 ``β = L3/I1``; lecture, "the heavy symmetric top"), a cubic with roots ``−1 ≤ u1 ≤ u2 ≤ 1 ≤ u3``, and
 ``u = u1 + (u2 − u1) sn²(λ t + c | m)``, ``m = (u2 − u1)/(u3 − u1)``, ``λ = sqrt(a (u3 − u1)/2)``. This
-module finds the roots (:mod:`physics.nutation_cubic`), the modulus, rate and phase, and the two pole
-terms of φ (:class:`physics.top_elliptic._PoleTerm`); :mod:`physics.top_trajectory` evaluates them.
+module finds the roots (:mod:`physics.heavy_top.nutation_cubic`), the modulus, rate and phase, and the two
+pole terms of φ (:class:`physics.heavy_top.pole_terms.PoleTerm`); :mod:`physics.heavy_top.trajectory`
+evaluates them.
 """
 
 from __future__ import annotations
@@ -48,8 +49,8 @@ class Motion:
     terms: list[PoleTerm] = field(default_factory=list)  # two of them
     period: float = math.inf
     precession_rate: float = 0.0
-    free: _FreeTerms | None = None  # mgl = 0: the symmetric free body (elementary closed form)
-    smooth: _SmoothPhi | None = None  # the pole terms summed without cancellation (see _SmoothPhi)
+    free: FreeTerms | None = None  # mgl = 0: the symmetric free body (elementary closed form)
+    smooth: SmoothPhi | None = None  # the pole terms summed without cancellation (see SmoothPhi)
 
 
 _THROUGH_POLE = 1e-300
@@ -169,7 +170,7 @@ def motion_constants(
     loc_p = [dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + gap, c3]
     k2 = K0 + a * z0  # ℰ + a
     loc_m = [dp, 4.0 * k2 + 2.0 * beta * dp, -2.0 * k2 - 4.0 * a - beta * beta, c3]
-    # The roots in each expansion, each group at its own scale (nutation_cubic._local_roots), ascending in
+    # The roots in each expansion, each group at its own scale (nutation_cubic.local_roots), ascending in
     # u in all three. Each root is then taken from the expansion in which it is smallest: there it has its
     # full relative precision, and so have its distances to u0 and to the poles. (Two roots that nearly
     # coincide always have an anchor between them, u0 or a pole, which tells them apart.)
@@ -287,7 +288,7 @@ def motion_constants(
         C = s0 * s0 * phd0 + beta * cubic.u0_minus_u1
         rate = C / (r1.p * r1.q * lam)
         qc = tuple(complete_q(tm.one_n, one_m) for tm in terms)
-        mo.smooth = _SmoothPhi(
+        mo.smooth = SmoothPhi(
             rate=rate,
             C=C,
             D=beta * u21,
@@ -303,7 +304,7 @@ def motion_constants(
 
 
 @dataclass(frozen=True)
-class _SmoothPhi:
+class SmoothPhi:
     """φ and ψ of a nutating top whose axis passes through neither pole, in a form without cancellation:
     ``φ − φ0 = rate (τ − c) + Σ b± [Q(n±; τ) − Q(n±; c)]``, ``ψ − ψ0 = (L3/I3) t − u1 rate (τ − c)
     − b+ ΔQ(n+) + b− ΔQ(n−)``, and the rates ``φ̇ = (C − D sn²) / ((1 − u)(1 + u))``, ``ψ̇ = ω3 − u φ̇``.
@@ -344,7 +345,7 @@ def _vertical_period(top: HeavyTop | ScaledTop, L3: float, u0: float) -> float:
 
 
 @dataclass
-class _FreeTerms:
+class FreeTerms:
     """mgl = 0 (lecture: the symmetric free body about the pivot): ``u = ū + A cos x``, ``x = ν t + c``,
     ``ν = L / I1``, and each pole term of φ is elementary (see :func:`_free_motion`)."""
 
@@ -434,7 +435,7 @@ def _free_motion(
         jumps.append(0.0)
     mo.kind = "free"
     mo.c = c
-    mo.free = _FreeTerms(
+    mo.free = FreeTerms(
         nu,
         c,
         amplitude,

@@ -3,7 +3,7 @@ cancellation.
 
 The roots are found in Taylor expansions of f about three points where f is known exactly from the
 initial data (u0, and the poles ±1), each root at its own scale (:func:`local_roots`), and each is taken
-from the expansion in which it is smallest (:func:`physics.top_motion.motion_constants` builds the
+from the expansion in which it is smallest (:func:`physics.heavy_top.motion.motion_constants` builds the
 expansions). Each root is held three ways
 (``u − u0``, ``1 − u``, ``1 + u``) so that the differences the closed form needs keep their digits.
 """

@@ -1,9 +1,8 @@
-"""Elliptic pieces of the heavy top's closed form (Carlson forms, scipy.special).
+"""The pole terms of the heavy top's φ and ψ: each an elliptic integral of the third kind in closed form.
 
 ``u = cos θ = u1 + (u2 − u1) sn²(τ | m)`` with ``τ = λ t + c``; φ and ψ are sums of elliptic integrals of
-the third kind, one per pole (:class:`PoleTerm`). Each function has an array form (vectorised over τ)
-and the evaluation of one time in :mod:`physics.top_trajectory` uses the ``*_one`` forms, which compute
-the same expressions on Python floats (a frame of an animation asks for one time).
+the third kind, one per pole (:class:`PoleTerm`), with an array form (vectorised over τ) and a form for one
+time on Python floats (:meth:`PoleTerm.integral_one`; a frame of an animation asks for one time).
 """
 
 from __future__ import annotations

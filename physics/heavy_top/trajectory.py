@@ -1,7 +1,7 @@
 """The heavy top's exact motion from one initial condition, evaluated at any times.
 
 Solve once, evaluate often: :class:`HeavyTopTrajectory` holds the constants of the motion
-(:func:`physics.top_motion.motion_constants`); :meth:`HeavyTopTrajectory.at` only evaluates
+(:func:`physics.heavy_top.motion.motion_constants`); :meth:`HeavyTopTrajectory.at` only evaluates
 ``u = cos θ = u1 + (u2 − u1) sn²(λ t + c | m)`` and the pole terms of φ and ψ. An array of times is
 evaluated vectorised; one time (a frame of an animation) on Python floats, the same expressions in the
 same order, so both give the same numbers.
@@ -268,7 +268,7 @@ class HeavyTopTrajectory:
         return terms
 
     def _free(self, t: Floats) -> tuple[Floats, ...]:
-        """mgl = 0: ``u = ū + A cos(ν t + c)``, φ and ψ from the elementary pole terms (top_motion._free_motion)."""
+        """mgl = 0: ``u = ū + A cos(ν t + c)``, φ and ψ from the elementary pole terms (motion._free_motion)."""
         mo = self._mo
         fr = mo.free
         assert fr is not None  # only free motions are evaluated here
@@ -357,7 +357,7 @@ class HeavyTopTrajectory:
         if np.any(bot):
             thd[bot] = -2.0 * math.sqrt(u21) * lam * np.abs(cn[bot]) * dn[bot] / np.sqrt(one_mu[bot])
         sm = mo.smooth
-        if sm is not None:  # the pole terms summed without cancellation (top_motion._SmoothPhi)
+        if sm is not None:  # the pole terms summed without cancellation (motion.SmoothPhi)
             dn2 = dn * dn
             dq = [
                 q_integral(k, sn, cn2, dn2, n, one_n, qc) - q0
