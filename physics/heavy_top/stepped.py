@@ -2,7 +2,8 @@
 friction and air drag.
 
 (R, L_body) is integrated with :mod:`physics.integrators` (no Euler angles, so θ = 0 and θ = π/2 are
-ordinary points). :meth:`physics.heavy_top.HeavyTop.simulate` is the symmetric top's front end.
+ordinary points). :func:`friction_stepper` builds the symmetric top's integrator (the app's heavy-top scene
+steps it frame by frame); :meth:`physics.heavy_top.HeavyTop.simulate` runs it from Euler angles.
 """
 
 from __future__ import annotations
@@ -80,7 +81,7 @@ class SteppedRun:
 
 
 FrictionRun = SteppedRun
-"""The name :class:`SteppedRun` had first (a run with friction is one use of it)."""
+"""Another name of :class:`SteppedRun` (a run with friction is one use of it)."""
 
 _BY_CLASS_NAME = {cls.__name__: cls for cls in REGISTRY.values()}
 
