@@ -9,7 +9,7 @@ animation) with the same formulas on Python floats (:meth:`FreeBodyTrajectory._o
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,6 +44,28 @@ class FreeBodyState:
     t: Any
     omega: NDArray[np.float64]
     attitude: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class EllipticFloats:
+    """The constants of one elliptic motion as floats (one time is evaluated on floats): the entries of
+    :class:`physics.free_body_motion.MotionConstants` of the same names."""
+
+    m: float
+    mc: float
+    kp: float
+    K: float
+    lam: float
+    u0: float
+    n: float
+    Jc: float
+    L: float
+    rate0: float
+    coef: float
+    P0: float
+    ia: float
+    ib: float
+    ic: float
 
 
 class FreeBodyTrajectory:
@@ -84,10 +106,9 @@ class FreeBodyTrajectory:
     def _prepare_elliptic(self) -> None:
         """The floats one time needs, and ``M0 = R0 Qᵀ B(0)`` (see :func:`physics.free_body_motion.evaluate`)."""
         p = self._setup
-        self._constants = {
-            key: float(getattr(p, key)[0])
-            for key in ("m", "mc", "kp", "K", "lam", "u0", "n", "Jc", "L", "rate0", "coef", "P0", "ia", "ib", "ic")
-        }
+        self._constants = EllipticFloats(
+            *(float(getattr(p, f.name)[0]) for f in fields(EllipticFloats))  # the same names as MotionConstants'
+        )
         self._deep = bool(p.deep[0])
         self._pole_c = bool(p.pole_c[0])
         self._amp = [float(a) for a in p.amp[0]]
@@ -97,7 +118,7 @@ class FreeBodyTrajectory:
         self._qt = self._q.T.copy()
         c = self._constants
         wc0 = self._q @ self.omega0
-        frame_0 = _frame_one(wc0, c["ia"], c["ib"], c["ic"], self._pole_c)
+        frame_0 = _frame_one(wc0, c.ia, c.ib, c.ic, self._pole_c)
         self._m0 = self.attitude0 @ self._qt @ frame_0
 
     def __repr__(self) -> str:
@@ -141,16 +162,16 @@ class FreeBodyTrajectory:
             attitude = _expm_one(*l_space) @ r0 @ _expm_one(*axis)
             return FreeBodyState(t, omega, attitude)
         k = self._constants
-        u = k["lam"] * t + k["u0"]
-        j, v, s_, c_, d_ = reduced_jacobi_one(u, k["m"], k["mc"], k["K"], self._roots, self._scale, k["kp"])
+        u = k.lam * t + k.u0
+        j, v, s_, c_, d_ = reduced_jacobi_one(u, k.m, k.mc, k.K, self._roots, self._scale, k.kp)
         sign = 1.0 - 2.0 * (j % 2.0)
         a0, a1, a2 = self._amp
         wc = np.array([a0 * d_, a1 * sign * s_, a2 * sign * c_])
         omega = self._qt @ wc
         # Angle turned about L: ψ − ψ0 = L t / I_c + C [P(u) − P(u0)], P = Π(n; am u|m) − u.
         excess = _excess_one(k, u, j, v, s_, c_, d_, self._deep)
-        dpsi = k["L"] * t * k["rate0"] + k["coef"] * (excess - k["P0"])
-        b1, b2, b3 = _frame_rows_one(a0 * d_, a1 * sign * s_, a2 * sign * c_, k["ia"], k["ib"], k["ic"], self._pole_c)
+        dpsi = k.L * t * k.rate0 + k.coef * (excess - k.P0)
+        b1, b2, b3 = _frame_rows_one(a0 * d_, a1 * sign * s_, a2 * sign * c_, k.ia, k.ib, k.ic, self._pole_c)
         cp, sp = math.cos(dpsi), math.sin(dpsi)
         rot_bt = np.array(
             [[cp * x - sp * y for x, y in zip(b1, b2)], [sp * x + cp * y for x, y in zip(b1, b2)], list(b3)]
@@ -185,18 +206,18 @@ def _sep_excess_one(a: float, n: float) -> float:
     return (a - atan_over) / (1.0 - n)
 
 
-def _excess_one(k: dict[str, float], u: float, j: float, v: float, s: float, c: float, d: float, deep: bool) -> float:
+def _excess_one(k: EllipticFloats, u: float, j: float, v: float, s: float, c: float, d: float, deep: bool) -> float:
     """:func:`physics.free_body_motion.third_kind_excess` at one phase."""
-    n = k["n"]
-    if k["K"] == math.inf:  # separatrix: the elementary form
+    n = k.n
+    if k.K == math.inf:  # separatrix: the elementary form
         return math.copysign(_sep_excess_one(abs(u), n), u)
     if deep:  # within 1 − m < 1e-40 of it: the separatrix's pulses 2K apart
-        a, kk = abs(v), k["K"]
-        local = k["Jc"] / 3.0 - (kk - a) / (1.0 - n) if a > 0.5 * kk else _sep_excess_one(a, n)
-        return 2.0 * j * k["Jc"] / 3.0 + math.copysign(local, v)
+        a, kk = abs(v), k.K
+        local = k.Jc / 3.0 - (kk - a) / (1.0 - n) if a > 0.5 * kk else _sep_excess_one(a, n)
+        return 2.0 * j * k.Jc / 3.0 + math.copysign(local, v)
     x2, y2, p = c * c, d * d, 1.0 - n * s * s
     rj = carlson_rj_one(x2, y2, p)
-    return (2.0 * j * k["Jc"] + s**3 * rj) / 3.0
+    return (2.0 * j * k.Jc + s**3 * rj) / 3.0
 
 
 def _frame_rows_one(

@@ -64,7 +64,7 @@ class Method:
         dt = check_dt(dt)
         refuse_unstable(self, L, dt, "L_body")
         xp = np if batched else math
-        s = interpreted(self._step, to_state(R, L), dt, xp, 1, self, 0)
+        s = interpreted(self.step_state, to_state(R, L), dt, xp, 1, self, 0)
         return from_state(s, batched)
 
     def energy(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
@@ -81,8 +81,8 @@ class Method:
                 e = e + t.potential(R)
         return e
 
-    # -- internals ------------------------------------------------------------------------------------
-    def _project(self, s: State) -> State:
+    # -- on the component state (the drivers run these) -----------------------------------------------
+    def project(self, s: State) -> State:
         """Hold L at 0 along a zero-moment (rod) axis."""
         if not self._zero_axes:
             return s
@@ -103,9 +103,11 @@ class Method:
                 s = f(s, h, xp)
             for k in reversed(self._kicks):
                 s = k(s, h, xp)
-        return self._project(s) if self._zero_axes else s
+        return self.project(s) if self._zero_axes else s
 
-    def _step(self, s: State, dt: float, xp) -> State:  # pragma: no cover - abstract
+    def step_state(self, s: State, dt: float, xp) -> State:  # pragma: no cover - abstract
+        """One step of ``dt`` on the component state (:mod:`._state`); ``xp`` is :mod:`math` for one body,
+        numpy for a batch."""
         raise NotImplementedError
 
 
@@ -160,7 +162,7 @@ class Splitting(Method):
                 merged.append((kind, frac))
         return [op for op in merged if op[1] != 0.0]
 
-    def _step(self, s, dt, xp):
+    def step_state(self, s, dt, xp):
         inv = self.inverse_moments
         for kind, frac in self.program:
             h = frac * dt

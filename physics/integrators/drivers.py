@@ -56,7 +56,7 @@ def advance(method: Method, state: ArrayLike, dt: float, n_steps: int) -> NDArra
             check_finite(rows, method, dt, done, chunk)
         return rows[0]
     s = tuple(float(x) for x in values)
-    step = method._step
+    step = method.step_state
     for done, chunk in _chunks(n_steps, n_steps):
         s = interpreted(step, s, dt, math, chunk, method, done)
     return np.array(s)
@@ -154,7 +154,7 @@ def integrate(
     kernel = compiled_step(method)
     if kernel is not None:
         # Compiled: the whole batch (or the one body) as rows of 12, stepped in place between saves.
-        s0 = method._project(to_state(R, L))
+        s0 = method.project(to_state(R, L))
         rows = np.array(s0, dtype=float).T.reshape(-1, 12) if batched else np.array([s0], dtype=float)
         saved, steps = [rows.copy()], [0]
         checked = 1
@@ -171,10 +171,10 @@ def integrate(
             arr = arr[:, 0]
         return Trajectory(t=t, attitude=arr[..., :9].reshape(arr.shape[:-1] + (3, 3)), L_body=arr[..., 9:].copy())
     xp = np if batched else math
-    s = method._project(to_state(R, L))
+    s = method.project(to_state(R, L))
     states = [s]
     steps = [0]
-    step = method._step
+    step = method.step_state
     checked = 1
     for done, chunk in _chunks(n_steps, save_every):
         s = interpreted(step, s, dt, xp, chunk, method, done, check=False)

@@ -75,7 +75,7 @@ class LieRK4(Method):
                 self._fast.append(lambda s, xp, g=GenericTorque(t, None): g._tau(s, xp))  # noqa: B008 - one per torque, bound at definition
         self._needs_attitude = any(not isinstance(t, SpinFriction) for t in self.torques)
 
-    def _step(self, s, dt, xp):
+    def step_state(self, s, dt, xp):
         h = dt
         l0, l1, l2 = s[9], s[10], s[11]
         r = s[:9]
@@ -107,4 +107,4 @@ class LieRK4(Method):
         u = tuple(h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) for i in range(3))
         lnew = tuple(s[9 + i] + h6 * (m1[i] + 2.0 * m2[i] + 2.0 * m3[i] + m4[i]) for i in range(3))
         out = right_exp(s, *u, xp) + lnew
-        return self._project(out) if self._zero_axes else out
+        return self.project(out) if self._zero_axes else out

@@ -416,7 +416,7 @@ def test_classical_rk4_compiled_is_its_interpreted_step():
     compiled = advance(method, start, 0.05, 200)
     s = tuple(float(x) for x in start)
     for _ in range(200):
-        s = method._step(s, 0.05, math)
+        s = method.step_state(s, 0.05, math)
     assert np.max(np.abs(compiled - np.array(s))) < 1e-12
     R = compiled[:9].reshape(3, 3)
     assert np.max(np.abs(R.T @ R - np.eye(3))) > 1e-9  # not projected: the careless baseline stays careless
