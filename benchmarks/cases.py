@@ -76,8 +76,7 @@ class Case:
 
     def torques(self) -> list:
         """The project's torque objects of this case (for :mod:`physics.integrators`)."""
-        from physics.heavy_body import TransverseAirDrag
-        from physics.integrators import GravityTorque, SpinFriction
+        from physics.integrators import GravityTorque, SpinFriction, TransverseAirDrag
 
         out: list = []
         if self.mass:

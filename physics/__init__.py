@@ -1,9 +1,11 @@
 """Rigid Body Lab physics: headless, exact where possible, geometric where not.
 
 Modules (one topic each): :mod:`physics.inertia`, :mod:`physics.rotations`,
-:mod:`physics.free_body`, :mod:`physics.heavy_top`, :mod:`physics.pendulum`,
-:mod:`physics.integrators`. This package never imports the app or viser.
+:mod:`physics.elliptic`, :mod:`physics.free_body`, :mod:`physics.heavy_top`, :mod:`physics.pendulum`,
+:mod:`physics.integrators`; :data:`G` from :mod:`physics.constants`. This package never imports the app or
+viser; docs/physics-notes.md describes the methods.
 """
 
-G = 9.81
-"""Standard gravitational acceleration used by default, m/s² (docs/conventions.md)."""
+from physics.constants import G
+
+__all__ = ["G"]

@@ -16,7 +16,7 @@ DD = tuple[Any, Any]
 _SPLIT = 134217729.0  # 2**27 + 1
 
 
-def _two_sum(a: Any, b: Any) -> DD:
+def two_sum(a: Any, b: Any) -> DD:
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
@@ -28,27 +28,27 @@ def _split(a: Any) -> DD:
     return hi, a - hi
 
 
-def _two_prod(a: Any, b: Any) -> DD:
+def two_prod(a: Any, b: Any) -> DD:
     p = a * b
     ah, al = _split(a)
     bh, bl = _split(b)
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
-def _dd_mul(x: DD, y: DD) -> DD:
-    p, e = _two_prod(x[0], y[0])
+def dd_mul(x: DD, y: DD) -> DD:
+    p, e = two_prod(x[0], y[0])
     e = e + (x[0] * y[1] + x[1] * y[0])
     s = p + e
     return s, e - (s - p)
 
 
-def _dd_add(x: DD, y: DD) -> DD:
-    s, e = _two_sum(x[0], y[0])
+def dd_add(x: DD, y: DD) -> DD:
+    s, e = two_sum(x[0], y[0])
     e = e + (x[1] + y[1])
     t = s + e
     return t, e - (t - s)
 
 
-def _dd_term(moment: Any, diff: DD, w: Any) -> DD:
+def dd_term(moment: Any, diff: DD, w: Any) -> DD:
     """``moment · diff · w²`` in double-double; ``diff`` is a double-double."""
-    return _dd_mul(_dd_mul((moment, 0.0 * moment), diff), _two_prod(w, w))
+    return dd_mul(dd_mul((moment, 0.0 * moment), diff), two_prod(w, w))

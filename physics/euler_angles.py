@@ -35,10 +35,10 @@ def euler_attitude(phi: ArrayLike, theta: ArrayLike, psi: ArrayLike) -> NDArray[
     cf, sf = np.cos(phi), np.sin(phi)
     ct, st = np.cos(theta), np.sin(theta)
     cp, sp = np.cos(psi), np.sin(psi)
-    return _attitude_from_trig(cf, sf, ct, st, cp, sp)
+    return attitude_from_trig(cf, sf, ct, st, cp, sp)
 
 
-def _attitude_from_trig(cf: Floats, sf: Floats, ct: Floats, st: Floats, cp: Floats, sp: Floats) -> Floats:
+def attitude_from_trig(cf: Floats, sf: Floats, ct: Floats, st: Floats, cp: Floats, sp: Floats) -> Floats:
     r = np.empty(np.shape(cf) + (3, 3))
     r[..., 0, 0] = cf * cp - sf * ct * sp
     r[..., 0, 1] = -cf * sp - sf * ct * cp
@@ -84,6 +84,6 @@ def _angles(*named: tuple[str, ArrayLike]) -> list[Floats]:
         raise ValueError(f"the angles must broadcast together, got shapes {shapes}") from None
 
 
-def _theta_from(one_mu: ArrayLike, one_pu: ArrayLike) -> Any:
+def theta_from(one_mu: ArrayLike, one_pu: ArrayLike) -> Any:
     """θ from 1 − cos θ = 2 sin²(θ/2) and 1 + cos θ = 2 cos²(θ/2): accurate at both poles."""
     return 2.0 * np.arctan2(np.sqrt(np.maximum(one_mu, 0.0)), np.sqrt(np.maximum(one_pu, 0.0)))

@@ -1,6 +1,6 @@
 """The free body's motion from one initial state, solved once and evaluated at any times.
 
-:class:`FreeBodyTrajectory` keeps the constants of the motion (:meth:`physics.free_body.FreeBody._setup`:
+:class:`FreeBodyTrajectory` keeps the constants of the motion (:func:`physics.free_body_motion.motion_constants`:
 modulus, rate, phase, pole, the frame of L at t = 0); :meth:`FreeBodyTrajectory.at` evaluates an array
 of times with the vectorised closed form of :mod:`physics.free_body`, and one time (a frame of an
 animation) with the same formulas on Python floats (:meth:`FreeBodyTrajectory._one`).
@@ -9,14 +9,14 @@ animation) with the same formulas on Python floats (:meth:`FreeBodyTrajectory._o
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import elliprj
 
-from physics.free_body import _MC_NEAR_ONE, _elliprj
+from physics.elliptic import carlson_rj_one, reduced_jacobi_one
+from physics.free_body_motion import check_attitude0, check_omega0, check_times, evaluate
 from physics.validation import finite_phase, finite_scalar
 
 if TYPE_CHECKING:
@@ -46,6 +46,28 @@ class FreeBodyState:
     attitude: NDArray[np.float64]
 
 
+@dataclass(frozen=True)
+class EllipticFloats:
+    """The constants of one elliptic motion as floats (one time is evaluated on floats): the entries of
+    :class:`physics.free_body_motion.MotionConstants` of the same names."""
+
+    m: float
+    mc: float
+    kp: float
+    K: float
+    lam: float
+    u0: float
+    n: float
+    Jc: float
+    L: float
+    rate0: float
+    coef: float
+    P0: float
+    ia: float
+    ib: float
+    ic: float
+
+
 class FreeBodyTrajectory:
     """One motion of a :class:`FreeBody`, ready to be evaluated at any times.
 
@@ -67,37 +89,36 @@ class FreeBodyTrajectory:
 
     def __init__(self, body: FreeBody, omega0: ArrayLike, attitude0: ArrayLike | None = None) -> None:
         self.body = body
-        self.omega0 = body._omega0(omega0)
-        self.attitude0 = body._attitude0(attitude0)
+        self.omega0 = check_omega0(omega0)
+        self.attitude0 = check_attitude0(attitude0)
         self.energy = float(0.5 * np.sum(body.moments * self.omega0 * self.omega0))
         self.angular_momentum = np.einsum("ij,j->i", self.attitude0, body.moments * self.omega0)
         self._w = self.omega0[None, :]
         self._r0 = self.attitude0[None]
-        self._setup = body._setup_of(self._w)
-        self._kind = int(self._setup["kind"][0])
+        self._setup = body.constants(self._w)
+        self._kind = int(self._setup.kind[0])
         moments = body.moments
-        # A bound on every phase per second of t (see FreeBody._evaluate), to refuse overflowing times.
+        # A bound on every phase per second of t (see physics.free_body_motion.evaluate), to refuse overflowing times.
         self._reach = 4.0 * float(np.max(moments) / np.min(moments[moments > 0.0])) * float(np.max(np.abs(self.omega0)))
         if self._kind == 2:
             self._prepare_elliptic()
 
     def _prepare_elliptic(self) -> None:
-        """The floats one time needs, and ``M0 = R0 Qᵀ B(0)`` (see :meth:`physics.free_body.FreeBody._elliptic`)."""
+        """The floats one time needs, and ``M0 = R0 Qᵀ B(0)`` (see :func:`physics.free_body_motion.evaluate`)."""
         p = self._setup
-        self._constants = {
-            key: float(p[key][0])
-            for key in ("m", "mc", "kp", "K", "lam", "u0", "n", "Jc", "L", "rate0", "coef", "P0", "ia", "ib", "ic")
-        }
-        self._deep = bool(p["deep"][0])
-        self._pole_c = bool(p["pole_c"][0])
-        self._amp = [float(a) for a in p["amp"][0]]
-        roots, scale = p["ladder"]
+        self._constants = EllipticFloats(
+            *(float(getattr(p, f.name)[0]) for f in fields(EllipticFloats))  # the same names as MotionConstants'
+        )
+        self._deep = bool(p.deep[0])
+        self._pole_c = bool(p.pole_c[0])
+        self._amp = [float(a) for a in p.amp[0]]
+        roots, scale = p.ladder
         self._roots, self._scale = [float(q[0]) for q in roots], float(scale[0])
-        self._q = p["q_can"][0]
+        self._q = p.q_can[0]
         self._qt = self._q.T.copy()
         c = self._constants
         wc0 = self._q @ self.omega0
-        frame_0 = _frame_one(wc0, c["ia"], c["ib"], c["ic"], self._pole_c)
+        frame_0 = _frame_one(wc0, c.ia, c.ib, c.ic, self._pole_c)
         self._m0 = self.attitude0 @ self._qt @ frame_0
 
     def __repr__(self) -> str:
@@ -111,54 +132,51 @@ class FreeBodyTrajectory:
             with np.errstate(over="ignore"):
                 finite_phase(self._reach * abs(tf))
             return self._one(tf)
-        tt = self.body._times(t)
-        omega, attitude = self.body._evaluate(
-            self._w, tt, self._r0, np.zeros(tt.shape, dtype=int), want_attitude=True, setup=self._setup
+        tt = check_times(t)
+        body = self.body
+        which = np.zeros(tt.shape, dtype=int)
+        omega, attitude = evaluate(
+            self._setup, body.moments, body.symmetry_axis, self._w, tt, self._r0, which, want_attitude=True
         )
         if np.ndim(t) == 0:
             return FreeBodyState(float(tt[0]), omega[0], attitude[0])
         return FreeBodyState(tt, omega, attitude)
 
     def _one(self, t: float) -> FreeBodyState:
-        """One time, on floats: the closed form of :meth:`physics.free_body.FreeBody._evaluate`."""
+        """One time, on floats: the closed form of :func:`physics.free_body_motion.evaluate`."""
         w, r0 = self.omega0, self.attitude0
         if self._kind == 0:  # uniform rotation about a principal axis
             return FreeBodyState(t, w.copy(), r0 @ _expm_one(t * w[0], t * w[1], t * w[2]))
         if self._kind == 1:  # symmetric body: ω⊥ turns by −Ω t about e_s; R = exp(t hat(L)/I⊥) R0 exp(Ω t hat e_s)
             p, body = self._setup, self.body
-            s = body._sym_axis
-            ang = float(p["Omega"][0]) * t
+            s = body.symmetry_axis
+            ang = float(p.Omega[0]) * t
             cs, sn = math.cos(ang), math.sin(ang)
             b, c = (s + 1) % 3, (s + 2) % 3
             omega = w.copy()
             omega[b] = w[b] * cs + w[c] * sn
             omega[c] = w[c] * cs - w[b] * sn
-            l_space = t * self.angular_momentum / float(p["i_perp"])
+            l_space = t * self.angular_momentum / p.i_perp
             axis = [0.0, 0.0, 0.0]
             axis[s] = ang
             attitude = _expm_one(*l_space) @ r0 @ _expm_one(*axis)
             return FreeBodyState(t, omega, attitude)
         k = self._constants
-        u = k["lam"] * t + k["u0"]
-        j, v, s_, c_, d_ = _jacobi_one(u, k["m"], k["mc"], k["K"], self._roots, self._scale, k["kp"])
+        u = k.lam * t + k.u0
+        j, v, s_, c_, d_ = reduced_jacobi_one(u, k.m, k.mc, k.K, self._roots, self._scale, k.kp)
         sign = 1.0 - 2.0 * (j % 2.0)
         a0, a1, a2 = self._amp
         wc = np.array([a0 * d_, a1 * sign * s_, a2 * sign * c_])
         omega = self._qt @ wc
         # Angle turned about L: ψ − ψ0 = L t / I_c + C [P(u) − P(u0)], P = Π(n; am u|m) − u.
         excess = _excess_one(k, u, j, v, s_, c_, d_, self._deep)
-        dpsi = k["L"] * t * k["rate0"] + k["coef"] * (excess - k["P0"])
-        b1, b2, b3 = _frame_rows_one(a0 * d_, a1 * sign * s_, a2 * sign * c_, k["ia"], k["ib"], k["ic"], self._pole_c)
+        dpsi = k.L * t * k.rate0 + k.coef * (excess - k.P0)
+        b1, b2, b3 = _frame_rows_one(a0 * d_, a1 * sign * s_, a2 * sign * c_, k.ia, k.ib, k.ic, self._pole_c)
         cp, sp = math.cos(dpsi), math.sin(dpsi)
         rot_bt = np.array(
             [[cp * x - sp * y for x, y in zip(b1, b2)], [sp * x + cp * y for x, y in zip(b1, b2)], list(b3)]
         )
         return FreeBodyState(t, omega, self._m0 @ rot_bt @ self._q)
-
-    def _omega(self, tt: Floats) -> Floats:
-        return self.body._evaluate(
-            self._w, tt, None, np.zeros(tt.shape, dtype=int), want_attitude=False, setup=self._setup
-        )[0]
 
 
 def _expm_one(x: float, y: float, z: float) -> Floats:
@@ -179,42 +197,8 @@ def _expm_one(x: float, y: float, z: float) -> Floats:
     )
 
 
-def _jacobi_one(
-    u: float, m: float, mc: float, kk: float, roots: list[float], scale: float, kp: float
-) -> tuple[float, ...]:
-    """:func:`physics.free_body._reduced_jacobi` for one phase: ``(j, v, sn v, cn v, dn v)``."""
-    if kk == math.inf:  # the separatrix: K = ∞, tanh and sech
-        a = abs(u)
-        th, sh = math.tanh(a), 1.0 / math.cosh(min(a, 710.0))
-        return 0.0, u, math.copysign(th, u), sh, sh
-    j = float(round(u / (2.0 * kk)))
-    v = u - 2.0 * kk * j
-    a = abs(v)
-    flip = a > 0.5 * kk
-    w = kk - a if flip else a
-    if mc <= _MC_NEAR_ONE:  # first order about m = 1 (see physics.free_body._sn_cn_dn_near_one)
-        w = min(max(w, 0.0), 700.0)
-        ch, sh, th = math.cosh(w), math.sinh(w), math.tanh(w)
-        se = 1.0 / ch
-        quarter = 0.25 * mc
-        shch = (quarter * sh) * ch
-        s = th + (shch - quarter * w) * se * se
-        c = se * (1.0 - (shch - quarter * w) * th)
-        d = se * (1.0 + (shch + quarter * w) * th)
-    else:  # the ascending pass of the Landen ladder
-        x = w / scale
-        s, c, d = math.sin(x), math.cos(x), 1.0
-        for q in reversed(roots):
-            den = 1.0 + q * s * s
-            s, c, d = (1.0 + q) * s / den, c * d / den, (1.0 - q * s * s) / den
-        d = math.sqrt(mc + m * c * c)
-    if flip:
-        s, c, d = c / d, kp * (s / d), kp / d
-    return j, v, math.copysign(s, v), c, d
-
-
 def _sep_excess_one(a: float, n: float) -> float:
-    """:func:`physics.free_body._sep_excess` of one ``a ≥ 0``."""
+    """:func:`physics.free_body_motion.sep_excess` of one ``a ≥ 0``."""
     rn = math.sqrt(-n)
     th = math.tanh(a)
     x = rn * th
@@ -222,24 +206,24 @@ def _sep_excess_one(a: float, n: float) -> float:
     return (a - atan_over) / (1.0 - n)
 
 
-def _excess_one(k: dict[str, float], u: float, j: float, v: float, s: float, c: float, d: float, deep: bool) -> float:
-    """:func:`physics.free_body._third_kind_excess` at one phase."""
-    n = k["n"]
-    if k["K"] == math.inf:  # separatrix: the elementary form
+def _excess_one(k: EllipticFloats, u: float, j: float, v: float, s: float, c: float, d: float, deep: bool) -> float:
+    """:func:`physics.free_body_motion.third_kind_excess` at one phase."""
+    n = k.n
+    if k.K == math.inf:  # separatrix: the elementary form
         return math.copysign(_sep_excess_one(abs(u), n), u)
     if deep:  # within 1 − m < 1e-40 of it: the separatrix's pulses 2K apart
-        a, kk = abs(v), k["K"]
-        local = k["Jc"] / 3.0 - (kk - a) / (1.0 - n) if a > 0.5 * kk else _sep_excess_one(a, n)
-        return 2.0 * j * k["Jc"] / 3.0 + math.copysign(local, v)
+        a, kk = abs(v), k.K
+        local = k.Jc / 3.0 - (kk - a) / (1.0 - n) if a > 0.5 * kk else _sep_excess_one(a, n)
+        return 2.0 * j * k.Jc / 3.0 + math.copysign(local, v)
     x2, y2, p = c * c, d * d, 1.0 - n * s * s
-    rj = float(_elliprj(x2, y2, 1.0, p)) if max(x2, y2) < 1e-150 else float(elliprj(x2, y2, 1.0, p))
-    return (2.0 * j * k["Jc"] + s**3 * rj) / 3.0
+    rj = carlson_rj_one(x2, y2, p)
+    return (2.0 * j * k.Jc + s**3 * rj) / 3.0
 
 
 def _frame_rows_one(
     wa: float, wb: float, wc: float, ia: float, ib: float, ic: float, pole_c: bool
 ) -> tuple[tuple[float, float, float], ...]:
-    """:func:`physics.free_body._frame_from_momentum` for one state: its columns b1, b2, L̂ (floats)."""
+    """:func:`physics.free_body_motion.frame_from_momentum` for one state: its columns b1, b2, L̂ (floats)."""
     la, lb, lc = ia * wa, ib * wb, ic * wc
     big = max(abs(la), abs(lb), abs(lc))  # no underflow in the norm for tiny ω
     la, lb, lc = la / big, lb / big, lc / big

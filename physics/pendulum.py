@@ -1,36 +1,8 @@
 """The physical pendulum: a rigid body constrained to rotate about a fixed axis.
 
-Lecture, "a rigid body constrained to rotate about a fixed axis". With ``a⊥`` the part of the
-pivot-to-centre-of-mass vector perpendicular to the axis ``n̂``:
-
-* parallel-axis theorem ``I = I_cm,nn + M |a⊥|²  = M k²`` (``k`` the radius of gyration);
-* equation of motion ``M k² θ̈ = −|a⊥| M g⊥ sin θ``, i.e. a simple pendulum of effective length
-  ``ℓ = k² / |a⊥|``, with ``ℓ > k > |a⊥|`` unless all the mass lies on one line parallel to the axis
-  (a point mass, a rod along the axis direction: ``I_cm,nn = 0`` and ``ℓ = k = |a⊥|``);
-* a sharp blow at the centre of percussion, a distance ``ℓ`` from the axis, needs no impulse from the
-  pivot (docs/conventions.md erratum 2: the transcription lost the "no").
-
-Gravity is ``−g ẑ``. Only its component in the plane perpendicular to the axis swings the body:
-``g⊥ = g |n̂ × ẑ|`` (``g⊥ = g`` for a horizontal axis). For a vertical axis (a door on its hinges)
-``g⊥ = 0``: there is no restoring torque, the body turns uniformly, and the periods are infinite —
-documented behaviour, not an error; striking it and its centre of percussion still make sense.
-
-The angle ``θ`` is the rotation about ``n̂`` (right-hand rule) of ``a⊥`` away from the straight-down
-direction of the swing plane; ``θ = 0`` hangs, ``θ = π`` stands on its head. The body as described by
-``mass_properties`` sits at :attr:`PhysicalPendulum.model_angle`.
-
-The exact swing uses Jacobi elliptic functions, ``ω0² = g⊥ / ℓ`` and ``κ² = sin²(θ0/2) +
-(θ̇0 / 2ω0)²``:
-
-* libration (``κ < 1``): ``sin(θ/2) = κ sn(ω0 t + c | κ²)``, period ``4 K(κ²) / ω0``;
-* rotation over the top (``κ > 1``): ``θ/2 = am(κ ω0 t + c | 1/κ²)``, one turn in ``2 K(1/κ²) / (κ ω0)``;
-* the separatrix (``κ = 1``): ``θ/2 = gd(ω0 t + c)``, creeping up to the top for ever.
-
-Near the separatrix the parameter ``κ²`` is within round-off of 1, and what matters is its complement
-``1 − κ²`` (at an amplitude of 0.999999 π it is 2.5e-12, which the float ``κ²`` knows only to 5e-5).
-``scipy.special.ellipj`` takes only ``κ²``, so this module evaluates ``am`` by the arithmetic-geometric
-mean with the complement computed directly from the initial data, and ``K`` by
-``scipy.special.ellipkm1``; the initial phase ``c`` is Carlson's ``R_F`` (``scipy.special.elliprf``).
+The exact swing (libration, rotation over the top, the separatrix) by Jacobi elliptic functions from
+:mod:`physics.elliptic`, the centre of percussion and the response to a sharp blow. The model, its
+conventions and its accuracy near the separatrix are in docs/physics-notes.md.
 
 Examples
 --------
@@ -52,9 +24,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipkm1, elliprf
 
-from physics import G
+from physics.constants import G
+from physics.elliptic import incomplete_first_kind, jacobi_amplitude, jacobi_amplitude_one
 from physics.inertia import MassProperties
-from physics.rotations import _expm_so3, frame_from_axis
+from physics.rotations import expm_so3_unchecked, frame_from_axis
 from physics.validation import broadcast, finite_array, finite_phase, finite_result, finite_scalar
 
 Floats = NDArray[np.float64]
@@ -70,7 +43,6 @@ SEPARATRIX = "separatrix"
 UNIFORM = "uniform"
 """No restoring torque (vertical axis, ``g = 0`` or ``a⊥ = 0``): ``θ = θ0 + θ̇0 t``."""
 
-_EPS = np.finfo(float).eps
 
 MAX_RATE = 1e100
 """Largest angular rate accepted, rad/s: far beyond any body, well inside the float range of its square."""
@@ -110,61 +82,6 @@ class Strike:
     delta_velocity_cm: NDArray[np.float64]
     reaction_impulse: NDArray[np.float64]
     reaction_angular_impulse: NDArray[np.float64]
-
-
-def _amplitude(u: NDArray[np.float64], m: NDArray[np.float64], m1: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Jacobi amplitude ``am(u | m)`` by the arithmetic-geometric mean, given ``m`` and ``m1 = 1 − m``.
-
-    Abramowitz & Stegun 16.4 (descending Landen), with two changes for accuracy near ``m = 1``:
-    ``b0 = sqrt(m1)`` from the separately known complement, and ``c_{n+1} = c_n² / (4 a_{n+1})`` with
-    the back-substitution ``asin(r sin φ)`` written as ``atan2(r sin φ, sqrt(cos²φ + (b/a)² sin²φ))``
-    (``1 − r² = b²/a²``), so nothing cancels. Needs ``0 <= m <= 1``, ``m1 > 0``; keep ``|u| <= 2 K``.
-    """
-    a = np.ones_like(u)
-    b = np.sqrt(m1)
-    c = np.sqrt(m)
-    ratios: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
-    for _ in range(64):  # quadratic convergence: ~12 steps even for m1 ~ 1e-300
-        if np.all(c <= _EPS * a):
-            break
-        a_next = 0.5 * (a + b)
-        b = np.sqrt(a * b)
-        c = c * c / (4.0 * a_next)
-        a = a_next
-        ratios.append((c / a, b / a))
-    phi = np.ldexp(a * u, len(ratios))
-    for r, q in reversed(ratios):
-        s, co = np.sin(phi), np.cos(phi)
-        phi = 0.5 * (phi + np.arctan2(r * s, np.sqrt(co * co + (q * s) ** 2)))
-    return phi
-
-
-def _amplitude_one(u: float, m: float, m1: float) -> float:
-    """:func:`_amplitude` for one u (Python floats, same steps)."""
-    a, b, c = 1.0, math.sqrt(m1), math.sqrt(m)
-    ratios: list[tuple[float, float]] = []
-    for _ in range(64):
-        if c <= _EPS * a:
-            break
-        a_next = 0.5 * (a + b)
-        b = math.sqrt(a * b)
-        c = c * c / (4.0 * a_next)
-        a = a_next
-        ratios.append((c / a, b / a))
-    phi = math.ldexp(a * u, len(ratios))
-    for r, q in reversed(ratios):
-        s, co = math.sin(phi), math.cos(phi)
-        phi = 0.5 * (phi + math.atan2(r * s, math.sqrt(co * co + (q * s) ** 2)))
-    return phi
-
-
-def _incomplete_f(
-    sin_phi: NDArray[np.float64], cos_phi: NDArray[np.float64], m1: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """``F(φ | m)`` for ``|φ| <= π/2`` as ``sin φ R_F(cos²φ, cos²φ + m1 sin²φ, 1)`` (Carlson)."""
-    c2 = cos_phi * cos_phi
-    out: NDArray[np.float64] = sin_phi * elliprf(c2, c2 + m1 * sin_phi * sin_phi, 1.0)
-    return out
 
 
 class PhysicalPendulum:
@@ -434,7 +351,7 @@ class PhysicalPendulum:
         ndarray, shape (3, 3) or (n, 3, 3)
         """
         th = finite_array(theta, "theta")
-        return _expm_so3((th - self.model_angle)[..., None] * self.axis)  # the axis: unit, checked when built
+        return expm_so3_unchecked((th - self.model_angle)[..., None] * self.axis)  # the axis: unit, checked when built
 
     def center_of_mass_at(self, theta: ArrayLike) -> NDArray[np.float64]:
         """Centre-of-mass position at angle θ, m, shape (3,) or (n, 3)."""
@@ -549,7 +466,7 @@ class PendulumTrajectory:
             1.0 / m[rot],
             q1,
             ellipkm1(q1),
-            _incomplete_f(np.sin(psi0), np.cos(psi0), q1),
+            incomplete_first_kind(np.sin(psi0), np.cos(psi0), q1),
         )
         # Separatrix: θ/2 = gd(ω0 t + c).
         self._separatrix = np.arcsinh(np.tan(self._sign[sep] * 0.5 * wrapped[sep]))  # gd⁻¹
@@ -600,7 +517,7 @@ class PendulumTrajectory:
             mm, m1, kappa, k_complete, c = (float(v[0]) for v in self._libration)
             u = w * t + c
             u = u - 4.0 * k_complete * round(u / (4.0 * k_complete))
-            phi = _amplitude_one(u, mm, m1)
+            phi = jacobi_amplitude_one(u, mm, m1)
             sn, cn = math.sin(phi), math.cos(phi)
             theta = 2.0 * math.atan2(kappa * sn, math.sqrt(cn * cn + m1 * sn * sn))
             theta_dot = 2.0 * kappa * w * cn
@@ -608,7 +525,7 @@ class PendulumTrajectory:
             kappa, q, q1, k_complete, c = (float(v[0]) for v in self._rotation)
             u = kappa * w * t + c
             half_turns = round(u / (2.0 * k_complete))
-            phi = _amplitude_one(u - 2.0 * k_complete * half_turns, q, q1)
+            phi = jacobi_amplitude_one(u - 2.0 * k_complete * half_turns, q, q1)
             sn, cn = math.sin(phi), math.cos(phi)
             theta = 2.0 * s * (phi + math.pi * half_turns)
             theta_dot = 2.0 * s * kappa * w * math.sqrt(cn * cn + q1 * sn * sn)
@@ -634,7 +551,7 @@ class PendulumTrajectory:
         w = self._w
         u = w * t + c
         u = u - 4.0 * k_complete * np.round(u / (4.0 * k_complete))  # sn, cn have period 4K
-        phi = _amplitude(u, np.broadcast_to(mm, u.shape), np.broadcast_to(m1, u.shape))
+        phi = jacobi_amplitude(u, np.broadcast_to(mm, u.shape), np.broadcast_to(m1, u.shape))
         sn, cn = np.sin(phi), np.cos(phi)
         dn = np.sqrt(cn * cn + m1 * sn * sn)  # = cos(θ/2) > 0, no cancellation near the top
         return 2.0 * np.arctan2(kappa * sn, dn), 2.0 * kappa * w * cn
@@ -646,7 +563,7 @@ class PendulumTrajectory:
         u = kappa * w * t + c
         half_turns = np.round(u / (2.0 * k_complete))  # am(u + 2K) = am(u) + π
         r = u - 2.0 * k_complete * half_turns
-        phi = _amplitude(r, np.broadcast_to(q, r.shape), np.broadcast_to(q1, r.shape))
+        phi = jacobi_amplitude(r, np.broadcast_to(q, r.shape), np.broadcast_to(q1, r.shape))
         sn, cn = np.sin(phi), np.cos(phi)
         return 2.0 * s * (phi + np.pi * half_turns), 2.0 * s * kappa * w * np.sqrt(cn * cn + q1 * sn * sn)
 

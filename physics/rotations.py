@@ -102,10 +102,10 @@ def expm_so3(v: ArrayLike) -> NDArray[np.float64]:
     -------
     ndarray, shape (3, 3) or (n, 3, 3)
     """
-    return _expm_so3(_vectors(v, "v"))
+    return expm_so3_unchecked(_vectors(v, "v"))
 
 
-def _expm_so3(v: NDArray[np.float64]) -> NDArray[np.float64]:
+def expm_so3_unchecked(v: NDArray[np.float64]) -> NDArray[np.float64]:
     """:func:`expm_so3` without the checks (for callers that have made them: a frame's hot path)."""
     a2 = np.einsum("...i,...i->...", v, v)
     a = np.sqrt(a2)
@@ -133,7 +133,7 @@ def rotation_about(axis: ArrayLike, angle: ArrayLike) -> NDArray[np.float64]:
     """
     axis = _unit_axis(axis)
     angle = finite_array(angle, "angle")
-    return _expm_so3(angle[..., None] * axis)
+    return expm_so3_unchecked(angle[..., None] * axis)
 
 
 def rotation_angle(r_a: ArrayLike, r_b: ArrayLike) -> NDArray[np.float64]:

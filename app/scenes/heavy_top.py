@@ -1,7 +1,7 @@
 """The heavy symmetric top on its tip: precession with nutation (waves, loops, cusps), sleeping, friction.
 
 Model: :class:`physics.heavy_top.HeavyTop`. Without friction the motion is the exact closed form,
-evaluated at the clock's time; with friction it is stepped by :func:`physics.heavy_top.simulate_heavy_body`
+evaluated at the clock's time; with friction it is stepped by :func:`physics.heavy_top.friction_stepper`
 (spin friction ``−c ω₃`` about the axis at the tip), so the spin decays, L₃ falls below the sleeping
 threshold and the top falls.
 """
@@ -22,8 +22,8 @@ from app.drawing.ghost import IntegratorGhost
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
 from physics import G
-from physics.heavy_top import HeavyTop
-from physics.integrators import GravityTorque
+from physics.heavy_top import HeavyTop, friction_stepper
+from physics.integrators import GravityTorque, advance
 
 LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
 ELL = 0.5  # pivot-to-centre-of-mass distance used to split M g ℓ into M and ℓ for the stepping model (m)
@@ -312,21 +312,15 @@ class HeavyTopScene(Scene):
 
     # -- the state
     def _friction_stepper(self) -> Any:
-        """Lie RK4 with gravity and spin friction for this top: built once per body and friction, so a
-        frame only steps (as :func:`physics.heavy_top.simulate_heavy_body` would, without its set-up)."""
-        from physics.integrators import GravityTorque, LieRK4, SpinFriction
-
+        """:func:`physics.heavy_top.friction_stepper` (Lie RK4, gravity and spin friction) for this top: built
+        once per body and friction, so a frame only steps (as :meth:`HeavyTop.simulate` does)."""
         top, c = self.top, self.values["friction"]
         key = (top.I1, top.I3, top.mgl, c)
         if getattr(self, "_stepper_key", None) != key:
-            moments = np.array([top.I1, top.I1, top.I3])
-            gravity = GravityTorque(top.mgl / (G * ELL), [0.0, 0.0, ELL], g=G)
-            self._stepper, self._stepper_key = LieRK4(moments, [gravity, SpinFriction(c, moments)]), key
+            self._stepper, self._stepper_key = friction_stepper(top, c), key
         return self._stepper
 
     def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
-        from physics.integrators import advance
-
         if dt <= 0.0:
             return self.R, self.L_body
         n = max(1, math.ceil(dt / (1.0 / 240.0)))  # steps of at most 1/240 s

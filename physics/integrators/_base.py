@@ -3,28 +3,29 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from physics.integrators._state import (
-    _check_dt,
-    _check_shapes,
-    _check_state,
-    _from_state,
-    _inverse_moments,
-    _moments,
-    _rot_x,
-    _rot_y,
-    _rot_z,
-    _State,
-    _to_state,
+    State,
+    check_dt,
+    check_moments,
+    check_shapes,
+    check_state,
+    from_state,
+    inverse_moments,
     kinetic_energy,
+    rot_x,
+    rot_y,
+    rot_z,
+    to_state,
 )
-from physics.integrators.torques import GravityTorque, _torque_flows, _torque_list
+from physics.integrators.torques import GravityTorque, torque_flows, torque_list
 
 
-class _Method:
+class Method:
     """Common machinery: validation, the step on arrays, the component step."""
 
     name = "?"
@@ -33,10 +34,10 @@ class _Method:
     conserves: tuple = ()
 
     def __init__(self, moments: ArrayLike, torque=None) -> None:
-        self.moments = _moments(moments)
-        self._inv = _inverse_moments(self.moments)
-        self.torques = _torque_list(torque)
-        self._kicks, self._others = _torque_flows(self.torques)
+        self.moments = check_moments(moments)
+        self.inverse_moments = inverse_moments(self.moments)
+        self.torques = torque_list(torque)
+        self._kicks, self._others = torque_flows(self.torques)
         self._zero_axes = tuple(int(i) for i in np.nonzero(self.moments == 0.0)[0])
 
     def __repr__(self) -> str:
@@ -59,14 +60,12 @@ class _Method:
         -------
         (R, L_body) : ndarrays of the input shapes
         """
-        from physics.integrators.drivers import _interpreted, _refuse_unstable  # (drivers imports this module)
-
-        R, L, batched = _check_state(R, L_body, ("R", "L_body"))
-        dt = _check_dt(dt)
-        _refuse_unstable(self, L, dt, "L_body")
+        R, L, batched = check_state(R, L_body, ("R", "L_body"))
+        dt = check_dt(dt)
+        refuse_unstable(self, L, dt, "L_body")
         xp = np if batched else math
-        s = _interpreted(self._step, _to_state(R, L), dt, xp, 1, self, 0)
-        return _from_state(s, batched)
+        s = interpreted(self.step_state, to_state(R, L), dt, xp, 1, self, 0)
+        return from_state(s, batched)
 
     def energy(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
         """Kinetic plus potential energy of the conservative torques that define one, J.
@@ -75,15 +74,15 @@ class _Method:
         refused with a ValueError that names the argument. ``R`` need not be a rotation (classical RK4's
         leaves SO(3)).
         """
-        R, L_body = _check_shapes(R, L_body, ("R", "L_body"))
+        R, L_body = check_shapes(R, L_body, ("R", "L_body"))
         e = kinetic_energy(self.moments, L_body)
         for t in self.torques:
             if getattr(t, "conservative", False) and hasattr(t, "potential"):
                 e = e + t.potential(R)
         return e
 
-    # -- internals ------------------------------------------------------------------------------------
-    def _project(self, s: _State) -> _State:
+    # -- on the component state (the drivers run these) -----------------------------------------------
+    def project(self, s: State) -> State:
         """Hold L at 0 along a zero-moment (rod) axis."""
         if not self._zero_axes:
             return s
@@ -104,24 +103,26 @@ class _Method:
                 s = f(s, h, xp)
             for k in reversed(self._kicks):
                 s = k(s, h, xp)
-        return self._project(s) if self._zero_axes else s
+        return self.project(s) if self._zero_axes else s
 
-    def _step(self, s: _State, dt: float, xp) -> _State:  # pragma: no cover - abstract
+    def step_state(self, s: State, dt: float, xp) -> State:  # pragma: no cover - abstract
+        """One step of ``dt`` on the component state (:mod:`._state`); ``xp`` is :mod:`math` for one body,
+        numpy for a batch."""
         raise NotImplementedError
 
 
-class _Splitting(_Method):
+class Splitting(Method):
     """Compositions of a symmetric base step ``T(h/2) F(h) T(h/2)`` with weights ``_weights``."""
 
     symplectic = True
     # What the free rotation keeps (the class's declaration); an instance narrows it to its torques.
     conserves: tuple = ("orthonormality of R", "|L|", "L_space", "symplectic form")
     _weights: tuple[float, ...] = (1.0,)
-    _sym: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
+    symmetric: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
 
     def __init__(self, moments: ArrayLike, torque=None) -> None:
         super().__init__(moments, torque)
-        self._program = self._build_program()
+        self.program = self._build_program()
         conserves = ["orthonormality of R", "|L| (Casimir) of each free sub-step"]
         if not self.torques:
             conserves = ["orthonormality of R", "|L|", "L_space", "symplectic form"]
@@ -161,16 +162,16 @@ class _Splitting(_Method):
                 merged.append((kind, frac))
         return [op for op in merged if op[1] != 0.0]
 
-    def _step(self, s, dt, xp):
-        inv = self._inv
-        for kind, frac in self._program:
+    def step_state(self, s, dt, xp):
+        inv = self.inverse_moments
+        for kind, frac in self.program:
             h = frac * dt
             if kind == "X":
-                s = _rot_x(s, h * inv[0] * s[9], xp)
+                s = rot_x(s, h * inv[0] * s[9], xp)
             elif kind == "Y":
-                s = _rot_y(s, h * inv[1] * s[10], xp)
+                s = rot_y(s, h * inv[1] * s[10], xp)
             elif kind == "Z":
-                s = _rot_z(s, h * inv[2] * s[11], xp)
+                s = rot_z(s, h * inv[2] * s[11], xp)
             elif kind == "T0":
                 s = self._torque_half(s, h, xp, True)
             elif kind == "T1":
@@ -181,3 +182,70 @@ class _Splitting(_Method):
 
     def _exact_free(self, s, h, xp):  # pragma: no cover - only in ExactFreeSplitting
         raise NotImplementedError
+
+
+def refuse_unstable(method: Method, L: NDArray[np.float64], dt: float, name: str) -> None:
+    """Refuse up front a step beyond the method's stability (its ``max_rate_step``, if it states one) and an
+    angular momentum whose rate of change ``L × ω`` is beyond the float range.
+
+    The rate is the largest ``|ω|`` of the torque-free motion from ``L``, ``sqrt(2E / I_min)``
+    (``|ω|² ≤ Σ (I_i / I_min) ω_i²``), taken over the batch; a torque may speed the body up later, which the
+    check after each chunk catches (:func:`check_finite`).
+    """
+    limit = getattr(method, "max_rate_step", None)
+    if limit is None:
+        return
+    inv = np.asarray(method.inverse_moments, dtype=float)
+    big, top = float(np.max(np.abs(L), initial=0.0)), float(np.max(inv))
+    if big == 0.0:
+        return
+    # sqrt(Σ L_i² / I_i · max 1/I) with L and 1/I scaled to 1 first: no overflow or underflow on the way.
+    with np.errstate(over="ignore"):
+        rate = big * top * math.sqrt(float(np.max(np.sum((L / big) ** 2 * (inv / top), axis=-1))))
+    if math.isfinite(rate) and rate * abs(dt) > limit:
+        raise ValueError(
+            f"dt = {dt:g} s is too large for {method.name} with the initial momentum {name} = "
+            f"{np.asarray(L).tolist()!s:.80}: the body turns at up to |ω| = {rate:.4g} rad/s (sqrt(2E/I_min)), and "
+            f"|ω|·|dt| = {rate * abs(dt):.3g} is beyond {limit:g}, the method's stability limit (RK4 diverges beyond "
+            f"2√2 ≈ 2.83 on the imaginary axis); take |dt| ≤ {limit / rate:.3g} s"
+        )
+    if not math.isfinite(rate) or big * rate > 1e306:
+        raise ValueError(
+            f"{name} = {np.asarray(L).tolist()!s:.80} is too large for these moments {method.moments.tolist()}: "
+            f"the body turns at up to |ω| = {rate:.3g} rad/s and L × ω overflows the float range; the motion "
+            "is the same with the moments and L scaled down together"
+        )
+
+
+def diverged(method: Method, dt: float, done: int, chunk: int) -> ValueError:
+    return ValueError(
+        f"the integration diverged: {method.name} with dt = {dt:g} s reached a state that is not finite "
+        f"between step {done} and step {done + chunk} (finite at step {done}); take a smaller dt"
+    )
+
+
+CHECK_EVERY = 1000
+"""Steps between two checks that the saved states are finite (at least; and at the end): often enough to
+stop a diverged run early, rarely enough that the check costs nothing per step, even saving every step."""
+
+
+def check_finite(rows: NDArray[np.float64], method: Method, dt: float, done: int, chunk: int) -> None:
+    """After a chunk (not each step: the compiled loop stays as fast): no NaN or inf in the state."""
+    if not np.all(np.isfinite(rows)):
+        raise diverged(method, dt, done, chunk)
+
+
+def interpreted(
+    step: Any, s: Any, dt: float, xp: Any, chunk: int, method: Method, done: int, check: bool = True
+) -> Any:
+    """``chunk`` interpreted steps; an overflow on the way (math's domain errors, numpy's warnings) is the
+    divergence the check after the chunk (``check``, or the caller's) reports."""
+    try:
+        with np.errstate(all="ignore"):
+            for _ in range(chunk):
+                s = step(s, dt, xp)
+    except (ValueError, OverflowError, ZeroDivisionError):
+        raise diverged(method, dt, done, chunk) from None
+    if check:
+        check_finite(np.asarray(s, dtype=float), method, dt, done, chunk)
+    return s

@@ -1,7 +1,7 @@
 """The component state of one body or a batch, and the exact sub-flows every method is built from.
 
 A state is a tuple of 12 scalars (or (n,) arrays): ``R`` row-major r00..r22, then ``L0, L1, L2``. The rotations
-``_rot_x/_rot_y/_rot_z`` are the exact flows of ``L_i²/(2 I_i)`` (lecture, Euler's equations); ``_right_exp`` is
+``rot_x/rot_y/rot_z`` are the exact flows of ``L_i²/(2 I_i)`` (lecture, Euler's equations); ``right_exp`` is
 ``R ← R exp(hat u)``.
 """
 
@@ -15,17 +15,17 @@ from numpy.typing import ArrayLike, NDArray
 from physics.validation import finite_array, finite_result, rotation_array, vector_array
 
 # A state is a tuple of 12 scalars (or (n,) arrays): R row-major r00..r22, then L0, L1, L2.
-_State = tuple
+State = tuple
 
 
-def _vec3(value: ArrayLike, name: str) -> NDArray[np.float64]:
+def vec3(value: ArrayLike, name: str) -> NDArray[np.float64]:
     v = np.asarray(value, dtype=float)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be 3 finite numbers, got {np.asarray(value).tolist()}")
     return v
 
 
-def _moments(moments: ArrayLike) -> NDArray[np.float64]:
+def check_moments(moments: ArrayLike) -> NDArray[np.float64]:
     m = finite_array(moments, "moments")
     if m.shape != (3,):
         raise ValueError(f"moments must be 3 finite principal moments in kg m², got shape {m.shape}")
@@ -46,14 +46,14 @@ def _moments(moments: ArrayLike) -> NDArray[np.float64]:
     return m
 
 
-def _inverse_moments(m: NDArray[np.float64]) -> NDArray[np.float64]:
+def inverse_moments(m: NDArray[np.float64]) -> NDArray[np.float64]:
     """1/I, with 0 on a zero moment (a rod: no angular velocity component is carried there)."""
     return np.where(m > 0.0, 1.0 / np.where(m > 0.0, m, 1.0), 0.0)
 
 
 def kinetic_energy(moments: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
     """``T = Σ L_i² / (2 I_i)``, J (zero moments contribute 0): ``L_body`` (n,3) or (3,) -> (n,) or ()."""
-    inv = _inverse_moments(finite_array(moments, "moments", (3,)))
+    inv = inverse_moments(finite_array(moments, "moments", (3,)))
     L = vector_array(L_body, "L_body")
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
         energy: NDArray[np.float64] = 0.5 * np.sum(L * L * inv, axis=-1)
@@ -61,7 +61,7 @@ def kinetic_energy(moments: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]
     return energy
 
 
-def _to_state(R, L) -> _State:
+def to_state(R, L) -> State:
     """Arrays to the component tuple; floats for one body, (n,) arrays for a batch."""
     if R.ndim == 2:
         r = R.ravel().tolist()
@@ -69,7 +69,7 @@ def _to_state(R, L) -> _State:
     return tuple(R[:, i, j].copy() for i in range(3) for j in range(3)) + tuple(L[:, i].copy() for i in range(3))
 
 
-def _from_state(s: _State, batched: bool):
+def from_state(s: State, batched: bool):
     if not batched:
         return np.array(s[:9], dtype=float).reshape(3, 3), np.array(s[9:], dtype=float)
     n = np.broadcast(*s).shape[0]
@@ -82,7 +82,7 @@ def _from_state(s: _State, batched: bool):
     return R, L
 
 
-def _rot_x(s: _State, th, xp) -> _State:
+def rot_x(s: State, th, xp) -> State:
     """R ← R exp(θ ê_x), L ← exp(−θ ê_x) L (the exact flow of L_x²/(2 I_x) for θ = h L_x / I_x)."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
     c, sn = xp.cos(th), xp.sin(th)
@@ -102,7 +102,7 @@ def _rot_x(s: _State, th, xp) -> _State:
     )
 
 
-def _rot_y(s: _State, th, xp) -> _State:
+def rot_y(s: State, th, xp) -> State:
     r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
     c, sn = xp.cos(th), xp.sin(th)
     return (
@@ -121,7 +121,7 @@ def _rot_y(s: _State, th, xp) -> _State:
     )
 
 
-def _rot_z(s: _State, th, xp) -> _State:
+def rot_z(s: State, th, xp) -> State:
     r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
     c, sn = xp.cos(th), xp.sin(th)
     return (
@@ -140,10 +140,10 @@ def _rot_z(s: _State, th, xp) -> _State:
     )
 
 
-_ROT = (_rot_x, _rot_y, _rot_z)
+ROT = (rot_x, rot_y, rot_z)
 
 
-def _expm_coeffs(u0, u1, u2, xp):
+def expm_coeffs(u0, u1, u2, xp):
     """Rodrigues coefficients sin(a)/a and (1 − cos a)/a² (Taylor below a = 1e-4 rad)."""
     a2 = u0 * u0 + u1 * u1 + u2 * u2
     if xp is math:
@@ -159,9 +159,9 @@ def _expm_coeffs(u0, u1, u2, xp):
     return sa, ca
 
 
-def _right_exp(s: _State, u0, u1, u2, xp) -> tuple:
+def right_exp(s: State, u0, u1, u2, xp) -> tuple:
     """The attitude part ``R exp(hat u)`` of a state (9 components), by Rodrigues' formula."""
-    sa, ca = _expm_coeffs(u0, u1, u2, xp)
+    sa, ca = expm_coeffs(u0, u1, u2, xp)
     # E = I + sa K + ca K², K = hat(u)
     e00 = 1.0 - ca * (u1 * u1 + u2 * u2)
     e11 = 1.0 - ca * (u0 * u0 + u2 * u2)
@@ -185,7 +185,7 @@ def _right_exp(s: _State, u0, u1, u2, xp) -> tuple:
     )
 
 
-def _check_shapes(R, L_body, names):
+def check_shapes(R, L_body, names):
     """Finite ``R`` and ``L_body`` of one body ((3, 3), (3,)) or a batch ((n, 3, 3), (n, 3)), ``R`` not
     necessarily a rotation; ``names`` are the caller's argument names, used in the messages."""
     r_name, l_name = names
@@ -201,16 +201,16 @@ def _check_shapes(R, L_body, names):
     return R, L
 
 
-def _check_state(R, L_body, names=("R0", "L0_body")):
+def check_state(R, L_body, names=("R0", "L0_body")):
     """Attitudes (rotations) and momenta of one body ((3, 3), (3,)) or a batch ((n, 3, 3), (n, 3)); ``names``
     are the caller's argument names, used in the messages."""
     r_name, l_name = names
     R = rotation_array(R, r_name)
-    R, L = _check_shapes(R, L_body, names)
+    R, L = check_shapes(R, L_body, names)
     return R, L, R.ndim == 3
 
 
-def _check_dt(dt) -> float:
+def check_dt(dt) -> float:
     if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)):
         raise ValueError(f"the time step dt must be one number of seconds, got {dt!r}")
     try:

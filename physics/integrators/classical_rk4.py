@@ -29,7 +29,7 @@ class ClassicalRK4(LieRK4):
             dr += [b * w2 - c * w1, c * w0 - a * w2, a * w1 - b * w0]
         return tuple(dr) + dl
 
-    def _step(self, s, dt, xp):
+    def step_state(self, s, dt, xp):
         h = dt
         k1 = self._rates(s, xp)
         k2 = self._rates(tuple(x + 0.5 * h * k for x, k in zip(s, k1)), xp)
@@ -37,4 +37,4 @@ class ClassicalRK4(LieRK4):
         k4 = self._rates(tuple(x + h * k for x, k in zip(s, k3)), xp)
         h6 = h / 6.0
         out = tuple(x + h6 * (a + 2.0 * b + 2.0 * c + d) for x, a, b, c, d in zip(s, k1, k2, k3, k4))
-        return self._project(out) if self._zero_axes else out
+        return self.project(out) if self._zero_axes else out

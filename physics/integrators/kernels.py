@@ -8,7 +8,7 @@ sub-flows are the very formulas of :mod:`physics.integrators._state` and :mod:`.
 and the interpreted step agree to round-off.
 
 Compiled torques (all of :mod:`physics.integrators.torques` and the air drag of
-:mod:`physics.heavy_body`): gravity at the centre of mass (a kick, ``L ← L + h τ(R)``), spin friction
+:class:`.torques.TransverseAirDrag`): gravity at the centre of mass (a kick, ``L ← L + h τ(R)``), spin friction
 about an axis (its exact flow, linear in L), transverse air drag ``−c (ω1, ω2, 0)`` (its exact flow,
 ``L_i ← L_i e^{−c h / I_i}``). Any other torque runs on the interpreted path, slower.
 """

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from physics.integrators._base import _Splitting
+from physics.integrators._base import Splitting
 
 
-class LiePoissonStrang(_Splitting):
+class LiePoissonStrang(Splitting):
     """Lie–Poisson splitting of the free rotation into exact axis rotations (NO_SQUISH), Strang, order 2.
 
     One step: ``K(h/2) X(h/2) Y(h/2) Z(h) Y(h/2) X(h/2) K(h/2)`` where ``X`` is the exact flow of

@@ -7,12 +7,12 @@ from typing import Any
 
 from numpy.typing import ArrayLike
 
-from physics.integrators._base import _Method
-from physics.integrators._state import _right_exp
-from physics.integrators.torques import GravityTorque, SpinFriction, _GenericTorque
+from physics.integrators._base import Method
+from physics.integrators._state import right_exp
+from physics.integrators.torques import GenericTorque, GravityTorque, SpinFriction
 
 
-class LieRK4(_Method):
+class LieRK4(Method):
     """Runge–Kutta–Munthe-Kaas with the classical RK4 tableau: order 4, not symplectic.
 
     ``L`` is advanced by classical RK4; the attitude by ``R ← R exp(hat u)`` with ``u`` the RK4
@@ -32,7 +32,7 @@ class LieRK4(_Method):
     :func:`integrate` and :func:`advance` refuse such a step up front."""
 
     def _rhs(self, s, xp):
-        i0, i1, i2 = self._inv
+        i0, i1, i2 = self.inverse_moments
         l0, l1, l2 = s[9], s[10], s[11]
         w0, w1, w2 = i0 * l0, i1 * l1, i2 * l2
         d0, d1, d2 = l1 * w2 - l2 * w1, l2 * w0 - l0 * w2, l0 * w1 - l1 * w0
@@ -53,7 +53,7 @@ class LieRK4(_Method):
         self._fast: list[Callable[..., Any]] = []
         for t in self.torques:
             if isinstance(t, GravityTorque):
-                w0, w1, w2 = t._w
+                w0, w1, w2 = t.weight_moment
                 self._fast.append(
                     lambda s, xp, w0=w0, w1=w1, w2=w2: (
                         -(w1 * s[8] - w2 * s[7]),
@@ -63,7 +63,7 @@ class LieRK4(_Method):
                 )
             elif isinstance(t, SpinFriction):
                 a0, a1, a2 = t.axis_body
-                i0, i1, i2 = t._inv
+                i0, i1, i2 = t.inverse_moments
                 c = t.coefficient
 
                 def fr(s, xp, a0=a0, a1=a1, a2=a2, i0=i0, i1=i1, i2=i2, c=c):
@@ -72,10 +72,10 @@ class LieRK4(_Method):
 
                 self._fast.append(fr)
             else:
-                self._fast.append(lambda s, xp, g=_GenericTorque(t, None): g._tau(s, xp))  # noqa: B008 - one per torque, bound at definition
+                self._fast.append(lambda s, xp, g=GenericTorque(t, None): g._tau(s, xp))  # noqa: B008 - one per torque, bound at definition
         self._needs_attitude = any(not isinstance(t, SpinFriction) for t in self.torques)
 
-    def _step(self, s, dt, xp):
+    def step_state(self, s, dt, xp):
         h = dt
         l0, l1, l2 = s[9], s[10], s[11]
         r = s[:9]
@@ -90,21 +90,21 @@ class LieRK4(_Method):
         k1, m1 = self._rhs(s, xp)
         u = (0.5 * h * k1[0], 0.5 * h * k1[1], 0.5 * h * k1[2])
         lb = (l0 + 0.5 * h * m1[0], l1 + 0.5 * h * m1[1], l2 + 0.5 * h * m1[2])
-        st = (_right_exp(s, *u, xp) if self._needs_attitude else r) + lb
+        st = (right_exp(s, *u, xp) if self._needs_attitude else r) + lb
         w, m2 = self._rhs(st, xp)
         k2 = dexpinv(u, w)
         u = (0.5 * h * k2[0], 0.5 * h * k2[1], 0.5 * h * k2[2])
         lb = (l0 + 0.5 * h * m2[0], l1 + 0.5 * h * m2[1], l2 + 0.5 * h * m2[2])
-        st = (_right_exp(s, *u, xp) if self._needs_attitude else r) + lb
+        st = (right_exp(s, *u, xp) if self._needs_attitude else r) + lb
         w, m3 = self._rhs(st, xp)
         k3 = dexpinv(u, w)
         u = (h * k3[0], h * k3[1], h * k3[2])
         lb = (l0 + h * m3[0], l1 + h * m3[1], l2 + h * m3[2])
-        st = (_right_exp(s, *u, xp) if self._needs_attitude else r) + lb
+        st = (right_exp(s, *u, xp) if self._needs_attitude else r) + lb
         w, m4 = self._rhs(st, xp)
         k4 = dexpinv(u, w)
         h6 = h / 6.0
         u = tuple(h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) for i in range(3))
         lnew = tuple(s[9 + i] + h6 * (m1[i] + 2.0 * m2[i] + 2.0 * m3[i] + m4[i]) for i in range(3))
-        out = _right_exp(s, *u, xp) + lnew
-        return self._project(out) if self._zero_axes else out
+        out = right_exp(s, *u, xp) + lnew
+        return self.project(out) if self._zero_axes else out

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from physics.integrators.compositions import _SUZUKI4
+from physics.integrators.compositions import SUZUKI4
 from physics.integrators.lie_poisson import LiePoissonStrang
 
 
@@ -15,4 +15,4 @@ class Suzuki4(LiePoissonStrang):
 
     name = "Suzuki 4 (Strang)"
     order = 4
-    _weights = _SUZUKI4
+    _weights = SUZUKI4

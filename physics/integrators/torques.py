@@ -8,10 +8,11 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics import G
-from physics.integrators._state import _from_state, _inverse_moments, _moments, _State, _vec3
+from physics.constants import G
+from physics.integrators._state import State, check_moments, from_state, inverse_moments, vec3
+from physics.validation import finite_scalar
 
-__all__ = ["GravityTorque", "SpinFriction"]
+__all__ = ["GravityTorque", "SpinFriction", "TransverseAirDrag"]
 
 
 class GravityTorque:
@@ -39,23 +40,23 @@ class GravityTorque:
             raise ValueError(f"g must be a non-negative acceleration in m/s², got {g}")
         self.mass = float(mass)
         self.g = float(g)
-        self.center_of_mass_body = _vec3(center_of_mass_body, "center_of_mass_body")
-        self._w = self.mass * self.g * self.center_of_mass_body  # M g c, N m
+        self.center_of_mass_body = vec3(center_of_mass_body, "center_of_mass_body")
+        self.weight_moment = self.mass * self.g * self.center_of_mass_body  # M g c, N m
 
     def __call__(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
         """Body-frame torque, N m: ``R`` (n,3,3) or (3,3) -> (n,3) or (3,)."""
         R = np.asarray(R, dtype=float)
         up = R[..., 2, :]  # Rᵀ ẑ: the space vertical in body axes
-        return -np.cross(self._w, up)
+        return -np.cross(self.weight_moment, up)
 
     def potential(self, R: ArrayLike) -> NDArray[np.float64]:
         """``V = M g (R c)_z``, J: ``R`` (n,3,3) or (3,3) -> (n,) or ()."""
         R = np.asarray(R, dtype=float)
-        return R[..., 2, :] @ self._w
+        return R[..., 2, :] @ self.weight_moment
 
-    def _kick(self, s: _State, h: float, xp) -> _State:
+    def _kick(self, s: State, h: float, xp) -> State:
         r00, r01, r02, r10, r11, r12, r20, r21, r22, l0, l1, l2 = s
-        w0, w1, w2 = self._w
+        w0, w1, w2 = self.weight_moment
         return (
             r00,
             r01,
@@ -96,33 +97,63 @@ class SpinFriction:
         if not (np.isfinite(coefficient) and coefficient >= 0.0):
             raise ValueError(f"the friction coefficient must be a non-negative number of N m s, got {coefficient}")
         self.coefficient = float(coefficient)
-        self.moments = _moments(moments)
-        a = _vec3(axis_body, "axis_body")
+        self.moments = check_moments(moments)
+        a = vec3(axis_body, "axis_body")
         norm = np.linalg.norm(a)
         if norm == 0.0:
             raise ValueError("axis_body must be a non-zero vector")
         self.axis_body = a / norm
-        self._inv = _inverse_moments(self.moments)
-        self._s = float(np.sum(self.axis_body**2 * self._inv))
+        self.inverse_moments = inverse_moments(self.moments)
+        self.axis_inverse_moment = float(np.sum(self.axis_body**2 * self.inverse_moments))
 
     def __call__(self, R: ArrayLike, L_body: ArrayLike) -> NDArray[np.float64]:
         """Body-frame torque, N m: ``L_body`` (n,3) or (3,) -> same shape."""
         L = np.asarray(L_body, dtype=float)
-        wa = (L * self._inv) @ self.axis_body
+        wa = (L * self.inverse_moments) @ self.axis_body
         return -self.coefficient * wa[..., None] * self.axis_body
 
-    def _flow(self, s: _State, h: float, xp) -> _State:
-        if self._s == 0.0 or self.coefficient == 0.0:
+    def _flow(self, s: State, h: float, xp) -> State:
+        if self.axis_inverse_moment == 0.0 or self.coefficient == 0.0:
             return s
         a0, a1, a2 = self.axis_body
-        i0, i1, i2 = self._inv
+        i0, i1, i2 = self.inverse_moments
         l0, l1, l2 = s[9], s[10], s[11]
         wa = a0 * i0 * l0 + a1 * i1 * l1 + a2 * i2 * l2
-        f = xp.expm1(-self.coefficient * self._s * h) / self._s * wa
+        f = xp.expm1(-self.coefficient * self.axis_inverse_moment * h) / self.axis_inverse_moment * wa
         return s[:9] + (l0 + f * a0, l1 + f * a1, l2 + f * a2)
 
 
-def _torque_list(torque) -> list:
+class TransverseAirDrag:
+    """Air drag on the wobble: body torque ``−c_air (ω1, ω2, 0)`` (opposes the rotation of the symmetry
+    axis, not the spin), N m.
+
+    Its flow with ``R`` frozen is ``L_i ← L_i e^{−c h / I_i}`` (i = 1, 2); the compiled steps run it
+    (:mod:`.kernels`), the interpreted ones take it as a generic torque.
+
+    Parameters
+    ----------
+    coefficient : float
+        ``c_air ≥ 0``, N m s.
+    moments : array_like (3,)
+        Principal moments about the pivot, kg m² (to get ω = L / I).
+    """
+
+    conservative = False
+
+    def __init__(self, coefficient: float, moments: ArrayLike) -> None:
+        self.coefficient = finite_scalar(coefficient, "air_drag")
+        if self.coefficient < 0.0:
+            raise ValueError(f"air_drag must be >= 0 (it removes energy), got {self.coefficient}")
+        self.moments = np.asarray(moments, dtype=float).reshape(3)
+
+    def __call__(self, R: NDArray[np.float64], L_body: NDArray[np.float64]) -> NDArray[np.float64]:
+        w = np.asarray(L_body, dtype=float) / self.moments
+        out: NDArray[np.float64] = -self.coefficient * w
+        out[..., 2] = 0.0
+        return out
+
+
+def torque_list(torque) -> list:
     if torque is None:
         return []
     items = list(torque) if isinstance(torque, (list, tuple)) else [torque]
@@ -135,7 +166,7 @@ def _torque_list(torque) -> list:
     return items
 
 
-class _GenericTorque:
+class GenericTorque:
     """Sub-flow of a user torque on the component state (arrays built per call: slower)."""
 
     def __init__(self, torque, zero_axes) -> None:
@@ -144,7 +175,7 @@ class _GenericTorque:
 
     def _tau(self, s, xp):
         batched = xp is not math
-        R, L = _from_state(s, batched)
+        R, L = from_state(s, batched)
         tau = np.asarray(self.torque(R, L), dtype=float)
         if batched:
             return tau[..., 0], tau[..., 1], tau[..., 2]
@@ -168,7 +199,7 @@ class _GenericTorque:
         return s[:9] + tuple(l[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) for i in range(3))
 
 
-def _torque_flows(torques) -> tuple[list, list]:
+def torque_flows(torques) -> tuple[list, list]:
     """(kicks of the conservative torques, sub-flows of the others) as functions (s, h, xp) -> s."""
     kicks, others = [], []
     for t in torques:
@@ -177,6 +208,6 @@ def _torque_flows(torques) -> tuple[list, list]:
         elif isinstance(t, SpinFriction):
             others.append(t._flow)
         else:
-            g = _GenericTorque(t, None)
+            g = GenericTorque(t, None)
             (kicks if g.conservative else others).append(g)
     return kicks, others

@@ -12,13 +12,17 @@ import time
 
 import numpy as np
 
+from physics.integrators.classical_rk4 import ClassicalRK4
+from physics.integrators.drivers import integrate
+from physics.integrators.lie_poisson import LiePoissonStrang
+from physics.integrators.lie_rk4 import LieRK4
+from physics.integrators.torques import GravityTorque, SpinFriction
+
 __all__ = ["warm"]
 
 
 def warm() -> float:
     """Compile or load every kernel of :mod:`physics.integrators.kernels`; returns the seconds it took."""
-    from physics.integrators import ClassicalRK4, GravityTorque, LiePoissonStrang, LieRK4, SpinFriction, integrate
-
     start = time.perf_counter()
     moments = np.array([1.0, 1.0, 0.5])
     torques = [GravityTorque(1.0, [0.0, 0.0, 0.5]), SpinFriction(0.01, moments)]

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from physics.integrators.compositions import _YOSHIDA4
+from physics.integrators.compositions import YOSHIDA4
 from physics.integrators.lie_poisson import LiePoissonStrang
 
 
@@ -14,4 +14,4 @@ class Yoshida4(LiePoissonStrang):
 
     name = "Yoshida 4 (Strang)"
     order = 4
-    _weights = _YOSHIDA4
+    _weights = YOSHIDA4

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from physics.integrators.compositions import _YOSHIDA6
+from physics.integrators.compositions import YOSHIDA6
 from physics.integrators.lie_poisson import LiePoissonStrang
 
 
@@ -15,4 +15,4 @@ class Yoshida6(LiePoissonStrang):
 
     name = "Yoshida 6 (Strang)"
     order = 6
-    _weights = _YOSHIDA6
+    _weights = YOSHIDA6

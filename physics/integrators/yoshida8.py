@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from physics.integrators.compositions import _YOSHIDA8
+from physics.integrators.compositions import YOSHIDA8
 from physics.integrators.lie_poisson import LiePoissonStrang
 
 
@@ -15,4 +15,4 @@ class Yoshida8(LiePoissonStrang):
 
     name = "Yoshida 8 (Strang)"
     order = 8
-    _weights = _YOSHIDA8
+    _weights = YOSHIDA8

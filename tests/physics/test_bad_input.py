@@ -75,7 +75,7 @@ CALLS = {
     "advance": (advance, (RK4, [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.1, 1.0, 0.2], 0.01, 10)),
 }
 # The argument's name as each message must say it. HeavyTop.simulate checks the Euler rates after turning
-# them into the body's angular velocity, and names that (physics/heavy_top.py, not this test's to change).
+# them into the body's angular velocity, and names that (physics.heavy_top, not this test's to change).
 NAMED_AS = {("HeavyTop.simulate", rate): ("omega_body0", rate) for rate in ("thetadot0", "phidot0", "psidot0")}
 # A time that is longer than the float range is returned as +inf, as the docstring says.
 DOCUMENTED_INFINITY = {"HeavyTop.threshold_crossing_time"}

@@ -617,7 +617,7 @@ def test_symmetric_rod_and_sphere_over_a_thousand_rotation_periods(moments, w0):
 
 def test_both_poles_of_the_attitude_frame_are_exercised():
     poles = {
-        name: bool(FreeBody(mo)._setup(np.array([w], float))["pole_c"][0])
+        name: bool(FreeBody(mo).constants(np.array([w], float)).pole_c[0])
         for name, (mo, w) in REGIMES.items()
         if name.startswith("near_rod")
     }

@@ -2,7 +2,7 @@
 
 For a fast top φ̇ = (α − β u)/(1 − u²) is the small difference (the slow precession, ~M g ℓ / L3) of two
 pole terms each of size ~β = L3/I1: summed as pole terms, φ lost every digit at 1e9 rad/s. The closed form
-now sums them before integrating (physics.top_motion._SmoothPhi), so a top released at rest in θ (the
+now sums them before integrating (physics.heavy_top.motion), so a top released at rest in θ (the
 classroom fast top, φ̇0 = 0) keeps θ, φ and ψ at the roundoff floor at any spin.
 
 A start with φ̇0 ≠ 0 nutates with φ̇ oscillating at ~φ̇0 = 2 rad/s around a mean ~M g ℓ/L3 (2e-8 rad/s at

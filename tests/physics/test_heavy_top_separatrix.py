@@ -18,11 +18,11 @@ What was wrong (issue 15, repro 3, and the audit):
   rad off. The phase now takes ``1 − m = (u3 − u2)/(u3 − u1)`` from the roots.
 * The Jacobi functions came from scipy's ``ellipj``, which sees only the float m and loses
   ``eps / (1 − m)`` of relative accuracy in cn and dn (3e-8 rad in φ at the midpoint of the fall); below
-  ``1 − m = 1e-4`` they come from m and 1 − m (physics.top_elliptic._jacobi).
+  ``1 − m = 1e-4`` they come from m and 1 − m (physics.elliptic.jacobi_half_period).
 * The roots were polished from estimates by np.roots that are absolute, not relative, near u = 1; they
-  are now found in each expansion of the cubic at each root's own scale (physics.nutation_cubic._local_roots),
+  are now found in each expansion of the cubic at each root's own scale (physics.heavy_top.nutation_cubic.local_roots),
   so a start 1e-80 or 1e-100 rad from the vertical (NaN φ and axis before) is solved like any other, and
-  Carlson's R_J takes arguments down to the smallest normal floats (physics.top_elliptic._rj).
+  Carlson's R_J takes arguments down to the smallest normal floats (physics.elliptic.carlson_rj).
 
 Measured now (``python -m tests.physics.test_heavy_top_separatrix`` prints the table): θ within 3.4e-15 rad
 over two nutation periods, the fall included, everywhere on the grid, φ and ψ within 2.5e-16 of their

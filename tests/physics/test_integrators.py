@@ -114,7 +114,7 @@ def test_convergence_order_exact_free_compositions(composition, steps):
 
 
 def _dissipative_torques(moments):
-    from physics.heavy_body import TransverseAirDrag
+    from physics.integrators import TransverseAirDrag
 
     # Friction about an axis off z and the transverse drag: their exact sub-flows do not commute, so a base
     # step that is not symmetric in them (the compiled kernel applied them in the same order on both halves
@@ -381,7 +381,7 @@ COMPILED = [LiePoissonStrang, Yoshida4, Suzuki4, Yoshida6, Yoshida8, ExactFreeSp
 
 @pytest.mark.parametrize("cls", COMPILED)
 def test_the_compiled_step_is_the_interpreted_step(cls):
-    from physics.heavy_body import TransverseAirDrag
+    from physics.integrators import TransverseAirDrag
     from physics.integrators.drivers import compiled_step
 
     # Every torque the kernels know except the air drag, whose interpreted sub-flow is one RK4 step
@@ -400,8 +400,7 @@ def test_the_compiled_step_is_the_interpreted_step(cls):
 
 
 def test_classical_rk4_compiled_is_its_interpreted_step():
-    from physics.heavy_body import TransverseAirDrag
-    from physics.integrators import ClassicalRK4, advance
+    from physics.integrators import ClassicalRK4, TransverseAirDrag, advance
     from physics.integrators.drivers import compiled_step
 
     # Gravity, a tilted spin friction and the air drag: ClassicalRK4 treats every torque by its rates, so the
@@ -417,7 +416,7 @@ def test_classical_rk4_compiled_is_its_interpreted_step():
     compiled = advance(method, start, 0.05, 200)
     s = tuple(float(x) for x in start)
     for _ in range(200):
-        s = method._step(s, 0.05, math)
+        s = method.step_state(s, 0.05, math)
     assert np.max(np.abs(compiled - np.array(s))) < 1e-12
     R = compiled[:9].reshape(3, 3)
     assert np.max(np.abs(R.T @ R - np.eye(3))) > 1e-9  # not projected: the careless baseline stays careless
@@ -443,7 +442,7 @@ def test_a_batch_and_its_bodies_one_by_one_agree(cls, dissipative):
 
 
 def test_a_python_torque_runs_interpreted_and_the_air_drag_compiled_agrees_with_it():
-    from physics.heavy_body import TransverseAirDrag
+    from physics.integrators import TransverseAirDrag
     from physics.integrators.drivers import compiled_step
 
     class Drag:  # the same torque as a plain callable: the documented slower path

@@ -3,8 +3,9 @@
 With ``u = cos θ``, ``u̇² = f(u) = 2 (ℰ − a u)(1 − u²) − (α − β u)²`` (``a = Mgℓ/I1``, ``α = Lz/I1``,
 ``β = L3/I1``; lecture, "the heavy symmetric top"), a cubic with roots ``−1 ≤ u1 ≤ u2 ≤ 1 ≤ u3``, and
 ``u = u1 + (u2 − u1) sn²(λ t + c | m)``, ``m = (u2 − u1)/(u3 − u1)``, ``λ = sqrt(a (u3 − u1)/2)``. This
-module finds the roots (:mod:`physics.nutation_cubic`), the modulus, rate and phase, and the two pole
-terms of φ (:class:`physics.top_elliptic._PoleTerm`); :mod:`physics.top_trajectory` evaluates them.
+module finds the roots (:mod:`physics.heavy_top.nutation_cubic`), the modulus, rate and phase, and the two
+pole terms of φ (:class:`physics.heavy_top.pole_terms.PoleTerm`); :mod:`physics.heavy_top.trajectory`
+evaluates them.
 """
 
 from __future__ import annotations
@@ -15,17 +16,18 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 from scipy.special import ellipkm1
 
-from physics.double_double import _dd_add, _dd_mul, _two_prod, _two_sum
-from physics.nutation_cubic import NutationCubic, _diff, _local_roots, _Root
-from physics.top_elliptic import _complete_q, _complete_third_kind, _incomplete_first_kind, _PoleTerm
+from physics.double_double import dd_add, dd_mul, two_prod, two_sum
+from physics.elliptic import complete_q, complete_third_kind, incomplete_first_kind_one
+from physics.heavy_top.nutation_cubic import NutationCubic, Root, local_roots, root_gap
+from physics.heavy_top.pole_terms import PoleTerm
 from physics.validation import MAX_RATE, finite_scalar
 
 if TYPE_CHECKING:
-    from physics.heavy_top import HeavyTop
+    from physics.heavy_top.model import HeavyTop
 
 
 @dataclass
-class _Motion:
+class Motion:
     """Everything the closed form needs, computed once per initial condition."""
 
     kind: str  # "vertical", "steady" or "nutating"
@@ -44,11 +46,11 @@ class _Motion:
     one_m: float = 1.0
     c: float = 0.0
     spin_rate: float = 0.0  # L3/I3 − L3/I1: the constant part of ψ̇
-    terms: list[_PoleTerm] = field(default_factory=list)  # two of them
+    terms: list[PoleTerm] = field(default_factory=list)  # two of them
     period: float = math.inf
     precession_rate: float = 0.0
-    free: _FreeTerms | None = None  # mgl = 0: the symmetric free body (elementary closed form)
-    smooth: _SmoothPhi | None = None  # the pole terms summed without cancellation (see _SmoothPhi)
+    free: FreeTerms | None = None  # mgl = 0: the symmetric free body (elementary closed form)
+    smooth: SmoothPhi | None = None  # the pole terms summed without cancellation (see SmoothPhi)
 
 
 _THROUGH_POLE = 1e-300
@@ -78,7 +80,7 @@ def motion_constants(
     psidot0: float,
     phi0: float = 0.0,
     psi0: float = 0.0,
-) -> _Motion:
+) -> Motion:
     """The constants of one motion from its initial Euler angles and rates (roots of the cubic, phase,
     pole terms): everything the closed form needs that does not depend on t."""
     th0 = finite_scalar(theta0, "theta0")
@@ -140,7 +142,7 @@ def motion_constants(
     )
     if at_pole and thd0 == 0.0:
         # Sleeping (or hanging) top exactly vertical: an equilibrium of θ, stable or not.
-        mo = _Motion(kind="vertical", **base)
+        mo = Motion(kind="vertical", **base)
         mo.precession_rate = phd0
         mo.period = _vertical_period(top, L3, u0)
         return mo
@@ -168,37 +170,37 @@ def motion_constants(
     loc_p = [dm, -4.0 * k1 + 2.0 * beta * dm, -2.0 * k1 + gap, c3]
     k2 = K0 + a * z0  # ℰ + a
     loc_m = [dp, 4.0 * k2 + 2.0 * beta * dp, -2.0 * k2 - 4.0 * a - beta * beta, c3]
-    # The roots in each expansion, each group at its own scale (nutation_cubic._local_roots), ascending in
+    # The roots in each expansion, each group at its own scale (nutation_cubic.local_roots), ascending in
     # u in all three. Each root is then taken from the expansion in which it is smallest: there it has its
     # full relative precision, and so have its distances to u0 and to the poles. (Two roots that nearly
     # coincide always have an anchor between them, u0 or a pole, which tells them apart.)
     found = (
-        _local_roots(1.0, *loc0),
-        _local_roots(-1.0, *loc_p),
-        _local_roots(-1.0, *loc_m),
+        local_roots(1.0, *loc0),
+        local_roots(-1.0, *loc_p),
+        local_roots(-1.0, *loc_m),
     )
     roots = []
     for v, x, y in zip(*found):
         best = min((abs(v), 0), (abs(x), 1), (abs(y), 2))[1]
         if best == 0:
-            roots.append(_Root(v, w0 - v, z0 + v))
+            roots.append(Root(v, w0 - v, z0 + v))
         elif best == 1:
-            roots.append(_Root(w0 + x, -x, 2.0 + x))
+            roots.append(Root(w0 + x, -x, 2.0 + x))
         else:
-            roots.append(_Root(y - z0, 2.0 - y, y))
+            roots.append(Root(y - z0, 2.0 - y, y))
     roots.sort(key=lambda r_: r_.u)
     r1, r2, r3 = roots
     # Rounding may push a root across u0 or a pole by an ulp; the motion lies in [u1, u2] ∋ u0.
     if r1.v > 0.0:
-        r1 = _Root(0.0, w0, z0)
+        r1 = Root(0.0, w0, z0)
     if r2.v < 0.0:
-        r2 = _Root(0.0, w0, z0)
+        r2 = Root(0.0, w0, z0)
     if r2.p < 0.0:
-        r2 = _Root(w0, 0.0, 2.0)
+        r2 = Root(w0, 0.0, 2.0)
     if r1.q < 0.0:
-        r1 = _Root(-z0, 2.0, 0.0)
-    u21, u31, u32 = _diff(r2, r1), _diff(r3, r1), _diff(r3, r2)
-    r0 = _Root(0.0, w0, z0)
+        r1 = Root(-z0, 2.0, 0.0)
+    u21, u31, u32 = root_gap(r2, r1), root_gap(r3, r1), root_gap(r3, r2)
+    r0 = Root(0.0, w0, z0)
     cubic = NutationCubic(
         u0=u0,
         u1=r1.u,
@@ -211,17 +213,17 @@ def motion_constants(
         u2_minus_u1=u21,
         u3_minus_u1=u31,
         u3_minus_u2=u32,
-        u0_minus_u1=_diff(r0, r1),
-        u2_minus_u0=_diff(r2, r0),
+        u0_minus_u1=root_gap(r0, r1),
+        u2_minus_u0=root_gap(r2, r0),
     )
     if u21 <= 0.0:
-        mo = _Motion(kind="steady", cubic=cubic, **base)
+        mo = Motion(kind="steady", cubic=cubic, **base)
         mo.precession_rate = phd0
         mo.lam = math.sqrt(a * u31 / 2.0)
         mo.period = math.pi / mo.lam if mo.lam > 0 else math.inf
         return mo
 
-    mo = _Motion(kind="nutating", cubic=cubic, **base)
+    mo = Motion(kind="nutating", cubic=cubic, **base)
     m = u21 / u31
     # Exactly on a separatrix (u2 = u3: the axis creeps up to an unstable position for ever) K = inf;
     # with 1 − m = 1e-300 instead the approach takes ~350/λ and differs by e^-350: invisible.
@@ -238,13 +240,13 @@ def motion_constants(
     elif sn2 <= 0.0:
         c = 0.0
     else:
-        c = _incomplete_first_kind(sn2, cn2, m, one_m)
+        c = incomplete_first_kind_one(sn2, cn2, m, one_m)
     udot0 = -s0 * thd0
     mo.c = -c if udot0 < 0.0 else c
     mo.spin_rate = L3 / I3 - beta
     mo.period = 2.0 * K / lam
     # The two pole terms of φ̇: (α ∓ β) / (2 (1 ∓ u)); their time integrals are elliptic integrals of
-    # the third kind (Carlson R_J). See _PoleTerm.
+    # the third kind (Carlson R_J). See PoleTerm.
     terms = []
     for pole, d in ((+1, dm), (-1, dp)):
         half_d = 0.5 * d
@@ -273,8 +275,8 @@ def motion_constants(
         # one; 1 − n itself, below the normal floats, would have lost its digits).
         through = one_n < _THROUGH_POLE
         jump = (math.copysign(1.0, d) if d != 0.0 else 1.0) if through else 0.0
-        pic = 0.0 if through else _complete_third_kind(n, one_n, m, one_m, K)
-        terms.append(_PoleTerm(pole, half_d, jump, shift, a0, a1, n, one_n, pic))
+        pic = 0.0 if through else complete_third_kind(n, one_n, m, one_m, K)
+        terms.append(PoleTerm(pole, half_d, jump, shift, a0, a1, n, one_n, pic))
     mo.terms = terms
     # Mean φ̇ over one period: each pole term advances by 2K a0 + 2 a1 Π(n|m), or by ±π per passage.
     adv = sum(tm.jump * math.pi if tm.jump else 2.0 * K * tm.a0 + 2.0 * tm.a1 * tm.pic for tm in terms)
@@ -285,8 +287,8 @@ def motion_constants(
         # α − β u1 = sin²θ0 φ̇0 + β (u0 − u1) from the data. The b± = a1± n± terms have one sign: no cancellation.
         C = s0 * s0 * phd0 + beta * cubic.u0_minus_u1
         rate = C / (r1.p * r1.q * lam)
-        qc = tuple(_complete_q(tm.one_n, one_m) for tm in terms)
-        mo.smooth = _SmoothPhi(
+        qc = tuple(complete_q(tm.one_n, one_m) for tm in terms)
+        mo.smooth = SmoothPhi(
             rate=rate,
             C=C,
             D=beta * u21,
@@ -302,7 +304,7 @@ def motion_constants(
 
 
 @dataclass(frozen=True)
-class _SmoothPhi:
+class SmoothPhi:
     """φ and ψ of a nutating top whose axis passes through neither pole, in a form without cancellation:
     ``φ − φ0 = rate (τ − c) + Σ b± [Q(n±; τ) − Q(n±; c)]``, ``ψ − ψ0 = (L3/I3) t − u1 rate (τ − c)
     − b+ ΔQ(n+) + b− ΔQ(n−)``, and the rates ``φ̇ = (C − D sn²) / ((1 − u)(1 + u))``, ``ψ̇ = ω3 − u φ̇``.
@@ -320,10 +322,10 @@ class _SmoothPhi:
 
 def _threshold_gap(top: HeavyTop | ScaledTop, phidot0: float, psidot0: float, u0: float) -> float:
     """``4a − β² = (4 M g ℓ I1 − L3²) / I1²`` with ``L3 = I3 (ψ̇0 + φ̇0 u0)``, the numerator in double-double."""
-    spin = _two_sum(psidot0, 0.0)
-    spin = _dd_add(spin, _two_prod(phidot0, u0))
-    L3 = _dd_mul((top.I3, 0.0), spin)
-    numerator = _dd_add(_two_prod(4.0 * top.mgl, top.I1), _dd_mul((-L3[0], -L3[1]), L3))
+    spin = two_sum(psidot0, 0.0)
+    spin = dd_add(spin, two_prod(phidot0, u0))
+    L3 = dd_mul((top.I3, 0.0), spin)
+    numerator = dd_add(two_prod(4.0 * top.mgl, top.I1), dd_mul((-L3[0], -L3[1]), L3))
     return float(numerator[0] + numerator[1]) / (top.I1 * top.I1)
 
 
@@ -343,7 +345,7 @@ def _vertical_period(top: HeavyTop | ScaledTop, L3: float, u0: float) -> float:
 
 
 @dataclass
-class _FreeTerms:
+class FreeTerms:
     """mgl = 0 (lecture: the symmetric free body about the pivot): ``u = ū + A cos x``, ``x = ν t + c``,
     ``ν = L / I1``, and each pole term of φ is elementary (see :func:`_free_motion`)."""
 
@@ -372,7 +374,7 @@ def _free_motion(
     dm: float,
     dp: float,
     omega3: float,
-) -> _Motion:
+) -> Motion:
     """Constants of the motion without gravity (mgl = 0): the symmetric free body seen in Euler angles.
 
     With a = 0 the nutation cubic is the parabola ``f(u) = −ν² (u − u1)(u − u2)``, ``ν² = 2ℰ + β² = L²/I1²``,
@@ -382,7 +384,7 @@ def _free_motion(
     in x, no branch to track. ψ̇ = L3/I3 − β ∓ (the same terms), as with gravity.
     """
     nu2 = 2.0 * K0 + beta * beta
-    mo = _Motion(kind="steady", **base)
+    mo = Motion(kind="steady", **base)
     mo.precession_rate = base["phidot0"]
     if nu2 == 0.0:  # at rest
         return mo
@@ -390,7 +392,7 @@ def _free_motion(
     # In v = u − u0: −ν² v² + c1 v + c0 with c0 = sin²θ0 θ̇0² ≥ 0, c1 = f'(u0) (the loc0 expansion at a = 0).
     c1 = -4.0 * u0 * K0 + 2.0 * beta * s0 * s0 * base["phidot0"]
     # (c0 = (sin θ0 θ̇0)² is passed as its root: near the vertical the square underflows.)
-    v1, v2 = _local_roots(1.0, s0 * thd0, c1, -nu2, 0.0)
+    v1, v2 = local_roots(1.0, s0 * thd0, c1, -nu2, 0.0)
     v1, v2 = min(v1, 0.0), max(v2, 0.0)  # u0 lies between the roots
     # f(±1) = −(α ∓ β)²: a pole is an exact root when α ∓ β = 0 (the axis passes through it).
     if dm == 0.0:
@@ -403,8 +405,8 @@ def _free_motion(
         return mo
     # The pole distances 1 − u2 and 1 + u1 from f written about each pole (no difference of nearby
     # numbers): f(1 − g) = −ν² g² + (4ℰ − 2β(α − β)) g − (α − β)², f(h − 1) likewise with α + β.
-    gap_top = 0.0 if dm == 0.0 else _local_roots(1.0, dm, -(4.0 * K0 - 2.0 * beta * dm), nu2, 0.0)[0]
-    gap_bottom = 0.0 if dp == 0.0 else _local_roots(1.0, dp, -(4.0 * K0 + 2.0 * beta * dp), nu2, 0.0)[0]
+    gap_top = 0.0 if dm == 0.0 else local_roots(1.0, dm, -(4.0 * K0 - 2.0 * beta * dm), nu2, 0.0)[0]
+    gap_bottom = 0.0 if dp == 0.0 else local_roots(1.0, dp, -(4.0 * K0 + 2.0 * beta * dp), nu2, 0.0)[0]
     # That quadratic's roots (1 ∓ u2 and 1 ∓ u1) are 2A apart: far from a pole compared with the amplitude
     # they nearly coincide and its discriminant cancels (a sphere started at the top pole lost 2e-10 of its
     # precession rate). There the gap is (1 ∓ u0) ∓ v, a difference of numbers of very unequal size.
@@ -433,7 +435,7 @@ def _free_motion(
         jumps.append(0.0)
     mo.kind = "free"
     mo.c = c
-    mo.free = _FreeTerms(
+    mo.free = FreeTerms(
         nu,
         c,
         amplitude,

@@ -1,7 +1,7 @@
 """The heavy top's exact motion from one initial condition, evaluated at any times.
 
 Solve once, evaluate often: :class:`HeavyTopTrajectory` holds the constants of the motion
-(:func:`physics.top_motion.motion_constants`); :meth:`HeavyTopTrajectory.at` only evaluates
+(:func:`physics.heavy_top.motion.motion_constants`); :meth:`HeavyTopTrajectory.at` only evaluates
 ``u = cos θ = u1 + (u2 − u1) sn²(λ t + c | m)`` and the pole terms of φ and ψ. An array of times is
 evaluated vectorised; one time (a frame of an animation) on Python floats, the same expressions in the
 same order, so both give the same numbers.
@@ -16,13 +16,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics.euler_angles import _attitude_from_trig, _theta_from
-from physics.top_elliptic import _jacobi, _jacobi_one, _q_integral, _q_integral_one, _reduce
-from physics.top_motion import _Motion
+from physics.elliptic import jacobi_half_period, jacobi_half_period_one, q_integral, q_integral_one, reduce_half_period
+from physics.euler_angles import attitude_from_trig, theta_from
+from physics.heavy_top.motion import Motion
 from physics.validation import finite_array, finite_phase, finite_scalar
 
 if TYPE_CHECKING:
-    from physics.heavy_top import HeavyTop
+    from physics.heavy_top.model import HeavyTop
+    from physics.heavy_top.nutation_cubic import NutationCubic
 
 Floats = NDArray[np.float64]
 
@@ -86,7 +87,7 @@ class HeavyTopSolution:
         return top.angular_momenta(self.theta, self.phidot, self.psidot)
 
 
-def _times(t: ArrayLike) -> NDArray[np.float64]:
+def times_array(t: ArrayLike) -> NDArray[np.float64]:
     tt = np.atleast_1d(finite_array(t, "t"))
     if tt.ndim != 1:
         raise ValueError(f"t must be a scalar or a 1-D array of times, got shape {tt.shape}")
@@ -110,14 +111,17 @@ class HeavyTopTrajectory:
     energy : float
         Conserved total energy, J.
     nutation_period : float
-        Period of θ, s (see :meth:`physics.heavy_top.HeavyTop.nutation_period`).
+        Period of θ(t), ``2 K(m) / λ``, s. For a steady precession the limit ``π/λ`` (the period of small
+        nutations about it); for a top exactly vertical the same limit for nearby motions with
+        ``Lz = ±L3`` (inf below the sleeping threshold, where the vertical is unstable).
     precession_rate : float
-        Mean φ̇ over a nutation period, rad/s.
+        Mean precession rate ``⟨φ̇⟩`` over one nutation period, rad/s (exact, complete Π); for a fast top it
+        tends to the pseudo-regular ``M g ℓ / (I3 ω3)``.
     theta_min, theta_max : float
         Turning points of θ, rad.
     """
 
-    def __init__(self, top: HeavyTop, motion: _Motion) -> None:
+    def __init__(self, top: HeavyTop, motion: Motion) -> None:
         self.top = top
         self._mo = mo = motion
         self.L3, self.Lz, self.energy = mo.L3, mo.Lz, mo.energy
@@ -126,21 +130,21 @@ class HeavyTopTrajectory:
         if mo.kind == "free":
             fr = mo.free
             assert fr is not None  # a free motion has its terms
-            self.theta_min = float(_theta_from(fr.gap_top, fr.gap_bottom + 2.0 * fr.amplitude))
-            self.theta_max = float(_theta_from(fr.gap_top + 2.0 * fr.amplitude, fr.gap_bottom))
+            self.theta_min = float(theta_from(fr.gap_top, fr.gap_bottom + 2.0 * fr.amplitude))
+            self.theta_max = float(theta_from(fr.gap_top + 2.0 * fr.amplitude, fr.gap_bottom))
             self._offsets = [float(v[0]) for v in self._free_terms(np.array([mo.c]))]
         elif mo.kind == "nutating":
             cu = mo.cubic
             assert cu is not None  # a nutating motion has its cubic
-            self.theta_min = float(_theta_from(cu.one_minus_u2, cu.one_plus_u2))
-            self.theta_max = float(_theta_from(cu.one_minus_u1, cu.one_plus_u1))
+            self.theta_min = float(theta_from(cu.one_minus_u2, cu.one_plus_u2))
+            self.theta_max = float(theta_from(cu.one_minus_u1, cu.one_plus_u1))
             # Each pole term's value at t = 0 (φ and ψ start at φ0, ψ0), and Q(n±; c) for the smooth form.
             sm = mo.smooth
             if sm is not None:
-                k0, r0 = _reduce(np.array([mo.c]), mo.K)
-                sn0, cn0, dn0 = _jacobi(r0, mo.m, mo.one_m, mo.K)
+                k0, r0 = reduce_half_period(np.array([mo.c]), mo.K)
+                sn0, cn0, dn0 = jacobi_half_period(r0, mo.m, mo.one_m, mo.K)
                 self._q_offsets = [
-                    float(_q_integral(k0, sn0, cn0 * cn0, dn0 * dn0, n, one_n, qc)[0])
+                    float(q_integral(k0, sn0, cn0 * cn0, dn0 * dn0, n, one_n, qc)[0])
                     for n, one_n, qc in zip(sm.n, sm.one_n, sm.qc)
                 ]
             self._offsets = [float(tm.integral(np.array([mo.c]), mo.K, mo.m, mo.one_m)[0]) for tm in mo.terms]
@@ -162,6 +166,25 @@ class HeavyTopTrajectory:
 
     def __repr__(self) -> str:
         return f"HeavyTopTrajectory({self.top!r}, kind={self._mo.kind!r}, L3={self.L3!r}, Lz={self.Lz!r})"
+
+    @property
+    def nutation_cubic(self) -> NutationCubic | None:
+        """Roots of ``f(u) = u̇²`` (u = cos θ), None for a top exactly vertical at rest in θ (whose θ never
+        moves)."""
+        return self._mo.cubic
+
+    @property
+    def turning_points(self) -> tuple[float, float]:
+        """``(θ_min, θ_max)``: the turning points of θ, rad (roots u2, u1 of the cubic in u = cos θ).
+
+        Starting at a turning point (``thetadot0 = 0``) the known root is deflated, so θ0 is returned
+        exactly.
+        """
+        mo = self._mo
+        cu = mo.cubic
+        if mo.kind in ("vertical", "steady") or cu is None:
+            return mo.theta0, mo.theta0
+        return theta_from(cu.one_minus_u2, cu.one_plus_u2), theta_from(cu.one_minus_u1, cu.one_plus_u1)
 
     @property
     def kind(self) -> str:
@@ -188,7 +211,7 @@ class HeavyTopTrajectory:
             return self._one(tf)
         if np.ndim(t) == 0:  # a numpy scalar or 0-d array
             return self.at(finite_scalar(t, "t"))
-        return self._many(_times(t))
+        return self._many(times_array(t))
 
     # ------------------------------------------------------------------ many times (vectorised)
     def _many(self, tt: Floats) -> HeavyTopSolution:
@@ -210,7 +233,7 @@ class HeavyTopTrajectory:
         else:
             th, phi, psi, thd, fd, pd, ct, st = self._nutating(tt)
         cf, sf, cp, sp = np.cos(phi), np.sin(phi), np.cos(psi), np.sin(psi)
-        attitude = _attitude_from_trig(cf, sf, ct, st, cp, sp)
+        attitude = attitude_from_trig(cf, sf, ct, st, cp, sp)
         axis = attitude[:, :, 2].copy()
         omega = np.stack([fd * st * sp + thd * cp, fd * st * cp - thd * sp, np.full(n, self._omega3)], axis=-1)
         return self._solution(tt, th, phi, psi, thd, fd, pd, axis, attitude, omega)
@@ -245,7 +268,7 @@ class HeavyTopTrajectory:
         return terms
 
     def _free(self, t: Floats) -> tuple[Floats, ...]:
-        """mgl = 0: ``u = ū + A cos(ν t + c)``, φ and ψ from the elementary pole terms (top_motion._free_motion)."""
+        """mgl = 0: ``u = ū + A cos(ν t + c)``, φ and ψ from the elementary pole terms (motion._free_motion)."""
         mo = self._mo
         fr = mo.free
         assert fr is not None  # only free motions are evaluated here
@@ -258,7 +281,7 @@ class HeavyTopTrajectory:
         one_pu = fr.gap_bottom + 2.0 * fr.amplitude * np.cos(half) ** 2
         u = np.where(one_mu < one_pu, 1.0 - one_mu, one_pu - 1.0)
         st = np.sqrt(one_mu * one_pu)
-        th = _theta_from(one_mu, one_pu)
+        th = theta_from(one_mu, one_pu)
         with np.errstate(divide="ignore", invalid="ignore"):
             thd = np.where(st > 0.0, fr.amplitude * fr.nu * np.sin(x) / st, 0.0)
         # Exactly at a pole: the one-sided limit, leaving it (as for the nutating top).
@@ -314,8 +337,8 @@ class HeavyTopTrajectory:
         with np.errstate(over="ignore", invalid="ignore"):  # refused just below
             tau = lam * t + mo.c
         finite_phase(tau)
-        k, r = _reduce(tau, K)
-        sn, cn, dn = _jacobi(r, m, mo.one_m, K)
+        k, r = reduce_half_period(tau, K)
+        sn, cn, dn = jacobi_half_period(r, m, mo.one_m, K)
         sn2, cn2 = sn * sn, cn * cn
         u21 = cu.u2_minus_u1
         # 1 ∓ u as sums of non-negative terms: no cancellation near the poles.
@@ -323,7 +346,7 @@ class HeavyTopTrajectory:
         one_pu = cu.one_plus_u1 + u21 * sn2
         u = np.where(one_mu < one_pu, 1.0 - one_mu, one_pu - 1.0)
         st = np.sqrt(one_mu * one_pu)
-        th = _theta_from(one_mu, one_pu)
+        th = theta_from(one_mu, one_pu)
         udot = 2.0 * u21 * lam * sn * cn * dn
         with np.errstate(divide="ignore", invalid="ignore"):
             thd = np.where(st > 0.0, -udot / st, 0.0)
@@ -334,10 +357,10 @@ class HeavyTopTrajectory:
         if np.any(bot):
             thd[bot] = -2.0 * math.sqrt(u21) * lam * np.abs(cn[bot]) * dn[bot] / np.sqrt(one_mu[bot])
         sm = mo.smooth
-        if sm is not None:  # the pole terms summed without cancellation (top_motion._SmoothPhi)
+        if sm is not None:  # the pole terms summed without cancellation (motion.SmoothPhi)
             dn2 = dn * dn
             dq = [
-                _q_integral(k, sn, cn2, dn2, n, one_n, qc) - q0
+                q_integral(k, sn, cn2, dn2, n, one_n, qc) - q0
                 for n, one_n, qc, q0 in zip(sm.n, sm.one_n, sm.qc, self._q_offsets)
             ]
             dtau = tau - mo.c
@@ -396,7 +419,7 @@ class HeavyTopTrajectory:
         finite_phase(tau)
         k = math.floor((tau + K) / (2.0 * K))
         r = tau - 2.0 * K * k
-        sn, cn, dn = _jacobi_one(r, m, one_m, K)
+        sn, cn, dn = jacobi_half_period_one(r, m, one_m, K)
         sn2, cn2 = sn * sn, cn * cn
         u21 = cu.u2_minus_u1
         one_mu = cu.one_minus_u2 + u21 * cn2
@@ -413,8 +436,8 @@ class HeavyTopTrajectory:
         dn2 = dn * dn
         sm = mo.smooth
         if sm is not None:  # as in _nutating
-            dq0 = _q_integral_one(k, sn, cn2, dn2, sm.n[0], sm.one_n[0], sm.qc[0]) - self._q_offsets[0]
-            dq1 = _q_integral_one(k, sn, cn2, dn2, sm.n[1], sm.one_n[1], sm.qc[1]) - self._q_offsets[1]
+            dq0 = q_integral_one(k, sn, cn2, dn2, sm.n[0], sm.one_n[0], sm.qc[0]) - self._q_offsets[0]
+            dq1 = q_integral_one(k, sn, cn2, dn2, sm.n[1], sm.one_n[1], sm.qc[1]) - self._q_offsets[1]
             dtau = tau - mo.c
             phi = mo.phi0 + (sm.rate * dtau + (sm.b[0] * dq0 + sm.b[1] * dq1))
             psi = mo.psi0 + (self._omega3 * t - sm.u1 * sm.rate * dtau - sm.b[0] * dq0 + sm.b[1] * dq1)

@@ -1,75 +1,9 @@
-"""The heavy symmetric (Lagrange) top: exact motion, rates, sleeping threshold, friction.
+"""The heavy symmetric (Lagrange) top: :class:`HeavyTop`, its potentials, thresholds and rates, and the
+entries to its exact motion (:meth:`HeavyTop.trajectory`) and to its stepped motion with friction
+(:meth:`HeavyTop.simulate`).
 
-A body symmetric about its axis 3 spins with its tip fixed at the origin; gravity ``-g ẑ`` acts at the
-centre of mass a distance ``ℓ`` up the axis. Conventions (docs/conventions.md, with errata 3-5 applied):
-
-* Euler angles z-x-z: attitude ``R = Rz(φ) Rx(θ) Rz(ψ)``; θ is the angle of the symmetry axis from +z,
-  φ the precession (azimuth), ψ the spin. The symmetry axis in space is
-  ``R[:, 2] = (sin θ sin φ, −sin θ cos φ, cos θ)`` and ``Ṙ = R hat(ω_body)`` with
-  ``ω_body = (φ̇ sin θ sin ψ + θ̇ cos ψ, φ̇ sin θ cos ψ − θ̇ sin ψ, φ̇ cos θ + ψ̇)``.
-* ``V = + M g ℓ cos θ``; ``L3 = I3 (ψ̇ + φ̇ cos θ)`` and ``Lz = I1 sin²θ φ̇ + L3 cos θ`` are conserved;
-  the lecture's effective potential (per I1) is
-  ``U(θ) = (Lz − L3 cos θ)² / (2 I1² sin²θ) + (M g ℓ / I1) cos θ`` and ``ℰ = θ̇²/2 + U`` is conserved,
-  ``E = I1 ℰ + L3² / (2 I3)``.
-
-Exact solution. With ``u = cos θ``, ``u̇² = f(u) = 2 (ℰ − a u)(1 − u²) − (α − β u)²`` (``a = Mgℓ/I1``,
-``α = Lz/I1``, ``β = L3/I1``), a cubic with roots ``−1 ≤ u1 ≤ u2 ≤ 1 ≤ u3``, so
-``u = u1 + (u2 − u1) sn²(λ t + c | m)``, ``m = (u2 − u1)/(u3 − u1)``, ``λ = sqrt(a (u3 − u1)/2)``.
-By partial fractions ``φ̇ = (α−β)/(2(1−u)) + (α+β)/(2(1+u))`` and
-``ψ̇ = L3/I3 − β − (α−β)/(2(1−u)) + (α+β)/(2(1+u))``; each ``∫ dt/(1 ∓ u)`` is an incomplete elliptic
-integral of the third kind, evaluated through Carlson's ``R_J`` (scipy.special.elliprj).
-
-Digits. The roots are found in Taylor expansions of f about three points where f is known exactly from
-the initial data (u0: ``f = sin²θ0 θ̇0²``; ±1: ``f = −(α ∓ β)²``, with ``α ∓ β`` formed without
-cancellation), each group of roots at its own scale (the Newton polygon of the coefficients, so a root
-1e-200 from a pole keeps its digits and nothing underflows), and each root is taken from the expansion in
-which it is smallest. A root known exactly (a start at a turning point, or the axis passing through a pole)
-is exact.
-
-Poles. When the axis passes exactly through θ = 0 (``Lz = L3``) φ jumps by +π and ψ by −π (φ + ψ and
-the attitude are continuous); through θ = π (``Lz = −L3``) both jump by +π. Near (not through) a pole
-the same turn happens smoothly and fast; the closed form handles it without a special case, down to a
-closest approach of 1e-150 rad, below which the turn is taken as the jump (within 1e-150 rad of it).
-
-Fast tops and the threshold. For a fast top φ̇'s two pole terms are each ~L3/I1 and cancel down to the
-slow precession: they are summed before integrating (``top_motion._SmoothPhi``), so a top released at
-rest keeps θ, φ, ψ at the roundoff floor up to 1e9 rad/s. At the sleeping threshold the cubic's
-coefficient 4a − β² = (4 M g ℓ I1 − L3²)/I1² is formed in double-double from the data. A start near the
-vertical below the threshold is near the separatrix (m = 1 − O(θ0²)): the phase takes ``1 − m`` from the
-roots and the Jacobi functions take m and 1 − m both (scipy's ``ellipj`` sees only m); Carlson's R_J takes
-arguments down to the smallest normal floats. Starts from 1e-100 to 1e-6 rad off the vertical, at rest or
-moving, from 0.8 to 1.2 of the threshold, keep θ within 1e-12 rad (measured 1e-14) and φ, ψ within 1e-12
-of their size (tests/physics/test_heavy_top_separatrix.py, against mpmath at 60 to 460 digits and the
-motion linearised about the vertical). ``mgl = 0`` is the symmetric free body about the tip, in
-elementary form. The moments enter scaled by a power of two: 1e-300 or 1e300 kg m² work alike; rates up
-to 1e100 rad/s (``MAX_RATE``) are solved (at θ̇0 = 1e100 the motion is the free top's to 1e-14).
-
-Limits. A start closer to the vertical than 1e-100 rad without being on it is refused with a ValueError
-(``top_motion.MIN_THETA0``): the closed form there needs powers of θ0 below the float range, and rounding
-it to the vertical would make a top below the threshold sleep for ever instead of falling. So is a kick
-from the exact vertical below 1e-100 of the top's own rate ``sqrt(M g ℓ/I1 + (L3/2I1)²)`` at or below the
-threshold; above it (or without gravity) such a kick keeps the axis within ~1e-100 rad of the vertical and
-is taken as none. Right at a pole
-φ̇ and ψ̇ are each huge and only their combination is well conditioned; the attitude, the axis and
-``omega_body`` are returned accurately there. A time t is itself known only to an ulp, so the angles are
-known to ``|rate| × ulp(t)``: φ of a fast top started with φ̇0 ≠ 0 (φ̇ oscillating at ~φ̇0 around a mean
-~M g ℓ/L3) sampled at whole nutation periods is only the mean drift, 8e-16 rad after five periods at 1e9
-rad/s, and one ulp of t (6.6e-24 s) or of ψ̇0 moves the exact φ by 1e-23 rad, 1.2e-8 of itself; the closed
-form is within 1.7e-23 rad, 1.4 times that (tests/physics/test_heavy_top_fast.py measures the
-sensitivity on the 60-digit reference). Likewise, near a turning point close to the vertical, θ is
-relative-accurate only to the phase's rounding relative to the distance in phase from that turning point
-(absolute errors stay below 1e-12 rad). The phase error of φ, ψ is about eps × (nutation period) × |φ̇|,
-which only matters when the period itself is astronomically long.
-
-Step by step. :meth:`HeavyTop.simulate` (spin friction, air drag) and :func:`simulate_heavy_body` (any
-body, e.g. an asymmetric top) integrate (R, L_body) with :mod:`physics.integrators`: no Euler angles, so
-θ = 0 and θ = π/2 are ordinary points.
-
-Modules. This one is the model (:class:`HeavyTop`: moments, potentials, thresholds). The pieces, one job
-each: :mod:`physics.euler_angles` (angles ↔ attitude), :mod:`physics.nutation_cubic` (the roots),
-:mod:`physics.top_elliptic` (the elliptic integrals), :mod:`physics.top_motion` (the constants of one
-motion), :mod:`physics.top_trajectory` (evaluation at any times), :mod:`physics.heavy_body` (step by step
-with friction and drag). Every public name is importable from here, as before.
+Euler angles z-x-z, ``V = + M g ℓ cos θ`` (docs/conventions.md); the closed form, its accuracy and its
+limits are in docs/physics-notes.md.
 """
 
 from __future__ import annotations
@@ -80,15 +14,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from physics import G
-from physics.euler_angles import _theta_from, euler_attitude, omega_body_from_euler, symmetry_axis
-from physics.heavy_body import FrictionRun, TransverseAirDrag, _simulate_symmetric, simulate_heavy_body
-from physics.nutation_cubic import NutationCubic
-from physics.top_motion import ScaledTop, _Motion, motion_constants
-from physics.top_trajectory import HeavyTopSolution, HeavyTopTrajectory, _times
+from physics.constants import G
+from physics.heavy_top.motion import Motion, ScaledTop, motion_constants
+from physics.heavy_top.nutation_cubic import NutationCubic
+from physics.heavy_top.stepped import SteppedRun, simulate_symmetric
+from physics.heavy_top.trajectory import HeavyTopSolution, HeavyTopTrajectory, times_array
 from physics.validation import (
-    MAX_RATE,
-    MAX_STEPS,
     bounded_scalar,
     broadcast,
     finite_array,
@@ -101,20 +32,7 @@ if TYPE_CHECKING:
 
 Floats = NDArray[np.float64]
 
-__all__ = [
-    "MAX_RATE",
-    "MAX_STEPS",
-    "HeavyTop",
-    "HeavyTopSolution",
-    "HeavyTopTrajectory",
-    "NutationCubic",
-    "FrictionRun",
-    "euler_attitude",
-    "symmetry_axis",
-    "omega_body_from_euler",
-    "simulate_heavy_body",
-    "TransverseAirDrag",
-]
+__all__ = ["HeavyTop"]
 
 _EPS = np.finfo(float).eps
 
@@ -374,7 +292,7 @@ class HeavyTop:
         psidot0: float,
         phi0: float = 0.0,
         psi0: float = 0.0,
-    ) -> _Motion:
+    ) -> Motion:
         # The motion depends on I3/I1 and M g ℓ/I1 only: computed for the moments scaled by a power of two
         # (exactly) to order 1, then L3, Lz and E scaled back, so that 1e-300 or 1e300 kg m² work alike.
         exponent = math.frexp(self.I1)[1]
@@ -421,41 +339,27 @@ class HeavyTop:
         """
         return HeavyTopTrajectory(self, self._motion(theta0, thetadot0, phidot0, psidot0, phi0, psi0))
 
+    # Questions about one motion: its trajectory answers them (these take the same initial data).
     def nutation_cubic(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> NutationCubic | None:
-        """Roots of ``f(u) = u̇²`` (u = cos θ) for these initial data (None for a top exactly vertical
-        at rest in θ, whose θ never moves)."""
-        return self._motion(theta0, thetadot0, phidot0, psidot0).cubic
+        """:attr:`HeavyTopTrajectory.nutation_cubic` of the motion from these initial data."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).nutation_cubic
 
     def turning_points(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> tuple[float, float]:
-        """``(θ_min, θ_max)``: the turning points of θ, rad (roots u2, u1 of the cubic in u = cos θ).
-
-        Starting at a turning point (``thetadot0 = 0``) the known root is deflated, so θ0 is returned
-        exactly.
-        """
-        mo = self._motion(theta0, thetadot0, phidot0, psidot0)
-        if mo.kind == "vertical":
-            return mo.theta0, mo.theta0
-        cu = mo.cubic
-        if mo.kind == "steady" or cu is None:
-            return mo.theta0, mo.theta0
-        return _theta_from(cu.one_minus_u2, cu.one_plus_u2), _theta_from(cu.one_minus_u1, cu.one_plus_u1)
+        """:attr:`HeavyTopTrajectory.turning_points` ``(θ_min, θ_max)``, rad, of the motion from these data."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).turning_points
 
     def conserved_quantities(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> dict[str, float]:
         """``{"L3", "Lz", "energy"}`` from the initial data (kg m²/s, kg m²/s, J)."""
-        mo = self._motion(theta0, thetadot0, phidot0, psidot0)
-        return {"L3": mo.L3, "Lz": mo.Lz, "energy": mo.energy}
+        motion = self.trajectory(theta0, thetadot0, phidot0, psidot0)
+        return {"L3": motion.L3, "Lz": motion.Lz, "energy": motion.energy}
 
     def nutation_period(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> float:
-        """Period of θ(t), ``2 K(m) / λ``, s. For a steady precession the limit ``π/λ`` (the period of
-        small nutations about it); for a top exactly vertical the same limit for nearby motions with
-        ``Lz = ±L3`` (inf below the sleeping threshold, where the vertical is unstable)."""
-        return self._motion(theta0, thetadot0, phidot0, psidot0).period
+        """:attr:`HeavyTopTrajectory.nutation_period` of the motion from these initial data, s."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).nutation_period
 
     def precession_rate(self, theta0: float, thetadot0: float, phidot0: float, psidot0: float) -> float:
-        """Mean precession rate ``⟨φ̇⟩`` over one nutation period, rad/s (exact, complete Π).
-
-        For a fast top it tends to the pseudo-regular ``M g ℓ / (I3 ω3)``."""
-        return self._motion(theta0, thetadot0, phidot0, psidot0).precession_rate
+        """:attr:`HeavyTopTrajectory.precession_rate` of the motion from these initial data, rad/s."""
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0).precession_rate
 
     def solve(
         self,
@@ -490,7 +394,7 @@ class HeavyTop:
         -------
         HeavyTopSolution
         """
-        return self.trajectory(theta0, thetadot0, phidot0, psidot0, phi0=phi0, psi0=psi0).at(_times(t))
+        return self.trajectory(theta0, thetadot0, phidot0, psidot0, phi0=phi0, psi0=psi0).at(times_array(t))
 
     def simulate(
         self,
@@ -507,7 +411,7 @@ class HeavyTop:
         save_every: int = 1,
         phi0: float = 0.0,
         psi0: float = 0.0,
-    ) -> FrictionRun:
+    ) -> SteppedRun:
         """The top with friction, integrated step by step on (R, L_body) by :mod:`physics.integrators`.
 
         Friction model (both at the tip, both only remove energy):
@@ -541,9 +445,9 @@ class HeavyTop:
 
         Returns
         -------
-        FrictionRun
+        SteppedRun
         """
-        return _simulate_symmetric(
+        return simulate_symmetric(
             self,
             theta0,
             thetadot0,

@@ -2,8 +2,8 @@
 cancellation.
 
 The roots are found in Taylor expansions of f about three points where f is known exactly from the
-initial data (u0, and the poles ±1), each root at its own scale (:func:`_local_roots`), and each is taken
-from the expansion in which it is smallest (:func:`physics.top_motion.motion_constants` builds the
+initial data (u0, and the poles ±1), each root at its own scale (:func:`local_roots`), and each is taken
+from the expansion in which it is smallest (:func:`physics.heavy_top.motion.motion_constants` builds the
 expansions). Each root is held three ways
 (``u − u0``, ``1 − u``, ``1 + u``) so that the differences the closed form needs keep their digits.
 """
@@ -38,7 +38,7 @@ def _polish(c: Sequence[float], x: float) -> float:
     return x
 
 
-def _local_roots(sign: float, d: float, c1: float, c2: float, c3: float) -> list[float]:
+def local_roots(sign: float, d: float, c1: float, c2: float, c3: float) -> list[float]:
     """The real roots of ``sign d² + c1 x + c2 x² + c3 x³`` (as many as its degree: three, or two when
     ``c3 = 0``), ascending, each to full relative precision however different their sizes, without forming
     ``d²`` (near the vertical ``d`` is ~θ0² and its square underflows) and without overflow.
@@ -104,7 +104,7 @@ def _local_roots(sign: float, d: float, c1: float, c2: float, c3: float) -> list
 
 
 @dataclass(frozen=True)
-class _Root:
+class Root:
     """One root of f, held three ways so differences can be formed without cancellation:
     ``v = u − u0``, ``p = 1 − u``, ``q = 1 + u``."""
 
@@ -117,7 +117,7 @@ class _Root:
         return 1.0 - self.p if abs(self.p) < abs(self.q) else self.q - 1.0
 
 
-def _diff(hi: _Root, lo: _Root) -> float:
+def root_gap(hi: Root, lo: Root) -> float:
     """``u_hi − u_lo`` from whichever representation has the smallest operands."""
     cands = [
         (max(abs(hi.v), abs(lo.v)), hi.v - lo.v),
