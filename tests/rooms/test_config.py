@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-import app.server
+import app.serving.app
 from app.__main__ import main as app_main
 from app.rooms.cli import check_ports
 from app.rooms.cli import main as rooms_main
@@ -180,7 +180,7 @@ def test_shared_is_a_mode_on_any_host(monkeypatch: pytest.MonkeyPatch, capsys: p
             given.update(kwargs)
             raise Started
 
-    monkeypatch.setattr(app.server, "App", StandIn)
+    monkeypatch.setattr(app.serving.app, "App", StandIn)
     with pytest.raises(Started):
         app_main(["--host", "10.0.0.5", "--port", "0", "--shared"])
     assert given["presenter"] is False and given["private"] is False
