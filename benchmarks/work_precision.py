@@ -35,9 +35,12 @@ import numpy as np
 from benchmarks.cases import Case, all_cases, check_with_mpmath
 from benchmarks.peers import PeerTimeout, mujoco_run, scipy_energy_series, scipy_run
 from physics.integrators import (
+    BlanesMoan6,
     ExactFreeSplitting,
+    KahanLi8,
     LiePoissonStrang,
     LieRK4,
+    SofroniouSpaletta10,
     Suzuki4,
     Yoshida4,
     Yoshida6,
@@ -97,7 +100,10 @@ def our_methods(case: Case, quick: bool = False):
     torque = case.torques() or None
     # Highest order first: the domination rule below then cuts the low orders' sweeps short.
     methods = [
+        SofroniouSpaletta10(case.moments, torque),
+        KahanLi8(case.moments, torque),
         Yoshida8(case.moments, torque),
+        BlanesMoan6(case.moments, torque),
         Yoshida6(case.moments, torque),
         Suzuki4(case.moments, torque),
         Yoshida4(case.moments, torque),
@@ -377,6 +383,21 @@ def summary_rows(results: list[tuple[Case, list[Run]]]) -> list[str]:
         )
     if lost:
         lines.append("Levels a peer reached and we did not: " + ", ".join(f"{n} at {lev:.0e}" for n, lev in lost) + ".")
+    lines += [
+        "",
+        "Our fastest integrator in each cell (the run the ratio above divides by; cases without a closed form "
+        "marked *):",
+        "",
+        "| case | " + " | ".join(f"{lev:.0e}" for lev in LEVELS) + " |",
+        "| --- " * (len(LEVELS) + 1) + "|",
+    ]
+    for case, runs in results:
+        row = []
+        for lev in LEVELS:
+            ours = _best(runs, lev, "ours")
+            row.append("—" if ours is None else f"{ours.method} {ours.setting}")
+        mark = "" if case.closed_form else "*"
+        lines.append(f"| {case.name}{mark} | " + " | ".join(row) + " |")
     return lines + [""]
 
 

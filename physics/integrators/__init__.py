@@ -62,11 +62,14 @@ from __future__ import annotations
 
 from physics.integrators._base import _Method
 from physics.integrators._state import kinetic_energy
+from physics.integrators.blanes_moan6 import BlanesMoan6
 from physics.integrators.classical_rk4 import ClassicalRK4
 from physics.integrators.drivers import Trajectory, advance, integrate
 from physics.integrators.exact_free import ExactFreeSplitting
+from physics.integrators.kahan_li8 import KahanLi8
 from physics.integrators.lie_poisson import LiePoissonStrang
 from physics.integrators.lie_rk4 import LieRK4
+from physics.integrators.sofroniou_spaletta10 import SofroniouSpaletta10
 from physics.integrators.suzuki4 import Suzuki4
 from physics.integrators.torques import GravityTorque, SpinFriction
 from physics.integrators.yoshida4 import Yoshida4
@@ -81,6 +84,9 @@ __all__ = [
     "Suzuki4",
     "Yoshida6",
     "Yoshida8",
+    "BlanesMoan6",
+    "KahanLi8",
+    "SofroniouSpaletta10",
     "ExactFreeSplitting",
     "LieRK4",
     "ClassicalRK4",
@@ -99,6 +105,9 @@ REGISTRY: dict[str, type[_Method]] = {
         Suzuki4,
         Yoshida6,
         Yoshida8,
+        BlanesMoan6,
+        KahanLi8,
+        SofroniouSpaletta10,
         ExactFreeSplitting,
         LieRK4,
         ClassicalRK4,
