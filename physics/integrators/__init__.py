@@ -16,6 +16,11 @@ Methods (each declares ``name``, ``order``, ``symplectic`` and ``conserves``):
 * :class:`Yoshida4`, :class:`Yoshida6`, :class:`Yoshida8` — symmetric compositions of that Strang step
   (Yoshida 1990: triple jump, "solution A", "solution D"), orders 4, 6 and 8; :class:`Suzuki4` — Suzuki's five-stage fourth-order
   composition (smaller error constant than the triple jump).
+* :class:`BlanesMoan6`, :class:`KahanLi8`, :class:`SofroniouSpaletta10` — the optimised ones (issue 25):
+  Blanes & Moan's S6 (2002; ten stages, as a composition of the Lie–Trotter step and its adjoint), Kahan &
+  Li's s17odr8a (1997) and Sofroniou & Spaletta's s35odr10 (2005) compositions of the Strang step, orders 6,
+  8, 10, with error constants one to four orders of magnitude below Yoshida's; the cheapest of the project's
+  methods at errors of 1e-7 and below on the bodies without a closed form (benchmarks/results/work_precision.md).
 * :class:`ExactFreeSplitting` — the free rotation is taken whole from its exact flow
   (:meth:`physics.free_body.FreeBody.flow`; for a body with two equal moments the lecture's closed form
   ``R ← R exp(h hat(L_body)/I⊥) exp(h Ω_s hat(e_s))`` is evaluated inline, which is the same formula and
