@@ -2,9 +2,10 @@
 
 A scene that has an exact solution composes one :class:`IntegratorGhost`: a dropdown "Compare with
 integrator" (none; classical RK4, not geometric; the Lie–Poisson splitting, order 2; the Yoshida 6
-composition of that splitting; Blanes and Moan's optimised sixth order, some 50 times as accurate at the same
-step; Sofroniou and Spaletta's tenth order, the most accurate at every step the slider offers above its
-finest), a step-size slider, the ghost mesh and a plot of
+composition of that splitting; Blanes and Moan's optimised sixth order, on the heavy top 40 to 110 times as
+accurate as Yoshida 6 at the same step; Sofroniou and Spaletta's tenth order, the most accurate wherever the
+error is above round-off: 1e-10 rad after 10 s of the heavy top at h = 0.1 s, against Yoshida 6's 3e-4), a
+step-size slider, the ghost mesh and a plot of
 log₁₀ of the angle between ghost and exact body (rad) and of the ghost's relative energy drift. The class
 sees a careless integrator lose the intermediate-axis flip or a top's precession while a geometric one
 keeps it.
