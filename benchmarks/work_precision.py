@@ -1,11 +1,11 @@
 """Speed against error: our integrators and closed forms against scipy ``solve_ivp`` and MuJoCo.
 
-Run ``python -m benchmarks.work_precision`` (full: 36 min wall measured on this 2-core machine while other
-work kept its load at 4 to 9; every scipy method, and mpmath's check of each numerical reference) or with
+Run ``python -m benchmarks.work_precision`` (full: 32 min wall measured on this 2-core machine while other
+work kept its load at 2 to 12; every scipy method, and mpmath's check of each numerical reference) or with
 ``--quick`` (under a minute: shorter long run, smaller per-run budget, scipy's DOP853, RK45 and LSODA only) or
 ``--smoke`` (seconds: four cases, for the test suite). Output in ``--out`` (default ``benchmarks/results``):
-``work_precision.md`` (tables, with a summary of the best peer's CPU ÷ ours per case and level and the worst
-cell) and one PNG per case plus ``long_run_energy.png``.
+``work_precision.md`` (tables, with a summary of the best peer's CPU ÷ ours per case and level, the worst
+cell, and our fastest method in each cell) and one PNG per case plus ``long_run_energy.png``.
 
 For every case (benchmarks/cases.py) and every method/setting it records, at the final time, the
 attitude error (rad, :func:`physics.rotations.rotation_angle`), the relative ω error, the relative energy
