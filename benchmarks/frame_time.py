@@ -21,12 +21,13 @@ import numpy as np
 CASES = [
     ("heavy_top", None, "heavy top, exact (cusps)"),
     ("heavy_top", "loops (φ̇0 = −1 × steady)", "heavy top, exact (loops)"),
-    ("heavy_top", "sleeping top with friction: falls", "heavy top, friction (LieRK4 steps)"),
+    ("heavy_top", "sleeping top with friction: falls", "heavy top, friction (Blanes–Moan 6 steps)"),
     ("wobble", None, "torque-free wobble"),
     ("free_fall", None, "body in free fall"),
     ("pendulum", None, "physical pendulum"),
     ("tennis_racket", None, "tennis racket"),
     ("tennis_racket", "ghost", "tennis racket + Yoshida 6 ghost (h = 5 ms)"),
+    ("tennis_racket", "ghost:Sofroniou", "tennis racket + Sofroniou–Spaletta 10 ghost (h = 5 ms)"),
     ("inertia_explorer", None, "inertia explorer (static: a frame redraws only after a change)"),
 ]
 
@@ -37,10 +38,11 @@ def measure(app, scene: str, preset: str | None, frames: int, warmup: int = 60) 
     app.switch_scene(scene)
     app.set_playing(True)
     app.set_speed(1.0)
-    if preset == "ghost":
+    if preset is not None and preset.startswith("ghost"):  # "ghost" (Yoshida 6) or "ghost:<word of its label>"
         ghost = app.scene.ghost
         ghost.step_slider.value = 0.005
-        ghost.choice.value = next(label for label in ghost.choice.options if "Yoshida" in label)
+        word = preset.partition(":")[2] or "Yoshida"
+        ghost.choice.value = next(label for label in ghost.choice.options if word in label)
     elif preset:
         assert app.scene.presets.choose(preset), preset
     for _ in range(warmup):

@@ -1,11 +1,11 @@
 """Speed against error: our integrators and closed forms against scipy ``solve_ivp`` and MuJoCo.
 
-Run ``python -m benchmarks.work_precision`` (full: 36 min wall measured on this 2-core machine while other
-work kept its load at 4 to 9; every scipy method, and mpmath's check of each numerical reference) or with
+Run ``python -m benchmarks.work_precision`` (full: 32 min wall measured on this 2-core machine while other
+work kept its load at 2 to 12; every scipy method, and mpmath's check of each numerical reference) or with
 ``--quick`` (under a minute: shorter long run, smaller per-run budget, scipy's DOP853, RK45 and LSODA only) or
 ``--smoke`` (seconds: four cases, for the test suite). Output in ``--out`` (default ``benchmarks/results``):
-``work_precision.md`` (tables, with a summary of the best peer's CPU ÷ ours per case and level and the worst
-cell) and one PNG per case plus ``long_run_energy.png``.
+``work_precision.md`` (tables, with a summary of the best peer's CPU ÷ ours per case and level, the worst
+cell, and our fastest method in each cell) and one PNG per case plus ``long_run_energy.png``.
 
 For every case (benchmarks/cases.py) and every method/setting it records, at the final time, the
 attitude error (rad, :func:`physics.rotations.rotation_angle`), the relative ω error, the relative energy
@@ -35,9 +35,12 @@ import numpy as np
 from benchmarks.cases import Case, all_cases, check_with_mpmath
 from benchmarks.peers import PeerTimeout, mujoco_run, scipy_energy_series, scipy_run
 from physics.integrators import (
+    BlanesMoan6,
     ExactFreeSplitting,
+    KahanLi8,
     LiePoissonStrang,
     LieRK4,
+    SofroniouSpaletta10,
     Suzuki4,
     Yoshida4,
     Yoshida6,
@@ -97,7 +100,10 @@ def our_methods(case: Case, quick: bool = False):
     torque = case.torques() or None
     # Highest order first: the domination rule below then cuts the low orders' sweeps short.
     methods = [
+        SofroniouSpaletta10(case.moments, torque),
+        KahanLi8(case.moments, torque),
         Yoshida8(case.moments, torque),
+        BlanesMoan6(case.moments, torque),
         Yoshida6(case.moments, torque),
         Suzuki4(case.moments, torque),
         Yoshida4(case.moments, torque),
@@ -377,6 +383,21 @@ def summary_rows(results: list[tuple[Case, list[Run]]]) -> list[str]:
         )
     if lost:
         lines.append("Levels a peer reached and we did not: " + ", ".join(f"{n} at {lev:.0e}" for n, lev in lost) + ".")
+    lines += [
+        "",
+        "Our fastest integrator in each cell (the run the ratio above divides by; cases without a closed form "
+        "marked *):",
+        "",
+        "| case | " + " | ".join(f"{lev:.0e}" for lev in LEVELS) + " |",
+        "| --- " * (len(LEVELS) + 1) + "|",
+    ]
+    for case, runs in results:
+        row = []
+        for lev in LEVELS:
+            ours = _best(runs, lev, "ours")
+            row.append("—" if ours is None else f"{ours.method} {ours.setting}")
+        mark = "" if case.closed_form else "*"
+        lines.append(f"| {case.name}{mark} | " + " | ".join(row) + " |")
     return lines + [""]
 
 

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from app.drawing.palette import COLOURS, GHOST_OPACITY, hex_colour
 from app.drawing.pieces import BodyMesh
 from app.panel.drift import InvariantDrift
-from physics.integrators import ClassicalRK4, LiePoissonStrang, Yoshida6, advance
+from physics.integrators import BlanesMoan6, ClassicalRK4, LiePoissonStrang, SofroniouSpaletta10, Yoshida6, advance
 
 __all__ = ["IntegratorGhost", "METHODS", "chordal_angle"]
 
@@ -25,6 +25,8 @@ METHODS: dict[str, type | None] = {
     "classical RK4 (not geometric)": ClassicalRK4,
     "Lie–Poisson splitting (order 2)": LiePoissonStrang,
     "Yoshida 6 composition (order 6)": Yoshida6,
+    "Blanes–Moan 6 splitting (order 6, optimised)": BlanesMoan6,
+    "Sofroniou–Spaletta 10 composition (order 10)": SofroniouSpaletta10,
 }
 STEP = (0.002, 0.2, 0.002, 0.05)
 """The step slider (s): least, most, resolution, default."""

@@ -21,11 +21,19 @@ from app.drawing.ghost import METHODS, chordal_angle
 from physics import G
 from physics.free_body import FreeBody
 from physics.heavy_top import HeavyTop
-from physics.integrators import ClassicalRK4, GravityTorque, LiePoissonStrang, Yoshida6, advance
+from physics.integrators import (
+    BlanesMoan6,
+    ClassicalRK4,
+    GravityTorque,
+    LiePoissonStrang,
+    SofroniouSpaletta10,
+    Yoshida6,
+    advance,
+)
 from physics.rotations import hat, rotation_about, rotation_angle
 from tests.harness import open_scene, running_app
 
-RK4, SPLIT, BEST = list(METHODS)[1:]
+RK4, SPLIT, BEST, OPTIMISED6, TENTH = list(METHODS)[1:]
 
 
 def _choose(app, scene, method: str, step: float | None = None) -> None:
@@ -51,7 +59,16 @@ def test_chordal_angle_is_the_rotation_angle():
         assert chordal_angle(a, b) == pytest.approx(float(rotation_angle(a, b)), rel=1e-9, abs=2e-8)
 
 
-@pytest.mark.parametrize("label, cls", [(RK4, ClassicalRK4), (SPLIT, LiePoissonStrang), (BEST, Yoshida6)])
+@pytest.mark.parametrize(
+    "label, cls",
+    [
+        (RK4, ClassicalRK4),
+        (SPLIT, LiePoissonStrang),
+        (BEST, Yoshida6),
+        (OPTIMISED6, BlanesMoan6),
+        (TENTH, SofroniouSpaletta10),
+    ],
+)
 def test_heavy_top_ghost_is_the_integrator_from_the_same_start(label, cls):
     with running_app("heavy_top", start_loop=False) as app:
         scene = open_scene(app, "heavy_top")

@@ -335,11 +335,12 @@ def test_attributes_declared():
 def test_the_registry_lists_every_method_once_with_its_declarations():
     import importlib
 
-    from physics.integrators import REGISTRY, ClassicalRK4
+    from physics.integrators import REGISTRY, BlanesMoan6, ClassicalRK4, KahanLi8, SofroniouSpaletta10
 
-    assert set(REGISTRY.values()) == set(ALL + [ExactFreeSplitting, ClassicalRK4])
+    optimised = [BlanesMoan6, KahanLi8, SofroniouSpaletta10]  # tests/physics/test_optimised_compositions.py
+    assert set(REGISTRY.values()) == set(ALL + optimised + [ExactFreeSplitting, ClassicalRK4])
     for name, cls in REGISTRY.items():
-        assert cls.name == name and cls.order in (2, 4, 6, 8) and isinstance(cls.symplectic, bool)
+        assert cls.name == name and cls.order in (2, 4, 6, 8, 10) and isinstance(cls.symplectic, bool)
         assert isinstance(cls(MOMENTS).conserves, tuple)
         # The class itself declares what the torque-free method keeps (ClassicalRK4: nothing, its R drifts).
         if cls is not ClassicalRK4:

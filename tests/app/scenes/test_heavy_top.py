@@ -217,12 +217,12 @@ def test_sleeping_is_said_only_of_a_top_that_stands_upright(app):
 
 
 def test_the_friction_top_steps_as_simulate_heavy_body_does(app):
-    """The scene builds its Lie RK4 stepper once and steps it each frame: the same motion as the physics
+    """The scene builds its Blanes–Moan 6 stepper once and steps it each frame: the same motion as the physics
     API's simulate_heavy_body over the same steps (to round-off)."""
     from app.scenes.heavy_top import ELL
     from physics import G
     from physics.heavy_top import simulate_heavy_body
-    from physics.integrators import SpinFriction
+    from physics.integrators import BlanesMoan6, SpinFriction
 
     scene = open_scene(app, "heavy_top")
     assert scene.presets.choose("sleeping top with friction: falls")
@@ -241,7 +241,7 @@ def test_the_friction_top_steps_as_simulate_heavy_body_does(app):
         1.0,
         1.0 / 240.0,
         torques=[SpinFriction(scene.params.values["friction"], moments)],
-        method="LieRK4",
+        method=BlanesMoan6,
         save_every=240,
     )
     np.testing.assert_allclose(scene.R, run.attitude[-1], rtol=0, atol=1e-13)
