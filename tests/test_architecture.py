@@ -13,6 +13,7 @@ modules) for a closing note.
 from __future__ import annotations
 
 import ast
+import functools
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -160,6 +161,7 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
+@functools.cache
 def figures() -> dict[str, object]:
     modules = read_modules()
     graph = import_graph(modules)
