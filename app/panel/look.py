@@ -7,9 +7,10 @@ every text at least :data:`MIN_TEXT_PX` pixels, labels in full contrast rather t
 
 from __future__ import annotations
 
+import html
 from typing import Any
 
-__all__ = ["MIN_TEXT_PX", "STYLE", "configure", "hide_number_box"]
+__all__ = ["MIN_TEXT_PX", "STYLE", "configure", "hide_number_box", "motion_html"]
 
 MIN_TEXT_PX = 14
 """Smallest text in the panel, CSS pixels (Mantine's default is 12 to 13)."""
@@ -29,6 +30,12 @@ def hide_number_box(uuid: str) -> str:
     """CSS that hides the number box of the slider ``uuid`` (viser draws one beside every slider; the
     speed slider's value is a position, not a speed, so its label shows the speed instead)."""
     return f'<style>[id="{uuid}"] ~ * {{ display: none !important; }}</style>'
+
+
+def motion_html(text: str) -> str:
+    """The motion in words (:meth:`app.scenes.base.Scene.describe`) as a polite live region: a screen
+    reader announces each new text when the reader is idle, without taking the focus."""
+    return f'<p class="rbl-motion" aria-live="polite" aria-atomic="true">{html.escape(text)}</p>'
 
 
 def configure(gui: Any, *, share: bool = False, dark: bool = False) -> Any:

@@ -56,6 +56,8 @@ class SimulationPanel:
         title = gui.add_markdown("**Rigid Body Lab**")
         self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=next(iter(titles)))
         self.scene_picker.on_update(sim.guarded(self._on_pick))
+        self.words = gui.add_html(look.motion_html(""))  # the motion in words (show_words)
+        self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
             self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
@@ -79,13 +81,20 @@ class SimulationPanel:
         self.export_folder = ExportFolder(sim, export, auto_close_seconds, order=LAST_ORDER + 2)
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
-        self.handles: list[Any] = [style, title, self.scene_picker, clock, state, self.export_folder.folder]
+        self.handles: list[Any] = [style, title, self.scene_picker, self.words, clock, state]
+        self.handles.append(self.export_folder.folder)
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:
         """The play button says what a click does."""
         self.play_button.label = "Pause" if playing else "Play"
         self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
+
+    def show_words(self, text: str) -> None:
+        """Put the motion in words in the live region; an unchanged text is not sent (nor announced)."""
+        if text != self.said:
+            self.said = text
+            self.words.content = look.motion_html(text)
 
     def show_scene(self, title: str) -> None:
         """The picker names the scene built (without taking it for a browser's choice)."""
