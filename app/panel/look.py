@@ -10,7 +10,9 @@ from __future__ import annotations
 import html
 from typing import Any
 
-__all__ = ["MIN_TEXT_PX", "STYLE", "configure", "hide_number_box", "motion_html"]
+from app.panel.access import PATCH
+
+__all__ = ["MIN_TEXT_PX", "PATCH", "STYLE", "configure", "hide_number_box", "motion_html"]
 
 MIN_TEXT_PX = 14
 """Smallest text in the panel, CSS pixels (Mantine's default is 12 to 13)."""
@@ -40,7 +42,8 @@ def motion_html(text: str) -> str:
 
 def configure(gui: Any, *, share: bool = False, dark: bool = False) -> Any:
     """Theme a simulation's panel: the large control width, dark or light, viser's share button off
-    unless asked for (it would publish the server on a public tunnel), and :data:`STYLE`; returns the
+    unless asked for (it would publish the server on a public tunnel), :data:`STYLE` and the accessibility
+    patch (:data:`app.panel.access.PATCH`: names, contrast, the 3D view's text); returns the
     style's handle."""
     gui.configure_theme(control_width="large", dark_mode=dark, show_share_button=share)
-    return gui.add_html(STYLE, order=-1e6)
+    return gui.add_html(STYLE + PATCH, order=-1e6)

@@ -56,7 +56,8 @@ class SimulationPanel:
         title = gui.add_markdown("**Rigid Body Lab**")
         self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=next(iter(titles)))
         self.scene_picker.on_update(sim.guarded(self._on_pick))
-        self.words = gui.add_html(look.motion_html(""))  # the motion in words (show_words)
+        # The motion in words (show_words): after the scene's folder, so its controls stay above the fold.
+        self.words = gui.add_html(look.motion_html(""), order=LAST_ORDER - 1)
         self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
@@ -71,7 +72,7 @@ class SimulationPanel:
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
-        style.content = look.STYLE + look.hide_number_box(self.speed_slider._impl.uuid)
+        style.content = look.STYLE + look.PATCH + look.hide_number_box(self.speed_slider._impl.uuid)
         with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
             self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)

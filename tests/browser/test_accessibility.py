@@ -7,7 +7,6 @@ light and dark, 1280×800 and 390×844).
 
 from __future__ import annotations
 
-import sys
 import time
 from typing import Any
 
@@ -15,7 +14,7 @@ import pytest
 
 from app.scenes import REGISTRY, scene_names
 from tests.browser.axe_scan import axe_source, counts, scan
-from tests.harness import launch_chromium, open_page, running_app, wait_for
+from tests.harness import click, launch_chromium, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -56,25 +55,82 @@ def test_the_scan_finds_what_it_is_there_to_find(chromium, axe) -> None:
         page.close()
 
 
+def scan_every_scene(browser: Any, source: str, dark: bool) -> list[tuple[str, str, str, dict[str, Any]]]:
+    """Every scene at every size of :data:`SIZES` in one look: (scene, look, size, rule -> (impact, count))."""
+    rows = []
+    with running_app(scene_names()[0], dark=dark) as app:
+        for width, height in SIZES:
+            page, _ = open_page(browser, app, viewport={"width": width, "height": height})
+            try:
+                for name in scene_names():
+                    show(page, app, name)
+                    found = {v["id"]: (v["impact"], v["count"], v["nodes"][:3]) for v in scan(page, source)}
+                    rows.append((name, "dark" if dark else "light", f"{width}×{height}", found))
+            finally:
+                page.close()
+    return rows
+
+
+@pytest.mark.parametrize("dark", [False, True], ids=["light", "dark"])
+def test_no_wcag_violation_in_any_scene_at_either_size(chromium, axe, dark) -> None:
+    """Item 1: zero WCAG 2.0/2.1 A and AA violations in every scene, at 1280×800 and on a 390×844 phone."""
+    rows = scan_every_scene(chromium, axe, dark)
+    assert len(rows) == len(scene_names()) * len(SIZES)
+    found = [row for row in rows if row[3]]
+    assert found == [], "\n".join(map(str, found))
+
+
+WORDS = "() => !!document.querySelector('.rbl-motion') && document.querySelector('.rbl-motion').textContent !== ''"
+
+
+def settled_scan(page: Any, source: str) -> dict[str, Any]:
+    page.wait_for_function(WORDS, timeout=30_000)
+    time.sleep(0.5)
+    return {v["id"]: (v["impact"], v["count"], v["nodes"][:3]) for v in scan(page, source)}
+
+
+def test_no_wcag_violation_with_folders_open_a_notification_shown_and_on_the_phone_sheet(chromium, axe) -> None:
+    """Item 1: the State and Export folders open and one of the app's notifications shown; on the phone,
+    the Clock's buttons scrolled into view (axe-core measures the contrast of what is on screen only)."""
+    with running_app("heavy_top") as app:
+        for width, height in SIZES:
+            page, client = open_page(chromium, app, viewport={"width": width, "height": height})
+            try:
+                settled_scan(page, axe)
+                click(page.get_by_text("State", exact=True))
+                click(page.get_by_text("Export a recording").first)
+                page.get_by_role("button", name="Copy state").first.wait_for(state="visible", timeout=30_000)
+                app.shared.notify("Refused", "a notification of the app's own, for the scan", client=client, error=True)
+                page.get_by_text("a notification of the app's own").first.wait_for(timeout=30_000)
+                page.get_by_role("button", name="Step").first.scroll_into_view_if_needed(timeout=30_000)
+                assert settled_scan(page, axe) == {}, f"{width}×{height}"
+            finally:
+                page.close()
+
+
+@pytest.mark.parametrize(
+    "mode",
+    [{"presenter": True, "pin": "482913"}, {"private": True}, {"lecture": "rigid-body-motion"}],
+    ids=["presenter-follower", "private", "lecture"],
+)
+def test_no_wcag_violation_as_a_follower_in_a_private_session_and_in_a_lecture(chromium, axe, mode) -> None:
+    """Item 1: a follower in presenter mode (every control disabled), a private session, a lecture loaded."""
+    with running_app("heavy_top", **mode) as app:
+        page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
+        try:
+            assert settled_scan(page, axe) == {}
+        finally:
+            page.close()
+
+
 def table() -> list[tuple[str, str, str, dict[str, tuple[str, int]]]]:
     """(scene, look, size, rule -> (impact, count)) for every scene, look and size."""
-    rows = []
     source = axe_source()
     with launch_chromium() as browser:
-        for dark in (False, True):
-            with running_app(scene_names()[0], dark=dark) as app:
-                for width, height in SIZES:
-                    page, _ = open_page(browser, app, viewport={"width": width, "height": height})
-                    for name in scene_names():
-                        show(page, app, name)
-                        found = {v["id"]: (v["impact"], v["count"]) for v in scan(page, source)}
-                        rows.append((name, "dark" if dark else "light", f"{width}×{height}", found))
-                        print(rows[-1], file=sys.stderr, flush=True)
-                    page.close()
-    return rows
+        return [row for dark in (False, True) for row in scan_every_scene(browser, source, dark)]
 
 
 if __name__ == "__main__":
     for name, look, size, found in table():
-        cells = ", ".join(f"{rule} ({impact}) {n}" for rule, (impact, n) in sorted(found.items())) or "none"
-        print(f"| {name} | {look} | {size} | {sum(n for _, n in found.values())} | {cells} |")
+        cells = ", ".join(f"{rule} ({impact}) {n}" for rule, (impact, n, _) in sorted(found.items())) or "none"
+        print(f"| {name} | {look} | {size} | {sum(n for _, n, _ in found.values())} | {cells} |")
