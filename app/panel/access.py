@@ -10,6 +10,8 @@ HTML: ``client/src/components/Html.tsx``) holding
 
 * a ``<style>``: the filled buttons' blue darkened to Mantine's blue 8 (``#1971c2``, 5.02:1 under white),
   the plots' titles and legends at :data:`app.panel.look.MIN_TEXT_PX`;
+* keyboard shortcuts (:data:`KEYS`) that click the panel's own buttons when the focus is not in a
+  control or a text field (a presentation clicker sends PageDown and PageUp);
 * a script (:data:`SCRIPT`), which an inserted ``<script>`` element would not run (``innerHTML`` never
   does), started once per page by an image that fails to load (``onerror``). It watches the page and
   gives each control the name of its visible label (``aria-labelledby``), names icon buttons after
@@ -27,7 +29,23 @@ from __future__ import annotations
 
 import html
 
-__all__ = ["FILLED_BLUE", "PATCH", "SCRIPT"]
+__all__ = ["FILLED_BLUE", "KEYS", "PATCH", "SCRIPT", "keys_markdown"]
+
+KEYS = (
+    ("Space", "play or pause"),
+    ("→", "one step (paused)"),
+    ("R", "reset to t = 0"),
+    ("Page Down / Page Up", "next / previous lecture step (what a presentation clicker sends)"),
+    ("Tab / Shift+Tab", "the next / previous control; sliders take ← → ↑ ↓, Page Up/Down, Home/End"),
+)
+"""The keyboard map shown in the panel's Keyboard folder (the shortcuts are not taken while the focus is
+in a control or a text field)."""
+
+
+def keys_markdown() -> str:
+    """The keyboard map as markdown for the panel."""
+    return "\n".join(f"- **{key}**: {what}" for key, what in KEYS)
+
 
 FILLED_BLUE = ("#1971c2", "#1864ab")
 """Mantine's blue 8 and 9: the filled buttons' background and its hover (white on them: 5.02:1, 6.09:1)."""
@@ -87,6 +105,21 @@ SCRIPT = r"""(() => {
       set(view, 'aria-label', '3D view of the simulation' + (text(words) ? ': ' + text(words) : ''));
     }
   }
+  // Shortcuts (KEYS): the panel's own buttons clicked, so a key does exactly what the button does (and is
+  // refused on the server just the same for a follower); never while typing or on a focused control.
+  const KEYS = {' ': ['Pause', 'Play'], ArrowRight: ['Step'], r: ['Reset'], R: ['Reset'],
+                PageDown: ['Next'], PageUp: ['Previous']};
+  const TYPING = 'input, textarea, select, button, [contenteditable=true], [role=slider], [role=combobox], '
+    + '[role=listbox], [role=option], [role=dialog]';
+  document.addEventListener('keydown', (e) => {
+    const names = KEYS[e.key];
+    if (!names || e.altKey || e.ctrlKey || e.metaKey || (e.target.closest && e.target.closest(TYPING))) return;
+    const button = [...document.querySelectorAll('button')].find(
+      b => names.includes(text(b)) && !b.disabled && !b.hasAttribute('data-disabled') && b.offsetParent);
+    if (!button) return;
+    e.preventDefault();
+    button.click();
+  });
   let queued = false;
   new MutationObserver(() => {
     if (!queued) { queued = true; setTimeout(() => { queued = false; fix(); }, 20); }

@@ -11,6 +11,7 @@ from typing import Any
 import viser
 
 from app.panel import look
+from app.panel.access import keys_markdown
 from app.panel.export_folder import ExportFolder, ExportRun
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 
@@ -80,10 +81,12 @@ class SimulationPanel:
         self.copy_state_button.on_click(sim.guarded(self.on_copy_state))
         self.open_state_button.on_click(sim.guarded(self.on_open_state))
         self.export_folder = ExportFolder(sim, export, auto_close_seconds, order=LAST_ORDER + 2)
+        with gui.add_folder("Keyboard", expand_by_default=False, order=LAST_ORDER + 3) as keyboard:
+            gui.add_markdown(keys_markdown())
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
         self.handles: list[Any] = [style, title, self.scene_picker, self.words, clock, state]
-        self.handles.append(self.export_folder.folder)
+        self.handles += [self.export_folder.folder, keyboard]
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:
