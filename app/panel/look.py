@@ -12,7 +12,7 @@ from typing import Any
 
 from app.panel.access import PATCH
 
-__all__ = ["MIN_TEXT_PX", "PATCH", "STYLE", "configure", "hide_number_box", "motion_html"]
+__all__ = ["MIN_TEXT_PX", "PATCH", "STYLE", "plot_axes", "configure", "hide_number_box", "motion_html"]
 
 MIN_TEXT_PX = 14
 """Smallest text in the panel, CSS pixels (Mantine's default is 12 to 13)."""
@@ -32,6 +32,16 @@ def hide_number_box(uuid: str) -> str:
     """CSS that hides the number box of the slider ``uuid`` (viser draws one beside every slider; the
     speed slider's value is a position, not a speed, so its label shows the speed instead)."""
     return f'<style>[id="{uuid}"] ~ * {{ display: none !important; }}</style>'
+
+
+PLOT_FONT = f"{MIN_TEXT_PX}px system-ui, -apple-system, 'Segoe UI', sans-serif"
+"""The plots' tick numbers: uPlot draws them on its canvas (12 px by default), out of reach of the CSS."""
+
+
+def plot_axes() -> tuple[Any, Any]:
+    """uPlot's x and y axes (``viser.uplot.Axis``) with their numbers at :data:`MIN_TEXT_PX`; the y axis a
+    little wider for the larger digits. viser still gives them the look's colours."""
+    return ({"font": PLOT_FONT, "labelFont": PLOT_FONT}, {"font": PLOT_FONT, "labelFont": PLOT_FONT, "size": 58})
 
 
 def motion_html(text: str) -> str:

@@ -19,6 +19,7 @@ from scipy.spatial.transform import Rotation
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
+from app.panel.look import plot_axes
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, angle, threshold_words, tip_path
@@ -233,6 +234,7 @@ class HeavyTopScene(Scene):
                 "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
             },
             title="Effective potential U(θ) (1/s²)",
+            axes=plot_axes(),
             aspect=1.6,
         )
         self.precession_readout = controls.Readout(self.ctx, "precession ⟨φ̇⟩ (rad/s)")

@@ -15,6 +15,7 @@ import viser
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
 from app.guards.wire import send_position
+from app.panel.look import plot_axes
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, listing
@@ -201,6 +202,7 @@ class TennisRacket(Scene):
                 viser.uplot.Series(label="ω₃", stroke=draw.hex_colour("blue"), width=2),
             ),
             title="ω in body axes (rad/s)",
+            axes=plot_axes(),
             scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
             aspect=1.6,
         )

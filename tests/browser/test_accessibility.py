@@ -12,6 +12,7 @@ from typing import Any
 
 import pytest
 
+from app.panel.look import MIN_TEXT_PX
 from app.scenes import REGISTRY, scene_names
 from tests.browser.axe_scan import axe_source, counts, scan
 from tests.harness import click, launch_chromium, open_page, running_app, wait_for
@@ -80,6 +81,9 @@ def test_no_wcag_violation_in_any_scene_at_either_size(chromium, axe, dark) -> N
     assert found == [], "\n".join(map(str, found))
 
 
+PLOT_TEXT = """() => [...document.querySelectorAll('.u-title, .u-legend th, .u-legend td')]
+    .filter(e => e.textContent.trim()).map(e => parseFloat(getComputedStyle(e).fontSize))"""
+
 WORDS = "() => !!document.querySelector('.rbl-motion') && document.querySelector('.rbl-motion').textContent !== ''"
 
 
@@ -104,6 +108,8 @@ def test_no_wcag_violation_with_folders_open_a_notification_shown_and_on_the_pho
                 page.get_by_text("a notification of the app's own").first.wait_for(timeout=30_000)
                 page.get_by_role("button", name="Step").first.scroll_into_view_if_needed(timeout=30_000)
                 assert settled_scan(page, axe) == {}, f"{width}×{height}"
+                # Item 4: the plots' titles and legends (HTML; axe-core does not check a size) at 14 px.
+                assert min(page.evaluate(PLOT_TEXT)) >= MIN_TEXT_PX
             finally:
                 page.close()
 
