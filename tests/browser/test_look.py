@@ -165,6 +165,22 @@ LOOKS = [(w, h, False) for w, h in VIEWS] + [(1280, 800, True)]
 """Every scene is measured at each view in the light look, and at 1280×800 in the dark look."""
 
 
+def placement(page, scene_id: str, mask: np.ndarray, width: int, height: int) -> str | None:
+    """What is wrong with where the body is drawn: pixels under the panel, or outside the free view; None
+    when it is clear of the panel and inside the view the panel leaves free."""
+    left, top, right, bottom = page.evaluate(PANEL_RECT, scene_id)
+    ys, xs = np.nonzero(mask)
+    if not len(xs):
+        return None  # no body at all: the pixel-count assertion names that
+    under = (xs >= left) & (xs <= right) & (ys >= top) & (ys <= bottom)
+    if under.any():
+        return f"{under.sum()} body pixels under the panel {left, top, right, bottom}"
+    free = free_region(width, height)
+    if xs.max() > free[2] or ys.max() > free[3] + 0.02 * height:
+        return f"outside the free view {free} (body to x = {xs.max()}, y = {ys.max()})"
+    return None
+
+
 def measure(chromium, width: int, height: int, dark: bool, check: bool = True) -> list[dict]:
     """Every scene's body contrast at one view and look (and, with ``check``, the test's other claims:
     the body in the view, clear of the panel, the panel's text size)."""
@@ -176,6 +192,11 @@ def measure(chromium, width: int, height: int, dark: bool, check: bool = True) -
         wait_for(lambda: _framed(client), 60, what="the camera framed for the page's size")
         for name in scene_names():
             mask, shown, hidden = body_pixels(page, app, name)
+            if check and placement(page, scene_id, mask, width, height):
+                # A page on a loaded machine can still be easing to the camera it was just framed with while
+                # two screenshots in a row come out the same (no frame rendered between them): measure again
+                # once. A body that is really out of place is out of place both times and fails below.
+                mask, shown, hidden = body_pixels(page, app, name)
             inner = int(binary_erosion(mask, iterations=2).sum())
             ratio, body, behind = contrast(mask, shown, hidden) if inner else (0.0, 0.0, 0.0)
             rows.append(
@@ -189,13 +210,10 @@ def measure(chromium, width: int, height: int, dark: bool, check: bool = True) -
             # over at least 50 inner pixels (the racket's open head on a phone leaves 81).
             assert mask.sum() >= 300 and inner >= 50, f"{name}: the body is not in the view ({mask.sum()} px)"
             assert ratio >= 3.0, f"{name}: body contrast {ratio:.2f}:1"
-            # Framed clear of the panel: no pixel of the body under it (the shots hide the panel, so one would show).
-            left, top, right, bottom = page.evaluate(PANEL_RECT, scene_id)
-            ys, xs = np.nonzero(mask)
-            under = (xs >= left) & (xs <= right) & (ys >= top) & (ys <= bottom)
-            assert not under.any(), f"{name}: {under.sum()} body pixels under the panel {left, top, right, bottom}"
-            free = free_region(width, height)
-            assert xs.max() <= free[2] and ys.max() <= free[3] + 0.02 * height, f"{name}: outside the free view"
+            # Framed clear of the panel: no pixel of the body under it (the shots hide the panel, so one would
+            # show), and inside the view the panel leaves free.
+            problem = placement(page, scene_id, mask, width, height)
+            assert problem is None, f"{name}: {problem}"
         smallest, where = page.evaluate(SMALLEST_TEXT, scene_id)
         if check:
             assert smallest >= MIN_TEXT_PX, f"{smallest} px text in the panel: {where!r}"
