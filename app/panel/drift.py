@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 import viser
 
+from app.panel.look import plot_axes
+
 __all__ = ["DRIFT_EVERY", "DRIFT_POINTS", "DRIFT_FLOOR", "InvariantDrift"]
 
 DRIFT_EVERY = 15
@@ -51,6 +53,7 @@ class InvariantDrift:
                 "y": viser.uplot.Scale(auto=False, range=(-17.0, 0.0)),
             },
             title=title,
+            axes=plot_axes(),
             aspect=2.2,
         )
         self.clear()

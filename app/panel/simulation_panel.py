@@ -11,6 +11,7 @@ from typing import Any
 import viser
 
 from app.panel import look
+from app.panel.access import keys_markdown
 from app.panel.export_folder import ExportFolder, ExportRun
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 
@@ -56,6 +57,9 @@ class SimulationPanel:
         title = gui.add_markdown("**Rigid Body Lab**")
         self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=next(iter(titles)))
         self.scene_picker.on_update(sim.guarded(self._on_pick))
+        # The motion in words (show_words): after the scene's folder, so its controls stay above the fold.
+        self.words = gui.add_html(look.motion_html(""), order=LAST_ORDER - 1)
+        self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
             self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
@@ -69,7 +73,7 @@ class SimulationPanel:
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
-        style.content = look.STYLE + look.hide_number_box(self.speed_slider._impl.uuid)
+        style.content = look.STYLE + look.PATCH + look.hide_number_box(self.speed_slider._impl.uuid)
         with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
             self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
@@ -77,15 +81,24 @@ class SimulationPanel:
         self.copy_state_button.on_click(sim.guarded(self.on_copy_state))
         self.open_state_button.on_click(sim.guarded(self.on_open_state))
         self.export_folder = ExportFolder(sim, export, auto_close_seconds, order=LAST_ORDER + 2)
+        with gui.add_folder("Keyboard", expand_by_default=False, order=LAST_ORDER + 3) as keyboard:
+            gui.add_markdown(keys_markdown())
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
-        self.handles: list[Any] = [style, title, self.scene_picker, clock, state, self.export_folder.folder]
+        self.handles: list[Any] = [style, title, self.scene_picker, self.words, clock, state]
+        self.handles += [self.export_folder.folder, keyboard]
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:
         """The play button says what a click does."""
         self.play_button.label = "Pause" if playing else "Play"
         self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
+
+    def show_words(self, text: str) -> None:
+        """Put the motion in words in the live region; an unchanged text is not sent (nor announced)."""
+        if text != self.said:
+            self.said = text
+            self.words.content = look.motion_html(text)
 
     def show_scene(self, title: str) -> None:
         """The picker names the scene built (without taking it for a browser's choice)."""

@@ -94,6 +94,11 @@ class Scene:
         SI unit, e.g. ``"theta (rad)"``) to value, in column order (:mod:`app.recording.columns`). Default: none."""
         return {}
 
+    def describe(self, state: dict[str, Any]) -> str:
+        """The motion in one sentence with its numbers and units (:mod:`app.scenes.wording`), at a state
+        :meth:`compute` gave: what a screen reader announces in place of the 3D view. Default: the title."""
+        return f"{self.title}."
+
     def snapshot(self) -> dict[str, Any]:
         """The motion state that the time and the controls do not give (a stepping model's state), to copy
         the scene into another simulation (default: nothing; closed-form models need only the time)."""

@@ -12,6 +12,7 @@ import numpy as np
 from app import draw
 from app.scenes.base import register
 from app.scenes.wobble import Wobble
+from app.scenes.wording import amount
 from physics import G
 
 START = np.array([-0.9, 0.0, 0.3])  # launch point of the centre of mass (m)
@@ -51,6 +52,10 @@ class FreeFall(Wobble):
     def centre_at(self, t: float) -> np.ndarray:
         tau = t % self.flight_time
         return START + VELOCITY * tau - 0.5 * G * tau * tau * np.array([0.0, 0.0, 1.0])
+
+    def describe(self, state: dict[str, Any]) -> str:
+        flight = f"its centre of mass rises {amount(RISE, 'm')} and lands after {amount(self.flight_time, 's')}, again and again"
+        return f"{self.title}: {flight}; {self.wobble_words()}."
 
     def draw(self, state: dict[str, Any]) -> None:
         # A new throw starts a new trace (the axis tip trace would otherwise jump across the scene).

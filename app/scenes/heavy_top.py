@@ -19,8 +19,10 @@ from scipy.spatial.transform import Rotation
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
+from app.panel.look import plot_axes
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
+from app.scenes.wording import amount, angle, threshold_words, tip_path
 from physics import G
 from physics.heavy_top import HeavyTop, friction_stepper
 from physics.integrators import BlanesMoan6, GravityTorque, advance
@@ -232,6 +234,7 @@ class HeavyTopScene(Scene):
                 "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
             },
             title="Effective potential U(θ) (1/s²)",
+            axes=plot_axes(),
             aspect=1.6,
         )
         self.precession_readout = controls.Readout(self.ctx, "precession ⟨φ̇⟩ (rad/s)")
@@ -374,6 +377,22 @@ class HeavyTopScene(Scene):
             "L_3 (kg m^2/s)": float(state["L_body"][2]),
             "E (J)": energy,
         }
+
+    def describe(self, state: dict[str, Any]) -> str:
+        top, L3 = self.top, float(state["L_body"][2])
+        spin = f"spin {amount(L3 / top.I3, 'rad/s')}, {threshold_words(L3, top.sleeping_threshold())}"
+        if self.values["friction"] > 0.0:
+            where = "lying on the table" if state["landed"] else f"tilted {angle(state['theta'])}"
+            return f"Heavy top with spin friction {amount(self.values['friction'], 'N m s')}: {where}; {spin}."
+        sol, kind = self.exact, self.motion.kind
+        if kind == "vertical":
+            return f"Heavy top, upright: standing on its tip; {spin}."
+        precessing = f"precessing at {amount(sol.precession_rate, 'rad/s')}"
+        if kind == "steady":
+            return f"Heavy top, steady precession: {precessing} at a tilt of {angle(sol.theta_min)}; {spin}."
+        shape = tip_path(sol.Lz, sol.L3, sol.theta_min, sol.theta_max)
+        between = f"between {angle(sol.theta_min)} and {angle(sol.theta_max)}"
+        return f"Heavy top, {shape}: {precessing}, nutating {between} every {amount(sol.nutation_period, 's')}; {spin}."
 
     def _invariants(self, state: dict[str, Any]) -> dict[str, tuple[float, float]]:
         """E = ½ ω·L + M g ℓ cos θ, L_z and L₃ (with their scales): constant for the exact top."""

@@ -15,6 +15,7 @@ import trimesh
 from app import controls, draw
 from app.recording.columns import vector_columns
 from app.scenes.base import Scene, register
+from app.scenes.wording import amount, listing
 from app.uploads.reading import NotWatertightError, UploadedBody, body_from_mesh
 from app.uploads.worker import body_in_worker
 from assets import ASSETS, load_mesh, mass_properties
@@ -311,6 +312,14 @@ class InertiaExplorer(Scene):
     def teardown(self) -> None:
         with self.ctx.lock:
             self.closed = True
+
+    def describe(self, state: dict[str, Any]) -> str:
+        d = float(np.linalg.norm(self.pivot - self.props.center_of_mass))
+        return (
+            f"Inertia explorer, {self.label}, {amount(self.props.mass, 'kg')}: principal moments "
+            f"{listing(tuple(self.moments), 'kg m²')} about the centre of mass; about the pivot "
+            f"{amount(d, 'm')} away, {listing(tuple(self.pivot_moments), 'kg m²')}."
+        )
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         return {"t": t}

@@ -15,6 +15,7 @@ import trimesh
 from app import controls, draw
 from app.guards.wire import send_position
 from app.scenes.base import Scene, register
+from app.scenes.wording import amount, angle
 from assets import load_mesh, mass_properties
 from physics import G
 from physics.inertia import MassProperties, rod
@@ -46,17 +47,29 @@ def hanging_body(choice: str) -> tuple[trimesh.Trimesh, MassProperties, float]:
     return placed, props.transformed(_FLIP, shift), length
 
 
+def swing_amplitude(model: PhysicalPendulum, theta: float, thetadot: float) -> float | None:
+    """The amplitude θ_max (rad) of the swing through (θ, θ̇), from the energy: ``cos θ_max = cos θ −
+    θ̇² / (2 ω0²)`` (θ̈ = −ω0² sin θ); None past cos θ_max = −1 (over the top) or without a restoring torque."""
+    if model.omega0 == 0.0:
+        return None
+    cos_max = math.cos(theta) - thetadot**2 / (2.0 * model.omega0**2)
+    return None if cos_max < -1.0 else math.acos(min(1.0, cos_max))
+
+
+def swing_period(model: PhysicalPendulum, amplitude: float) -> float:
+    """The period (s) of a swing of ``amplitude`` (rad): the small-swing period at zero amplitude."""
+    return float(model.period(amplitude)) if amplitude > 0 else model.small_oscillation_period
+
+
 def _period_text(model: PhysicalPendulum, theta: float, thetadot: float) -> str:
-    """The readout "small swings / this swing": the swing through (θ, θ̇) has its amplitude from the
-    energy, ``cos θ_max = cos θ − θ̇² / (2 ω0²)`` (θ̈ = −ω0² sin θ); past cos θ_max = −1 it goes over the top."""
+    """The readout "small swings / this swing" (:func:`swing_amplitude`)."""
     small = model.small_oscillation_period
     if model.omega0 == 0.0:
         return "no restoring torque: it turns uniformly"
-    cos_max = math.cos(theta) - thetadot**2 / (2.0 * model.omega0**2)
-    if cos_max < -1.0:
+    amplitude = swing_amplitude(model, theta, thetadot)
+    if amplitude is None:
         return f"{small:.4g} / over the top: no swing back"
-    amplitude = math.acos(min(1.0, cos_max))
-    return f"{small:.4g} / {float(model.period(amplitude)) if amplitude > 0 else small:.4g}"
+    return f"{small:.4g} / {swing_period(model, amplitude):.4g}"
 
 
 @register
@@ -201,6 +214,21 @@ class Pendulum(Scene):
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         theta, thetadot = self.state_at(t)
         return {"theta": theta, "theta_dot": thetadot, "t": t}
+
+    def describe(self, state: dict[str, Any]) -> str:
+        model = self.model
+        amplitude = swing_amplitude(model, state["theta"], state["theta_dot"])
+        swing = (
+            "going over the top, round and round"
+            if amplitude is None
+            else f"swinging ±{angle(amplitude)} every {amount(swing_period(model, amplitude), 's')}"
+        )
+        return (
+            f"Physical pendulum, {self.choice.value} hung {amount(self.params.values['pivot'], 'm')} below its end: "
+            f"{swing} (small swings {amount(model.small_oscillation_period, 's')}); the centre of percussion is "
+            f"{amount(model.effective_length, 'm')} below the pivot, the strike point "
+            f"{amount(self.params.values['strike'], 'm')}."
+        )
 
     def draw(self, state: dict[str, Any]) -> None:
         theta = state["theta"]

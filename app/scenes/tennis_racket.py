@@ -15,8 +15,10 @@ import viser
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
 from app.guards.wire import send_position
+from app.panel.look import plot_axes
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
+from app.scenes.wording import amount, listing
 from assets import ASSETS, load_mesh, mass_properties
 from physics.free_body import FreeBody
 from physics.inertia import MassProperties, validate_moments
@@ -200,6 +202,7 @@ class TennisRacket(Scene):
                 viser.uplot.Series(label="ω₃", stroke=draw.hex_colour("blue"), width=2),
             ),
             title="ω in body axes (rad/s)",
+            axes=plot_axes(),
             scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
             aspect=1.6,
         )
@@ -329,6 +332,18 @@ class TennisRacket(Scene):
         # Linear interpolation of each crossing; a full period spans two crossings.
         tc = t[idx] - s[idx] * (t[idx + 1] - t[idx]) / (s[idx + 1] - s[idx])
         return float(np.mean(tc[2:] - tc[:-2]))
+
+    def describe(self, state: dict[str, Any]) -> str:
+        spun = (
+            f"Intermediate axis, {self.description} (moments {listing(tuple(self.moments), 'kg m²')}), spun at "
+            f"{amount(float(self.omega0[self.axis_index]), 'rad/s')} about axis {self.axis_index + 1}"
+        )
+        period = amount(self.flip_period, "s")
+        if self.precession is not None:
+            return f"{spun}: two equal moments, so ω precesses at {amount(self.precession.body, 'rad/s')} in the body, every {period}, and never flips."
+        if self.stability.kind == "unstable":
+            return f"{spun}, the intermediate one: it flips over and back every {period}, growing at {amount(self.stability.rate, '1/s')}."
+        return f"{spun}, a stable one: it wobbles every {period} and never flips."
 
     def accept(self, payload: Any) -> None:
         """Take a body from another scene: ``{"label", "mesh", "mass_properties"}``."""

@@ -15,6 +15,7 @@ from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
+from app.scenes.wording import amount, angle
 from physics.free_body import FreeBody
 from physics.inertia import validate_moments
 from physics.rotations import frame_from_axis
@@ -162,6 +163,18 @@ class Wobble(Scene):
         # Rotational energy ½ ω·L and |L| (about the centre of mass): constant without torque.
         self.drift.add(state["t"], lambda: self._invariants(R.T @ w))
         self.ghost.follow(state["t"], lambda Rg: (V @ Rg, self.centre_at(self.ghost.t)))
+
+    def describe(self, state: dict[str, Any]) -> str:
+        return f"{self.title}: {self.wobble_words()}."
+
+    def wobble_words(self) -> str:
+        """The torque-free wobble: the cone angle of the symmetry axis about L and the two precession rates."""
+        rates, L_body = self.model.precession_rates(self.omega0), self.moments * self.omega0
+        cone = math.atan2(math.hypot(L_body[0], L_body[1]), L_body[2])
+        return (
+            f"the symmetry axis turns about the fixed L at {amount(rates.space, 'rad/s')}, {angle(cone)} from it; "
+            f"in the body, ω turns about the axis at {amount(rates.body, 'rad/s')}"
+        )
 
     def columns(self, state: dict[str, Any]) -> dict[str, float]:
         R, w = state["R"], state["omega_space"]

@@ -34,6 +34,8 @@ from app.teaching.lectures import Lecture
 __all__ = ["FPS", "Simulation", "first_scene"]
 
 FPS = 60.0
+DESCRIBE_SECONDS = 5.0
+"""The motion in words is said again at most this often while it runs (s), and at once after a change."""
 
 
 def first_scene(scene: str | None) -> tuple[str, list[str]]:
@@ -103,6 +105,7 @@ class Simulation:
         self._dirty = True
         self._folder: Any = None
         self._last_time_text = 0.0
+        self._described_at = -math.inf  # monotonic time of the last description (DESCRIBE_SECONDS)
         self._building: Scene | None = None  # the scene whose build() is running (see guarded)
         self.following = Following(self)
 
@@ -429,6 +432,7 @@ class Simulation:
             if advance == 0.0 and not self._dirty:
                 return False
             t_new = self.clock.t + advance
+            changed = self._dirty  # a change of parameters, scene, time or clock: describe at once
             try:
                 state = scene.compute(t_new, advance)
                 check_finite(state)
@@ -443,6 +447,9 @@ class Simulation:
                     if now - self._last_time_text > 0.1 or not self.clock.playing:
                         self._last_time_text = now
                         self.time_text.value = f"{self.clock.t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
+                    if changed or now - self._described_at >= DESCRIBE_SECONDS:
+                        self._described_at = now
+                        self.panel.show_words(scene.describe(state))
             except Exception as exc:  # noqa: BLE001
                 self.failed(exc)
                 return False
