@@ -52,6 +52,21 @@ CHROMIUM_ARGS = [
     "--no-first-run",
 ]
 VIEWPORT = {"width": 960, "height": 720}  # small: SwiftShader renders on the CPU
+CAMERA_MESSAGE = msgspec.msgpack.encode(
+    {
+        "type": "ViewerCameraMessage",
+        "wxyz": (1.0, 0.0, 0.0, 0.0),
+        "position": (3.0, -3.0, 2.0),
+        "fov": 0.9,
+        "near": 0.01,
+        "far": 100.0,
+        "image_height": 480,
+        "image_width": 640,
+        "look_at": (0.0, 0.0, 0.0),
+        "up_direction": (0.0, 0.0, 1.0),
+    }
+)
+"""The camera a page reports as soon as it connects: viser counts a client only once it has (raw clients)."""
 
 
 def free_port() -> int:
@@ -318,22 +333,7 @@ def raw_client(app: Any, wait: bool = True) -> Iterator[Any]:
     )
     try:
         # viser counts a client as connected once it reports its camera, as the page does at once.
-        ws.send(
-            msgspec.msgpack.encode(
-                {
-                    "type": "ViewerCameraMessage",
-                    "wxyz": (1.0, 0.0, 0.0, 0.0),
-                    "position": (3.0, -3.0, 2.0),
-                    "fov": 0.9,
-                    "near": 0.01,
-                    "far": 100.0,
-                    "image_height": 480,
-                    "image_width": 640,
-                    "look_at": (0.0, 0.0, 0.0),
-                    "up_direction": (0.0, 0.0, 1.0),
-                }
-            )
-        )
+        ws.send(CAMERA_MESSAGE)
         if wait:
             wait_for(lambda: set(app.server.get_clients()) - before, what="the client to be registered")
         yield ws

@@ -25,31 +25,16 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-import msgspec
 import pytest
 import viser
 from websockets.sync.client import ClientConnection, connect
 
 from app.rooms.cli import READY
 from app.rooms.nginx import BACKEND_HEADER, NginxMissing, find_nginx
-from tests.harness import free_port
+from tests.harness import CAMERA_MESSAGE, free_port
 
 ROOT = Path(__file__).resolve().parents[2]
 SUBPROTOCOL = f"viser-v{viser.__version__}"
-CAMERA = msgspec.msgpack.encode(
-    {
-        "type": "ViewerCameraMessage",
-        "wxyz": (1.0, 0.0, 0.0, 0.0),
-        "position": (3.0, -3.0, 2.0),
-        "fov": 0.9,
-        "near": 0.01,
-        "far": 100.0,
-        "image_height": 480,
-        "image_width": 640,
-        "look_at": (0.0, 0.0, 0.0),
-        "up_direction": (0.0, 0.0, 1.0),
-    }
-)
 PROBE = "/rooms-probe"  # a path every room answers with 404: cheap, and nginx still sets the cookie
 
 
@@ -236,7 +221,7 @@ def proxied(port: int, room: str, cookie: str | None = None, timeout: float = 30
         open_timeout=timeout,
         close_timeout=1,
     )
-    ws.send(CAMERA)  # viser counts a client once it reports its camera, as the page does at once
+    ws.send(CAMERA_MESSAGE)  # viser counts a client once it reports its camera, as the page does at once
     return ws
 
 
