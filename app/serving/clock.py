@@ -23,12 +23,17 @@ class Clock:
         self.playing = True
         self.speed = 1.0
         self.steps = 0
+        self.dropped = 0.0
+        """Wall time, s, that playing frames did not simulate because each stalled beyond
+        ``MAX_FRAME_DT``: how far behind the wall clock a loaded machine has left the simulation."""
 
     def advance(self, wall_dt: float) -> float:
         """Simulation time a frame ``wall_dt`` (s of wall time) after the last should advance by, s; the
         single steps pending are used up."""
         if self.playing:
-            return min(max(wall_dt, 0.0), MAX_FRAME_DT) * self.speed
+            wall_dt = max(wall_dt, 0.0)
+            self.dropped += max(wall_dt - MAX_FRAME_DT, 0.0)
+            return min(wall_dt, MAX_FRAME_DT) * self.speed
         if self.steps:
             advance = self.steps * self.speed / self.fps
             self.steps = 0
