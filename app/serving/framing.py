@@ -12,7 +12,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["FOV", "FRAMING_GRACE", "PANEL_PX", "PHONE_PX", "SHEET_FRACTION", "free_region", "framed", "show_scene_to"]
+__all__ = [
+    "FOV",
+    "FRAMING_GRACE",
+    "PANEL_PX",
+    "PHONE_PX",
+    "SHEET_FRACTION",
+    "first_view",
+    "free_region",
+    "framed",
+    "show_scene_to",
+]
 
 FOV = math.radians(50.0)
 """Vertical field of view (viser's default 75° makes the scene look far away)."""
@@ -37,6 +47,9 @@ FILL = 0.75
 
 REFERENCE_ASPECT = 1.6
 """The aspect ratio (width / height) a scene's camera was chosen for: a 1280×800 view, no panel."""
+
+FIRST_VIEW_PX = (1280.0, 800.0)
+"""The view a browser's first camera is framed for, before the page reports its own size."""
 
 
 def free_region(width: float, height: float) -> tuple[float, float, float, float]:
@@ -90,13 +103,21 @@ def framed(
     return target + shift - distance * forward, target + shift
 
 
+def first_view(position: ArrayLike, look_at: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The camera (position, look_at), m, each shape (3,), a new browser starts from (viser's initial
+    camera): the scene's camera framed for :data:`FIRST_VIEW_PX`."""
+    return framed(position, look_at, *FIRST_VIEW_PX, FOV)
+
+
 def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
     """Point a browser's camera at a scene (its camera ``position``, ``look_at``), framed clear of the panel.
 
     A page reports its real size only after its layout settles (and again when the window or a phone's
     orientation changes): until the viewer moves the camera, a new size re-frames it, and always within
     :data:`FRAMING_GRACE` of the last framing (the page may report its settled size before it has eased to
-    the camera it was sent, which would look like a viewer's move).
+    the camera it was sent, which would look like a viewer's move). A page that puts its camera back on
+    the first view is framed again for its size: viser's client resets to its initial camera when the
+    scene's root arrives, which on a loaded machine can come after the framing (and "Reset View" does it too).
     """
     size = (client.camera.image_width, client.camera.image_height)
     eye, target = framed(position, look_at, size[0], size[1], FOV)
@@ -114,10 +135,17 @@ def _reframe(camera: Any) -> None:
     client = camera.client
     size, eye, position, look_at, when = client._rbl_framing
     if (camera.image_width, camera.image_height) == size:
+        start = first_view(position, look_at)[0]
+        if _near(camera.position, start) and not _near(eye, start):
+            show_scene_to(client, position, look_at)  # reset to the first view: framed for this page again
         return
-    # The page echoes the position in float32 and after its own easing: "unmoved" is to 1e-3 of the
-    # distance (an orbit by a person moves it by far more).
-    moved = np.linalg.norm(np.asarray(camera.position) - eye) > 1e-3 * max(1.0, float(np.linalg.norm(eye)))
-    if moved and time.monotonic() - when > FRAMING_GRACE:
+    if not _near(camera.position, eye) and time.monotonic() - when > FRAMING_GRACE:
         return  # the viewer has moved the camera: theirs now
     show_scene_to(client, position, look_at)
+
+
+def _near(echo: Any, eye: Any) -> bool:
+    """A camera position the page echoed is ``eye``: to 1e-3 of the distance, as the page echoes in float32
+    and after its own easing (an orbit by a person moves it by far more)."""
+    eye = np.asarray(eye, dtype=float)
+    return bool(np.linalg.norm(np.asarray(echo, dtype=float) - eye) <= 1e-3 * max(1.0, float(np.linalg.norm(eye))))

@@ -26,7 +26,7 @@ from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.serving import snapshot as snapshots
 from app.serving.clock import Clock
 from app.serving.finite import NumericalFailure, check_finite
-from app.serving.framing import FOV, framed, show_scene_to
+from app.serving.framing import FOV, first_view, show_scene_to
 from app.serving.notices import NOTIFY_SECONDS, Notices
 from app.teaching.following import Following
 from app.teaching.lectures import Lecture
@@ -360,7 +360,7 @@ class Simulation:
             for c in self.clients():
                 show_scene_to(c, *cls.camera)
             if isinstance(self.server, viser.ViserServer):  # a browser's first view, before it reports its size
-                position, look_at = framed(*cls.camera, 1280, 800, FOV)
+                position, look_at = first_view(*cls.camera)
                 self.server.initial_camera.fov = FOV
                 self.server.initial_camera.position = position
                 self.server.initial_camera.look_at = look_at

@@ -112,3 +112,30 @@ def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_fir
     client.camera.position = eye
     client.report(390, 844)  # unmoved: a new size re-frames it, grace or not
     assert client._rbl_framing[0] == (390, 844)
+
+
+def test_a_page_put_back_on_the_first_view_is_framed_again_for_its_size(monkeypatch):
+    """viser's client resets its camera to the initial one (the first view, framed for 1280×800) when the
+    scene's root arrives, which can come after the page was framed for its own size: the echo of the first
+    view, at the same size, re-frames it; any other camera the viewer moved to is left alone."""
+    import time
+
+    from app.serving import framing
+    from app.serving.framing import FRAMING_GRACE, first_view, show_scene_to
+
+    now = [1000.0]
+    monkeypatch.setattr(time, "monotonic", lambda: now[0])
+    scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
+    client = _Client(390, 844)
+    show_scene_to(client, scene_eye, scene_target)
+    phone_eye = framing.framed(scene_eye, scene_target, 390, 844, framing.FOV)[0]
+    start = first_view(scene_eye, scene_target)[0]
+    assert np.linalg.norm(phone_eye - start) > 0.1  # the phone's framing is not the first view
+    now[0] += FRAMING_GRACE + 5.0
+    client.report(390, 844, position=tuple(np.float32(start)))  # the page reset itself to the first view
+    np.testing.assert_allclose(client.camera.position, phone_eye, rtol=1e-12)
+    assert client._rbl_framing[0] == (390, 844)
+    moved = tuple(np.asarray(phone_eye) + 0.3)
+    client.camera.position = moved
+    client.report(390, 844, position=moved)  # an orbit by the viewer: theirs
+    np.testing.assert_allclose(client.camera.position, moved, rtol=0)
