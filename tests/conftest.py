@@ -6,7 +6,9 @@ should run may quietly not run.
 
 from __future__ import annotations
 
+import json
 import os
+from pathlib import Path
 
 import pytest
 from hypothesis import settings
@@ -18,6 +20,24 @@ settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "fixed"))
 
 _skipped: list[str] = []
+
+FILE_SECONDS = Path(__file__).with_name("file_seconds.json")
+"""Seconds each test file took in one measured run (``python -m tests.file_seconds JUNIT_XML`` writes it)."""
+UNMEASURED_SECONDS = 5.0
+"""What a file not in FILE_SECONDS is taken to last, s."""
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Across workers, the longest files first: each worker takes the next whole file when it is free, so
+    longest-first leaves no long file alone at the end while the other worker idles. One process keeps
+    the collection's order."""
+    if not hasattr(config, "workerinput"):
+        return
+    seconds = json.loads(FILE_SECONDS.read_text(encoding="utf-8")) if FILE_SECONDS.is_file() else {}
+    first: dict[str, int] = {}
+    for index, item in enumerate(items):
+        first.setdefault(item.nodeid.split("::")[0], index)
+    items.sort(key=lambda item: (-seconds.get(path := item.nodeid.split("::")[0], UNMEASURED_SECONDS), first[path]))
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:
@@ -43,13 +63,25 @@ def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Co
 # --------------------------------------------------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
-def chromium():
-    """A headless Debian Chromium (Playwright sync API); skipped when missing unless RBL_REQUIRE_BROWSER=1."""
+@pytest.fixture(scope="session")
+def _one_chromium():
+    """The worker's one headless Debian Chromium (Playwright sync API), launched on first use."""
     from tests.harness import launch_chromium
 
     with launch_chromium() as browser:
         yield browser
+
+
+@pytest.fixture(scope="module")
+def chromium(_one_chromium):
+    """A headless Chromium for a test module (skipped when missing unless RBL_REQUIRE_BROWSER=1): the
+    worker's one browser, launched once, with every page and context the module opened closed at its end
+    (a page left open would keep rendering and reconnecting to a server that is gone)."""
+    from tests.harness import ModuleBrowser
+
+    browser = ModuleBrowser(_one_chromium)
+    yield browser
+    browser.close_opened()
 
 
 @pytest.fixture(scope="module")

@@ -139,6 +139,35 @@ def launch_chromium() -> Iterator[Any]:
             browser.close()
 
 
+class ModuleBrowser:
+    """A Playwright ``Browser`` shared by many test modules, seen by one: what it opens through
+    ``new_page`` and ``new_context`` is closed by :meth:`close_opened`; everything else is the browser's."""
+
+    def __init__(self, browser: Any) -> None:
+        self._browser = browser
+        self._opened: list[Any] = []
+
+    def new_page(self, **options: Any) -> Any:
+        page = self._browser.new_page(**options)
+        self._opened.append(page.context)  # a browser's new_page opens a context of its own
+        return page
+
+    def new_context(self, **options: Any) -> Any:
+        context = self._browser.new_context(**options)
+        self._opened.append(context)
+        return context
+
+    def close_opened(self) -> None:
+        """Close every context (and its pages) opened through this object."""
+        for context in self._opened:
+            with contextlib.suppress(Exception):  # already closed by the test
+                context.close()
+        self._opened.clear()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._browser, name)
+
+
 def wait_for(
     condition: Callable[[], Any], timeout: float = 20.0, interval: float = 0.05, what: str = "condition"
 ) -> Any:
