@@ -222,6 +222,12 @@ class TeacherDesk:
             seat = self._seats.get(client_id)
         return None if seat is None else seat.number
 
+    def name_of(self, client_id: Any) -> str | None:
+        """The name a connected browser gave (cleaned; "" if none), or None."""
+        with self._lock:
+            seat = self._seats.get(client_id)
+        return None if seat is None else seat.name
+
     def panel_of(self, client_id: Any) -> TeacherPanel | None:
         """A connected browser's controls for the teacher's view, or None."""
         with self._lock:

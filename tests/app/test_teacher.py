@@ -135,7 +135,7 @@ def test_the_table_of_five_sessions(lab):
         send_value(ws4, spin._impl.uuid, 12.5)
         wait_for(lambda: getattr(app.sessions[s2].scene, "name", None) == "tennis_racket", what="the scene switch")
         wait_for(lambda: app.sessions[s4].scene.params.values["spin"] == 12.5, what="the new spin")
-        wait_for(lambda: app.teacher._seats[s1].name == "b Bob b", what="the names")
+        wait_for(lambda: app.teacher.name_of(s1) == "b Bob b", what="the names")
         for _ in range(30):  # half a second of student 0's clock; student 3 is paused at 0
             app.sessions[s0].frame(FRAME)
         app.sessions[students[3][1]].set_playing(False)
