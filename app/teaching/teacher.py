@@ -356,10 +356,12 @@ class TeacherDesk:
             return False
         number = int(choice)
         with self._lock:
-            seat = next(
-                (s for k, s in self._seats.items() if s.number == number and k not in self.teachers),
-                None,
-            )
+            found = next(((k, s) for k, s in self._seats.items() if s.number == number), None)
+            teaching = found is not None and found[0] in self.teachers
+        if teaching:
+            self._tell(client, "Refused", f"Session {number} is a teacher's view, not a student's.", error=True)
+            return False
+        seat = found[1] if found is not None else None
         with self.app.sessions_lock:
             student = self.app.sessions.get(seat.client.client_id) if seat is not None else None
             own = self.app.sessions.get(cid)

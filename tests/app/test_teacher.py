@@ -302,6 +302,10 @@ def test_bad_spotlights_are_refused_to_the_teacher_only(lab):
         for bad in ("abc", "1e308", "-1", "99999999999", 10**30, None, str(app.teacher.number_of(teacher))):
             assert not app.teacher.spotlight(client, bad)
             assert own.messages[-1][0] == "Refused"
+        assert own.messages[-1] == (
+            "Refused",
+            f"Session {app.teacher.number_of(teacher)} is a teacher's view, not a student's.",
+        )
         # A session that has just left.
         number = str(app.teacher.number_of(leaving))
         leaving_ws.close()
