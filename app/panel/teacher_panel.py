@@ -20,6 +20,9 @@ NO_SESSION = "—"
 
 NAME_HINT = "Optional: shown to your teacher instead of your session's number."
 
+WATCHED = "your teacher can see this session's scene, settings and time."
+"""What every student is told: the teacher's table shows their session."""
+
 
 class TeacherPanel:
     """One browser's controls for the teacher's view (created on its own ``client.gui``).
@@ -35,7 +38,7 @@ class TeacherPanel:
     def __init__(self, client: viser.ClientHandle, number: int) -> None:
         gui = client.gui
         self.gui = gui
-        self.number = gui.add_markdown(f"**Session {number}**", order=-33)
+        self.number = gui.add_markdown(f"**Session {number}** · {WATCHED}", order=-33)
         self.name = gui.add_text("Your name", initial_value="", hint=NAME_HINT, order=-32)
         self.pin: Any = gui.add_text("Teacher PIN", initial_value="", order=-31)
         self.open: Any = gui.add_button("Open teacher's view", order=-30)

@@ -15,9 +15,11 @@ import time
 import numpy as np
 import pytest
 
+from app.panel.teacher_panel import WATCHED
 from app.teaching import presenter
 from app.teaching.pin_gate import PinGate
 from app.teaching.teacher import MAX_NAME, Row, clean_name, table_html
+from tests.app.test_serving_modes import command
 from tests.harness import FRAME, click_button, raw_client, received, running_app, send_value, still_connected, wait_for
 
 PIN = "Lab2026"
@@ -109,6 +111,26 @@ def test_the_pin_gate_limits_one_browser_and_the_room():
 
 
 # ---------------------------------------------------------------------------------------------- the table
+def test_the_command_says_how_to_open_the_teachers_view():
+    with command("--private", "--pin", PIN) as (_, next_line):
+        printed = []
+        while not printed or not printed[-1].startswith("Teacher's view"):
+            line = next_line()
+            assert line is not None, f"the command stopped printing: {printed}"
+            printed.append(line.rstrip("\n"))
+    assert "Mode: private (every browser has its own simulation)" in printed
+    assert (
+        printed[-1] == "Teacher's view: type the --pin in the panel's “Teacher PIN” box to open the table of sessions"
+    )
+
+
+def test_every_student_is_told_the_teacher_can_see_the_session(lab):
+    with raw_client(lab):
+        wait_for(lambda: lab.sessions and lab.teacher.panel_of(next(iter(lab.sessions))), what="the session")
+        (cid,) = lab.sessions
+        assert lab.teacher.panel_of(cid).number.content == f"**Session 1** · {WATCHED}"
+
+
 def test_without_a_pin_private_mode_has_no_teachers_view():
     with running_app("heavy_top", private=True, start_loop=False) as app, raw_client(app):
         assert app.teacher is None
