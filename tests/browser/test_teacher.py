@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from app.scenes import REGISTRY
-from tests.harness import click, control_id, open_page, running_app, wait_for
+from tests.harness import click, control_id, running_app, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -29,6 +29,16 @@ def _picked(page, title: str) -> bool:
     return page.evaluate("(text) => [...document.querySelectorAll('input')].some(i => i.value === text)", title)
 
 
+def _page_of(pages: list, number: int):
+    """The page that shows ``Session number`` (its own session's number)."""
+    mine = f"Session {number}"
+    return wait_for(
+        lambda: next((page for page in pages if page.get_by_text(mine, exact=True).count()), None),
+        60,
+        what=f"the page of session {number}",
+    )
+
+
 def _open_pages(browser, app, count: int, viewport: dict) -> tuple[list, set]:
     """``count`` pages of the app loading side by side (quicker than one after the other on a loaded
     machine); the pages and their client ids, once all are connected."""
@@ -45,31 +55,21 @@ def _open_pages(browser, app, count: int, viewport: dict) -> tuple[list, set]:
 def test_a_teacher_sees_five_sessions_and_spotlights_one(chromium):
     with running_app("heavy_top", private=True, pin=PIN) as app:
         small = {"width": 480, "height": 400}  # six pages render on the CPU (SwiftShader): keep them small
-        pages, ids = _open_pages(chromium, app, len(SCENES), small)
+        pages, ids = _open_pages(chromium, app, len(SCENES) + 1, small)
         try:
-            wait_for(lambda: all(app.teacher.number_of(cid) for cid in ids), 60, what="the students' sessions")
-            students = sorted(ids, key=app.teacher.number_of)  # by session number
+            wait_for(lambda: all(app.teacher.number_of(cid) for cid in ids), 60, what="the sessions' numbers")
+            *students, teacher_id = sorted(ids, key=app.teacher.number_of)  # the last to connect teaches
+            for cid in ids:
+                app.sessions[cid].set_playing(False)  # paused, a page re-renders only on changes: less CPU
             for cid, scene in zip(students, SCENES, strict=True):
-                session = app.sessions[cid]
-                session.set_playing(False)  # paused, a page re-renders only on changes: the others get the CPU
                 if scene != "heavy_top":
-                    session.switch_scene(scene)
-            # The first student types a name in its own page (the one that shows its session's number).
-            mine = f"Session {app.teacher.number_of(students[0])}"
-            first = wait_for(
-                lambda: next((page for page in pages if page.get_by_text(mine, exact=True).count()), None),
-                60,
-                what="the first student's page",
-            )
+                    app.sessions[cid].switch_scene(scene)
+            # The first student types a name in its own page; the teacher types the PIN in theirs.
+            first, teacher = (_page_of(pages, app.teacher.number_of(cid)) for cid in (students[0], teacher_id))
             first.locator(_box("Your name")).first.fill("Ada Lovelace")
-            wait_for(lambda: app.teacher.name_of(students[0]) == "Ada Lovelace", what="the typed name")
-
-            teacher, teacher_client = open_page(chromium, app, viewport={"width": 960, "height": 720})
-            pages.append(teacher)
-            wait_for(lambda: teacher_client.client_id in app.sessions, what="the teacher's session")
-            app.sessions[teacher_client.client_id].set_playing(False)
             teacher.locator(_box("Teacher PIN")).first.fill(PIN)
-            panel = app.teacher.panel_of(teacher_client.client_id)
+            panel = app.teacher.panel_of(teacher_id)
+            wait_for(lambda: app.teacher.name_of(students[0]) == "Ada Lovelace", what="the typed name")
             wait_for(lambda: panel.pin.value == PIN, what="the PIN to arrive")
             click(teacher.get_by_role("button", name="Open teacher's view"))
 
@@ -86,7 +86,7 @@ def test_a_teacher_sees_five_sessions_and_spotlights_one(chromium):
             teacher.get_by_role("option", name=str(racket), exact=True).first.click(force=True, timeout=30_000)
             wait_for(lambda: panel.choice.value == str(racket), what="the choice to arrive")
             click(teacher.get_by_role("button", name="Spotlight"))
-            own = app.sessions[teacher_client.client_id]
+            own = app.sessions[teacher_id]
             wait_for(lambda: getattr(own.scene, "name", None) == "tennis_racket", what="the spotlight")
             title = REGISTRY["tennis_racket"].title
             wait_for(lambda: _picked(teacher, title), what="the teacher's page to show the racket")
