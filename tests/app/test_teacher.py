@@ -197,7 +197,7 @@ def test_the_table_of_five_sessions(lab):
     wait_for(lambda: not app.sessions, what="every session to be freed")
 
 
-def test_the_table_of_thirty_sessions_and_one_that_leaves(lab):
+def test_the_table_of_thirty_sessions_one_that_leaves_and_a_spotlight(lab):
     app = lab
     with contextlib.ExitStack() as stack:
         teacher_ws, teacher = _teacher(app, stack)
@@ -218,7 +218,17 @@ def test_the_table_of_thirty_sessions_and_one_that_leaves(lab):
         wait_for(lambda: leaving not in app.sessions and app.teacher.number_of(leaving) is None, what="it to leave")
         app.teacher.refresh()
         assert str(number) not in panel.choice.options and len(_table_rows(panel.table.content)) == 29
-        assert still_connected(teacher_ws, app=app.sessions[teacher])
+        # Spotlight the last of the thirty, which has picked the pendulum and paused 0.75 s in.
+        _, last = students[-1]
+        app.sessions[last].switch_scene("pendulum")
+        for _ in range(45):
+            app.sessions[last].frame(FRAME)
+        app.sessions[last].set_playing(False)
+        assert app.teacher.spotlight(app.server.get_clients()[teacher], str(app.teacher.number_of(last)))
+        own = app.sessions[teacher]
+        assert own.scene.name == "pendulum" and own.time == app.sessions[last].time == pytest.approx(0.75, abs=1e-12)
+        assert own.snapshot()["controls"] == app.sessions[last].snapshot()["controls"] and not own.playing
+        assert still_connected(teacher_ws, app=own)
 
 
 # ---------------------------------------------------------------------------------------------- Spotlight
