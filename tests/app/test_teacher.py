@@ -9,8 +9,10 @@ table only when a test calls ``refresh``.
 from __future__ import annotations
 
 import contextlib
+import gc
 import re
 import time
+import weakref
 
 import numpy as np
 import pytest
@@ -229,6 +231,31 @@ def test_the_table_of_thirty_sessions_one_that_leaves_and_a_spotlight(lab):
         assert own.scene.name == "pendulum" and own.time == app.sessions[last].time == pytest.approx(0.75, abs=1e-12)
         assert own.snapshot()["controls"] == app.sessions[last].snapshot()["controls"] and not own.playing
         assert still_connected(teacher_ws, app=own)
+
+
+def test_a_departed_students_session_is_collected_although_a_teacher_watched_it(lab):
+    # The desk keeps a browser's number, name and controls, never its Simulation: once the browser has
+    # left and the table has been rewritten, nothing of the desk holds the session alive.
+    app = lab
+    with contextlib.ExitStack() as stack:
+        _teacher(app, stack)
+        with raw_client(app) as ws:
+            (cid,) = wait_for(lambda: set(app.sessions) - set(app.teacher.teachers), what="the student's session")
+            wait_for(lambda: app.teacher.number_of(cid), what="its number")
+            session, scene = weakref.ref(app.sessions[cid]), weakref.ref(app.sessions[cid].scene)
+            assert len(app.teacher.refresh()) == 1
+            assert app.teacher.spotlight(
+                app.server.get_clients()[next(iter(app.teacher.teachers))], str(app.teacher.number_of(cid))
+            )
+            ws.close()
+        wait_for(lambda: cid not in app.sessions and app.teacher.number_of(cid) is None, what="it to leave")
+        assert app.teacher.refresh() == []
+        wait_for(lambda: _collected(session) and _collected(scene), timeout=10, what="the session to be collected")
+
+
+def _collected(ref) -> bool:
+    gc.collect()
+    return ref() is None
 
 
 # ---------------------------------------------------------------------------------------------- Spotlight
