@@ -66,6 +66,7 @@ def test_a_teacher_sees_five_sessions_and_spotlights_one(chromium):
                     app.sessions[cid].switch_scene(scene)
             # The first student types a name in its own page; the teacher types the PIN in theirs.
             first, teacher = (_page_of(pages, app.teacher.number_of(cid)) for cid in (students[0], teacher_id))
+            teacher.set_viewport_size({"width": 960, "height": 720})  # the projector's page: room for the table
             first.locator(_box("Your name")).first.fill("Ada Lovelace")
             teacher.locator(_box("Teacher PIN")).first.fill(PIN)
             panel = app.teacher.panel_of(teacher_id)
