@@ -92,7 +92,12 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="one simulation every browser drives, on any --host (the default on 127.0.0.1 only)",
     )
-    parser.add_argument("--pin", default=None, help="presenter PIN, 4 to 32 letters or digits (default: random)")
+    parser.add_argument(
+        "--pin",
+        default=None,
+        help="presenter PIN, 4 to 32 letters or digits (default: random); with --private, the teacher PIN that "
+        "opens the table of every session and Spotlight (without it, --private has no teacher's view)",
+    )
     parser.add_argument(
         "--state", default=None, metavar="TEXT", help="start from a state text (the panel's “Copy state”)"
     )
@@ -158,6 +163,10 @@ def main(argv: list[str] | None = None) -> None:
         )
     else:
         print(f"Mode: {app.mode} (every browser {'has its own' if app.private else 'drives the one'} simulation)")
+    if app.teacher is not None:
+        print(
+            "Teacher's view: type the --pin in the panel's “Teacher PIN” box to open the table of sessions", flush=True
+        )
     try:
         while True:
             time.sleep(1.0)

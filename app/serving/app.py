@@ -27,6 +27,7 @@ from app.teaching.following import apply_step
 from app.teaching.lectures import Step, read_lecture
 from app.teaching.presenter import Classroom, check_pin, new_pin
 from app.teaching.states import parse_state
+from app.teaching.teacher import TeacherDesk
 from physics.integrators.warm import warm
 
 __all__ = ["App", "export", "export_zip"]
@@ -66,7 +67,9 @@ class App:
     presenter : bool, optional
         Presenter mode; default: on when ``host`` is not a loopback address and ``private`` is off.
     pin : str, optional
-        The presenter PIN (4 to 32 letters or digits); default: six random digits, in ``app.pin``.
+        The presenter PIN (4 to 32 letters or digits); default: six random digits, in ``app.pin``. With
+        ``private=True``, the teacher PIN: given, it opens the teacher's view of the sessions
+        (:mod:`app.teaching.teacher`, ``app.teacher``); not given, there is no teacher's view.
     state : str, optional
         A state text (:mod:`app.teaching.states`, the panel's "Copy state") to start from; in private mode
         every browser's session starts from it. A bad text raises ValueError before the server starts.
@@ -112,6 +115,7 @@ class App:
         self.sessions_lock = threading.Lock()
         self.shared: Simulation | None = None
         self.classroom: Classroom | None = None
+        self.teacher: TeacherDesk | None = None
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         if presenter:
@@ -126,6 +130,8 @@ class App:
                         probe.load_lecture(self._lecture)
                     finally:
                         probe.close()
+                if pin is not None:
+                    self.teacher = TeacherDesk(self, self.pin)
                 server.on_client_connect(self._open_session)
                 server.on_client_disconnect(self._close_session)
             else:
@@ -218,6 +224,8 @@ class App:
             raise
         with self.sessions_lock:
             self.sessions[client.client_id] = session
+        if self.teacher is not None:
+            self.teacher.joined(client, session)
         if departed(client):  # it left just now: its disconnect may have come before the line above
             self._close_session(client)
 
@@ -235,6 +243,8 @@ class App:
     # ------------------------------------------------------------------ the loop
     def start(self) -> None:
         """Start the real-time loop thread (daemon), and compile the integrators' kernels beside it."""
+        if self.teacher is not None:
+            self.teacher.start()
         if self._thread is not None:
             return
         # numba compiles (or loads from its cache) in the background: a scene's first step never waits.
@@ -268,6 +278,8 @@ class App:
 
     def stop(self) -> None:
         """Stop the loop and the server."""
+        if self.teacher is not None:
+            self.teacher.stop()
         self._stop.set()
         if self._thread is not None:
             self._thread.join(timeout=2.0)

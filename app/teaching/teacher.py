@@ -1,0 +1,414 @@
+"""The teacher's view of private sessions: a table of what every student's session shows, and Spotlight.
+
+More in docs/app-notes.md (``app.teaching.teacher``).
+"""
+
+from __future__ import annotations
+
+import copy
+import html
+import math
+import threading
+import time
+import traceback
+import unicodedata
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import viser
+
+from app.guards.wire import departed
+from app.panel.teacher_panel import TeacherPanel
+from app.teaching.pin_gate import PinGate
+
+__all__ = [
+    "MAIN_PARAMETERS",
+    "MAX_NAME",
+    "REFRESH",
+    "Row",
+    "TeacherDesk",
+    "clean_name",
+    "parameters",
+    "table_html",
+]
+
+MAX_NAME = 40
+"""Longest name a student may give, characters (after cleaning)."""
+
+MAIN_PARAMETERS = 3
+"""How many of a scene's controls the table shows: its first ones, which are its main parameters."""
+
+REFRESH = 1.0
+"""Seconds between two rewrites of the table."""
+
+SKIPPED = frozenset({"Preset"})
+"""Controls that are not parameters (a preset's name says nothing once a slider has moved)."""
+
+WHERE = "The teacher PIN is the one given with --pin where the server was started."
+
+
+def clean_name(text: Any) -> str:
+    """A name fit for the table: letters, digits, spaces and ``.-'_`` only, at most :data:`MAX_NAME` long.
+
+    Anything else (markup, control and direction-override characters, combining marks piled up) becomes a
+    space; runs of spaces become one. Not text gives "". The table escapes it again when it writes HTML.
+    """
+    if not isinstance(text, str):
+        return ""
+    kept = "".join(ch if ch.isalnum() or ch in " .-'_" else " " for ch in unicodedata.normalize("NFKC", text))
+    return " ".join(kept.split())[:MAX_NAME].strip()
+
+
+def _value_text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if isinstance(value, float):
+        return f"{value:.3g}" if math.isfinite(value) else str(value)
+    if isinstance(value, (tuple, list)):
+        return ", ".join(_value_text(v) for v in value)
+    text = str(value)
+    return text if len(text) <= 32 else text[:31] + "…"
+
+
+def parameters(session: Any, count: int = MAIN_PARAMETERS) -> tuple[tuple[str, str], ...]:
+    """The first ``count`` parameters of a session's scene as (label, value text); () without a scene."""
+    out: list[tuple[str, str]] = []
+    for handle in list(getattr(session, "scene_inputs", ())):
+        label = str(handle.label)
+        if label in SKIPPED or handle._impl.removed:
+            continue
+        out.append((label, _value_text(handle.value)))
+        if len(out) == count:
+            break
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Row:
+    """One session in the teacher's table.
+
+    Attributes
+    ----------
+    number : int
+        The session's number (anonymous; given in the order the browsers connected, never reused).
+    name : str
+        The name its student typed (cleaned), or "".
+    scene : str
+        The title of its scene ("—" while none is built).
+    parameters : tuple of (str, str)
+        Its scene's main parameters, (label, value text).
+    time : float
+        Its simulated time, s.
+    playing : bool
+        Whether its clock runs.
+    idle : float
+        Seconds since its student last did something (a control, the scene, the clock, the camera).
+    """
+
+    number: int
+    name: str
+    scene: str
+    parameters: tuple[tuple[str, str], ...]
+    time: float
+    playing: bool
+    idle: float
+
+
+def _idle_text(seconds: float) -> str:
+    if seconds < 2.0:
+        return "now"
+    if seconds < 120.0:
+        return f"{seconds:.0f} s ago"
+    return f"{seconds / 60.0:.0f} min ago"
+
+
+def table_html(rows: Sequence[Row]) -> str:
+    """The teacher's table as HTML (viser's Html element); every text from a session is escaped."""
+    e = html.escape
+    head = "".join(
+        f'<th scope="col">{e(h)}</th>' for h in ("Session", "Scene", "Main parameters", "Time", "Last activity")
+    )
+    body = []
+    for row in rows:
+        who = f"{row.number} · {e(row.name)}" if row.name else str(row.number)
+        params = "<br>".join(f"{e(label)} = {e(value)}" for label, value in row.parameters) or "—"
+        clock = f"{row.time:.1f} s" + ("" if row.playing else " (paused)")
+        body.append(
+            f'<tr><th scope="row">{who}</th><td>{e(row.scene)}</td><td>{params}</td>'
+            f"<td>{e(clock)}</td><td>{e(_idle_text(row.idle))}</td></tr>"
+        )
+    count = len(rows)
+    caption = f"{count} session{'' if count == 1 else 's'} connected" if count else "No student is connected yet"
+    return (
+        '<table class="rbl-teacher" style="width:100%;font-size:0.8em;border-collapse:collapse;text-align:left">'
+        f'<caption style="text-align:left">{caption}</caption><thead><tr>{head}</tr></thead>'
+        f"<tbody>{''.join(body)}</tbody></table>"
+    )
+
+
+@dataclass
+class _Seat:
+    """What the desk keeps of one connected browser."""
+
+    number: int
+    client: Any
+    panel: TeacherPanel
+    name: str = ""
+    signature: tuple[Any, ...] = ()
+    clock: float = 0.0  # simulated time at the last look, s
+    active_at: float = field(default_factory=time.time)  # wall clock, s
+
+
+class TeacherDesk:
+    """The teacher's view of an :class:`app.serving.app.App` in private mode (``--private --pin PIN``).
+
+    Every private session gets a number, a "Your name" box and the teacher PIN box
+    (:class:`app.panel.teacher_panel.TeacherPanel`). A browser with the PIN sees the table of the other
+    sessions (:func:`table_html`), rewritten every :data:`REFRESH` seconds by a thread of its own, and can
+    spotlight one: copy its state into its own session (:meth:`spotlight`).
+
+    Parameters
+    ----------
+    app : app.serving.app.App
+        The app: its ``sessions`` (client id -> Simulation, under ``sessions_lock``) and ``server``.
+    pin : str
+        The teacher PIN (4 to 32 letters or digits); guessing is limited as the presenter's is.
+    """
+
+    def __init__(self, app: Any, pin: str) -> None:
+        self.app = app
+        self.gate = PinGate(pin, WHERE)
+        self.teachers: set[Any] = set()
+        self._seats: dict[Any, _Seat] = {}
+        self._next = 1
+        self._lock = threading.RLock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        app.server.on_client_disconnect(self.left)
+
+    # ------------------------------------------------------------------ browsers come and go
+    def joined(self, client: viser.ClientHandle, session: Any) -> int:
+        """A browser's private session is ready: number it and give it its controls; returns its number."""
+        with self._lock:
+            number = self._next
+            self._next += 1
+        panel = TeacherPanel(client, number)
+        seat = _Seat(number, client, panel)
+        with self._lock:
+            self._seats[client.client_id] = seat
+        panel.name.on_update(lambda _: self._rename(seat))
+        panel.open.on_click(self._safely(lambda event: self.open_view(event.client, panel.pin.value)))
+        if departed(client):  # it left while its controls were made: its disconnect may have come first
+            self.left(client)
+        return number
+
+    def left(self, client: viser.ClientHandle) -> None:
+        """A browser left: its number goes for good."""
+        with self._lock:
+            self._seats.pop(client.client_id, None)
+            self.teachers.discard(client.client_id)
+        self.gate.forget(client.client_id)
+
+    def _rename(self, seat: _Seat) -> None:
+        name = clean_name(seat.panel.name.value)
+        if name != seat.name:
+            seat.name = name
+            seat.active_at = time.time()
+
+    def number_of(self, client_id: Any) -> int | None:
+        """The session number of a connected browser, or None."""
+        with self._lock:
+            seat = self._seats.get(client_id)
+        return None if seat is None else seat.number
+
+    def name_of(self, client_id: Any) -> str | None:
+        """The name a connected browser gave (cleaned; "" if none), or None."""
+        with self._lock:
+            seat = self._seats.get(client_id)
+        return None if seat is None else seat.name
+
+    def panel_of(self, client_id: Any) -> TeacherPanel | None:
+        """A connected browser's controls for the teacher's view, or None."""
+        with self._lock:
+            seat = self._seats.get(client_id)
+        return None if seat is None else seat.panel
+
+    # ------------------------------------------------------------------ the table
+    def rows(self, now: float | None = None) -> list[Row]:
+        """The students' sessions (not the teachers'), by number; notes what changed since the last look.
+
+        ``now`` is the wall clock (s, :func:`time.time`), for tests.
+        """
+        now = time.time() if now is None else now
+        with self._lock:
+            seats = [(cid, seat) for cid, seat in self._seats.items() if cid not in self.teachers]
+        with self.app.sessions_lock:
+            sessions = {cid: self.app.sessions.get(cid) for cid, _ in seats}
+        out = []
+        for cid, seat in sorted(seats, key=lambda item: item[1].number):
+            session = sessions[cid]
+            if session is None:
+                continue
+            scene = session.scene
+            main = parameters(session)
+            t, playing = float(session.time), bool(session.playing)
+            signature = (scene.name if scene is not None else None, main, playing, float(session.speed))
+            # A change of scene, control or clock, a step or a reset while paused, or a camera moved.
+            if signature != seat.signature or (t < seat.clock) or (not playing and t != seat.clock):
+                if seat.signature:
+                    seat.active_at = now
+                seat.signature = signature
+            seat.clock = t
+            try:
+                seat.active_at = max(seat.active_at, float(seat.client.camera.update_timestamp))
+            except AssertionError:  # no camera reported yet
+                pass
+            out.append(
+                Row(
+                    number=seat.number,
+                    name=seat.name,
+                    scene=scene.title if scene is not None else "—",
+                    parameters=main,
+                    time=t,
+                    playing=playing,
+                    idle=max(0.0, now - seat.active_at),
+                )
+            )
+        return out
+
+    def refresh(self, now: float | None = None) -> list[Row]:
+        """Look at every session and rewrite every teacher's table (one Html update per teacher, only if it
+        changed) and their dropdowns (only when a session came or went). Returns the rows."""
+        rows = self.rows(now)
+        with self._lock:
+            panels = [self._seats[cid].panel for cid in self.teachers if cid in self._seats]
+        if panels:
+            table, numbers = table_html(rows), [str(row.number) for row in rows]
+            for panel in panels:
+                try:
+                    panel.show_numbers(numbers)
+                    panel.show_table(table)
+                except Exception:  # noqa: BLE001 - a teacher that just left must not stop the others' tables
+                    traceback.print_exc()
+        return rows
+
+    def start(self) -> None:
+        """Rewrite the tables every :data:`REFRESH` seconds on a thread of their own (daemon)."""
+        if self._thread is not None:
+            return
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._run, name="rbl-teacher", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(REFRESH):
+            try:
+                self.refresh()
+            except Exception:  # noqa: BLE001 - the table goes on
+                traceback.print_exc()
+
+    def stop(self) -> None:
+        """Stop the thread that rewrites the tables."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+            self._thread = None
+
+    # ------------------------------------------------------------------ the two actions
+    def open_view(self, client: viser.ClientHandle, typed: Any) -> bool:
+        """Open the teacher's view for ``client`` if ``typed`` is the PIN; returns whether it has it now."""
+        cid = client.client_id
+        with self._lock:
+            seat = self._seats.get(cid)
+            if seat is None:
+                return False
+            if cid in self.teachers:
+                return True
+        refusal = self.gate.refusal(cid, typed)
+        if refusal is not None:
+            title, body = refusal
+            self._tell(client, title, body, error=title != "Wrong PIN")
+            return False
+        with self._lock:
+            self.teachers.add(cid)
+        rows = self.rows()
+        seat.panel.show_view(table_html(rows), [str(row.number) for row in rows])
+        seat.panel.spotlight.on_click(self._safely(lambda event: self.spotlight(event.client, seat.panel.choice.value)))
+        self._tell(
+            client,
+            "Teacher's view",
+            "The table lists every student's session, rewritten every second; Spotlight copies the one chosen "
+            "into your own view (theirs goes on untouched).",
+        )
+        return True
+
+    def spotlight(self, client: viser.ClientHandle, choice: Any) -> bool:
+        """Copy the session numbered ``choice`` (its text, as in the dropdown) into ``client``'s own session:
+        scene, parameters, motion, time, clock and the student's camera. The student's session is only read.
+        Returns whether it was copied; a refusal is told to ``client`` only."""
+        cid = client.client_id
+        if cid not in self.teachers:
+            self._tell(client, "Refused", "Only the teacher's view can spotlight a session.", error=True)
+            return False
+        if not isinstance(choice, str) or not choice.isdigit() or len(choice) > 9:
+            self._tell(client, "Refused", f"Choose a session by its number, not {str(choice)[:20]!r}.", error=True)
+            return False
+        number = int(choice)
+        with self._lock:
+            found = next(((k, s) for k, s in self._seats.items() if s.number == number), None)
+            teaching = found is not None and found[0] in self.teachers
+        if teaching:
+            self._tell(client, "Refused", f"Session {number} is a teacher's view, not a student's.", error=True)
+            return False
+        seat = found[1] if found is not None else None
+        with self.app.sessions_lock:
+            student = self.app.sessions.get(seat.client.client_id) if seat is not None else None
+            own = self.app.sessions.get(cid)
+        if seat is None or student is None:
+            self._tell(client, "Refused", f"Session {number} is not connected (it may just have left).", error=True)
+            return False
+        if own is None:
+            self._tell(client, "Refused", "Your own session is not ready yet: try again in a moment.", error=True)
+            return False
+        try:
+            state = student.snapshot()
+        except ValueError as exc:
+            self._tell(client, "Refused", f"Session {number} has nothing to copy: {exc}", error=True)
+            return False
+        payload = state.pop("payload")
+        state = copy.deepcopy(state)  # nothing of the student's scene is shared but what it was handed
+        state["payload"] = payload
+        camera = seat.client.camera
+        view: tuple[list[float], list[float]] | None
+        try:
+            view = [float(x) for x in camera.position], [float(x) for x in camera.look_at]
+        except AssertionError:  # the student's page has not reported a camera yet
+            view = None
+        own.restore(state)
+        if view is not None:
+            own.set_camera(*view)
+        who = f"Session {number}" + (f" ({seat.name})" if seat.name else "")
+        title = own.scene.title if own.scene is not None else state["scene"]
+        self._tell(client, "Spotlight", f"{who}: {title} at t = {own.time:.2f} s, now in your view.")
+        return True
+
+    # ------------------------------------------------------------------ messages
+    def _tell(self, client: viser.ClientHandle, title: str, body: str, error: bool = False) -> None:
+        """A notification to one browser, through its own session."""
+        with self.app.sessions_lock:
+            session = self.app.sessions.get(client.client_id)
+        if session is not None:
+            session.notify(title, body, client=client, error=error)
+
+    def _safely(self, fn: Callable[[Any], object]) -> Callable[[Any], None]:
+        def run(event: Any) -> None:
+            try:
+                fn(event)
+            except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
+                if departed(event.client):
+                    return
+                traceback.print_exc()
+                self._tell(event.client, "Something went wrong", f"{type(exc).__name__}: {exc}", error=True)
+
+        return run
