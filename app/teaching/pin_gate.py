@@ -1,20 +1,40 @@
 """A PIN checked with limits on guessing: per browser, and for the whole room.
 
-The teacher's view of private sessions (:mod:`app.teaching.teacher`) asks for its PIN through this gate,
-with the presenter's limits (:data:`app.teaching.presenter.ATTEMPTS`, ``LOCKOUT``, ``CLASS_ATTEMPTS``)
-and the presenter's messages.
+The presenter PIN (:mod:`app.teaching.presenter`) and the teacher's view of private sessions
+(:mod:`app.teaching.teacher`) are asked for through this gate, with the same limits and messages.
 """
 
 from __future__ import annotations
 
 import secrets
+import string
 import threading
 import time
 from typing import Any
 
-from app.teaching.presenter import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, check_pin
+__all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "PinGate", "check_pin", "new_pin"]
 
-__all__ = ["PinGate"]
+ATTEMPTS = 5
+"""Wrong PINs one browser may try before it must wait :data:`LOCKOUT` seconds."""
+
+LOCKOUT = 60.0
+"""Seconds a browser waits after :data:`ATTEMPTS` wrong PINs (and the room after :data:`CLASS_ATTEMPTS`)."""
+
+CLASS_ATTEMPTS = 30
+"""Wrong PINs the whole room may try in a minute (a student reconnecting does not reset this one)."""
+
+
+def new_pin() -> str:
+    """A random six-digit PIN."""
+    return f"{secrets.randbelow(10**6):06d}"
+
+
+def check_pin(pin: str) -> str:
+    """The PIN if it is 4 to 32 letters or digits; otherwise ValueError saying what is expected."""
+    allowed = set(string.ascii_letters + string.digits)
+    if not isinstance(pin, str) or not 4 <= len(pin) <= 32 or not set(pin) <= allowed:
+        raise ValueError(f"a presenter PIN is 4 to 32 letters or digits, got {pin!r}")
+    return pin
 
 
 class PinGate:
@@ -23,7 +43,7 @@ class PinGate:
     Parameters
     ----------
     pin : str
-        The PIN (4 to 32 letters or digits, :func:`app.teaching.presenter.check_pin`).
+        The PIN (4 to 32 letters or digits, :func:`check_pin`).
     where : str
         The body of the "Wrong PIN" message: where the right one is to be found.
     """

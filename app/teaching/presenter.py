@@ -5,10 +5,7 @@ More in docs/app-notes.md (``app.teaching.presenter``).
 
 from __future__ import annotations
 
-import secrets
-import string
 import threading
-import time
 import traceback
 from collections.abc import Callable
 from typing import Any
@@ -17,34 +14,13 @@ import viser
 
 from app.guards.inputs import guard_inputs
 from app.teaching.broadcast import BroadcastView
+from app.teaching.pin_gate import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, PinGate, check_pin, new_pin
 
 __all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "Classroom", "new_pin", "check_pin"]
-
-ATTEMPTS = 5
-"""Wrong PINs one browser may try before it must wait :data:`LOCKOUT` seconds."""
-
-LOCKOUT = 60.0
-"""Seconds a browser waits after :data:`ATTEMPTS` wrong PINs (and the room after :data:`CLASS_ATTEMPTS`)."""
-
-CLASS_ATTEMPTS = 30
-"""Wrong PINs the whole room may try in a minute (a student reconnecting does not reset this one)."""
 
 FOLLOWING = "**Following the lecturer.** The panel below shows the lecture; enter the PIN to drive it."
 PRESENTING = "**Presenting.** Your changes are what the class sees."
 EXPLORING = "**Exploring on your own.** Nobody else sees this copy; the lecture goes on without you."
-
-
-def new_pin() -> str:
-    """A random six-digit PIN."""
-    return f"{secrets.randbelow(10**6):06d}"
-
-
-def check_pin(pin: str) -> str:
-    """The PIN if it is 4 to 32 letters or digits; otherwise ValueError saying what is expected."""
-    allowed = set(string.ascii_letters + string.digits)
-    if not isinstance(pin, str) or not 4 <= len(pin) <= 32 or not set(pin) <= allowed:
-        raise ValueError(f"a presenter PIN is 4 to 32 letters or digits, got {pin!r}")
-    return pin
 
 
 class _Panel:
@@ -78,12 +54,11 @@ class Classroom:
 
     def __init__(self, app: Any, pin: str, copy: Callable[[viser.ClientHandle], Any]) -> None:
         self.app = app
-        self.pin = check_pin(pin)
+        self.gate = PinGate(pin, "The presenter PIN is shown where the server was started.")
+        self.pin = self.gate.pin
         self._copy = copy
         self.presenters: set[Any] = set()
         self._panels: dict[Any, _Panel] = {}
-        self._wrong: dict[Any, tuple[int, float]] = {}  # client id -> (wrong PINs, locked until)
-        self._class_wrong: list[float] = []  # when each wrong PIN was tried, the last minute
         self._toggling: dict[Any, threading.Lock] = {}  # one explore/follow at a time per browser
         self._lock = threading.RLock()
         self.view = BroadcastView(app.server, read_only=lambda client_id: client_id not in self.presenters)
@@ -115,11 +90,11 @@ class Classroom:
         with self._lock:
             self._panels.pop(client.client_id, None)
             self.presenters.discard(client.client_id)
-            self._wrong.pop(client.client_id, None)
             self._toggling.pop(client.client_id, None)
         with self.app.sessions_lock:
             self.app.sessions.pop(client.client_id, None)
         self.view.forget(client.client_id)
+        self.gate.forget(client.client_id)
 
     def _safely(self, fn: Callable[[Any], object]) -> Callable[[Any], None]:
         def run(event: Any) -> None:
@@ -138,24 +113,15 @@ class Classroom:
     def present(self, client: viser.ClientHandle, pin: str) -> bool:
         """Make ``client`` a presenter if ``pin`` is right; returns whether it now presents."""
         cid = client.client_id
-        now = time.monotonic()
         with self._lock:
             if cid in self.presenters:
                 return True
-            count, until = self._wrong.get(cid, (0, 0.0))
-            self._class_wrong = [t for t in self._class_wrong if now - t < 60.0]
-            if until > now or len(self._class_wrong) >= CLASS_ATTEMPTS:
-                wait = max(until - now, 60.0 - (now - self._class_wrong[0]) if self._class_wrong else 0.0)
-                self.app.notify("Too many wrong PINs", f"Try again in {wait:.0f} s.", client=client, error=True)
-                return False
-            if not (isinstance(pin, str) and secrets.compare_digest(pin.strip().encode(), self.pin.encode())):
-                count += 1
-                self._class_wrong.append(now)
-                self._wrong[cid] = (0, now + LOCKOUT) if count >= ATTEMPTS else (count, 0.0)
-                self.app.notify("Wrong PIN", "The presenter PIN is shown where the server was started.", client=client)
+            refused = self.gate.refusal(cid, pin)
+            if refused is not None:
+                title, body = refused
+                self.app.notify(title, body, client=client, error=title != "Wrong PIN")
                 return False
             self.presenters.add(cid)
-            self._wrong.pop(cid, None)
             panel = self._panels.get(cid)
         self.view.unlock(cid)
         if panel is not None:
