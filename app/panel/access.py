@@ -9,9 +9,12 @@ the page is patched from the server: :data:`PATCH` is HTML for viser's Html elem
 HTML: ``client/src/components/Html.tsx``) holding
 
 * a ``<style>``: the filled buttons' blue darkened to Mantine's blue 8 (``#1971c2``, 5.02:1 under white),
-  the plots' titles and legends at :data:`app.panel.look.MIN_TEXT_PX`;
-* keyboard shortcuts (:data:`KEYS`) that click the panel's own buttons when the focus is not in a
-  control or a text field (a presentation clicker sends PageDown and PageUp);
+  the plots' titles and legends at :data:`app.panel.look.MIN_TEXT_PX`, a focus ring (:data:`FOCUS`) on
+  every focused control;
+* keyboard shortcuts (:data:`KEYS`) that click the panel's own buttons when the focus is not in a text
+  field, a slider or a dropdown (a presentation clicker sends Page Down/Up or the arrows, which step a
+  lecture when one is loaded), Page Up/Down on a slider (ten steps; Mantine's slider ignores them), and
+  viser's folder titles made buttons (Tab, Enter, Space, ``aria-expanded``);
 * a script (:data:`SCRIPT`), which an inserted ``<script>`` element would not run (``innerHTML`` never
   does), started once per page by an image that fails to load (``onerror``). It watches the page and
   gives each control the name of its visible label (``aria-labelledby``), names icon buttons after

@@ -93,9 +93,9 @@ def open_folders(page: Any) -> None:
 def scan_mode(
     browser: Any, source: str, mode: str, dark: bool, every: bool = True
 ) -> list[tuple[str, str, str, str, dict[str, Any]]]:
-    """Every scene at both sizes (``every``; otherwise scene k at size (k + dark) mod 2) in one mode and one
-    look, on one page (resized), with the State and Export folders open and a notification of the app's own
-    shown: (mode, scene, look, size, rule -> found)."""
+    """Every scene at both sizes (``every``; otherwise the scenes :func:`pairwise` puts in this look, each at
+    its size) in one mode and one look, on one page (resized), with the State and Export folders open and a
+    notification of the app's own shown: (mode, scene, look, size, rule -> found)."""
     rows = []
     with running_app("heavy_top", dark=dark, **ALL_MODES[mode]) as app:  # type: ignore[arg-type]
         page, client = open_page(browser, app, viewport={"width": SIZES[0][0], "height": SIZES[0][1]})
@@ -110,7 +110,7 @@ def scan_mode(
             for size, (width, height) in enumerate(SIZES):
                 page.set_viewport_size({"width": width, "height": height})
                 for k, name in enumerate(scene_names()):
-                    if not every and (k + dark) % len(SIZES) != size:
+                    if not every and pairwise(list(MODES).index(mode), k) != (dark, size):
                         continue
                     show(page, sim, name)
                     open_folders(page)
@@ -130,20 +130,34 @@ def scan_mode(
     return rows
 
 
+def pairwise(mode: int, scene: int) -> tuple[bool, int]:
+    """The look (dark?) and the size (index into :data:`SIZES`) the tests scan scene ``scene`` in, in mode
+    ``mode`` (indices into :data:`MODES` and ``scene_names()``): a covering array of strength 2, so that
+    every pair of values of two of mode, scene, look and size is scanned together at least once, in 18 scans
+    where every combination takes 72."""
+    return bool((scene + mode) % 2), (scene // 2 + mode) % 2
+
+
+def test_the_pairwise_scans_cover_every_pair() -> None:
+    """Each scene in both looks and at both sizes, each mode with every scene, both looks and both sizes,
+    and every look at both sizes."""
+    runs = [(m, k, *pairwise(m, k)) for m in range(len(MODES)) for k in range(len(scene_names()))]
+    values = [range(len(MODES)), range(len(scene_names())), (False, True), range(len(SIZES))]
+    for i in range(4):
+        for j in range(i + 1, 4):
+            assert {(r[i], r[j]) for r in runs} == {(a, b) for a in values[i] for b in values[j]}, (i, j)
+
+
 @pytest.mark.parametrize("mode", list(MODES))
 def test_no_wcag_violation_in_any_scene_as_a_follower_in_a_private_session_and_in_a_lecture(
     chromium, axe, mode
 ) -> None:
-    """Item 1: every scene in both looks and at both sizes, with the State and Export folders open and a
-    notification shown, as a follower in presenter mode, in a private session and with a lecture loaded.
-
-    Pairwise, to keep the suite short: each scene once in each look, scene k at size (k + dark) mod 2, so
-    that every scene meets both looks and both sizes, and every look both sizes (12 scans a mode, not 24);
+    """Item 1, with the State and Export folders open and a notification shown, as a follower in presenter
+    mode, in a private session and with a lecture loaded: every scene, in the look and at the size of
+    :func:`pairwise` (across the three modes every scene is scanned in both looks and at both sizes);
     ``python -m tests.browser.test_accessibility`` scans every combination (docs/accessibility.md)."""
     rows = [row for dark in (False, True) for row in scan_mode(chromium, axe, mode, dark, every=False)]
-    assert len(rows) == 2 * len(scene_names())
-    assert {(row[1], row[2]) for row in rows} == {(n, look) for n in scene_names() for look in ("light", "dark")}
-    assert {(row[1], row[3]) for row in rows} == {(n, f"{w}×{h}") for n in scene_names() for w, h in SIZES}
+    assert [row[1] for row in rows] != [] and sorted(row[1] for row in rows) == sorted(scene_names())
     found = [row for row in rows if row[4]]
     assert found == [], "\n".join(map(str, found))
 
