@@ -18,10 +18,13 @@ from typing import Any
 
 import numpy as np
 import pytest
+import viser
 from PIL import Image
 from scipy import ndimage
 
-from app.panel.look import MIN_TEXT_PX
+from app.panel.look import MIN_TEXT_PX, PLOT_BACKGROUND, PLOT_LINE_CONTRAST
+from app.panel.look import contrast as wcag
+from app.scenes import scene_names
 from tests.harness import open_page, running_app
 
 pytestmark = pytest.mark.browser
@@ -115,3 +118,36 @@ def test_the_plots_numbers_and_the_3d_labels_are_readable(chromium, dark) -> Non
                 assert max(h for _, h in found) >= MIN_TEXT_PX, found
         finally:
             page.close()
+
+
+def plots(scene: Any) -> list[Any]:
+    """The uPlot handles a scene holds (its own, its drift plot's, its integrator ghost's)."""
+    found, seen = [], set()
+    todo = list(vars(scene).values())
+    for _ in range(3):  # the scene's attributes, theirs, and theirs
+        nxt = []
+        for value in todo:
+            if id(value) in seen or isinstance(value, (str, bytes, int, float, np.ndarray)):
+                continue
+            seen.add(id(value))
+            if isinstance(value, viser.GuiUplotHandle):
+                found.append(value)
+            elif hasattr(value, "__dict__") and type(value).__module__.startswith("app."):
+                nxt.extend(vars(value).values())
+        todo = nxt
+    return found
+
+
+@pytest.mark.parametrize("dark", [False, True], ids=["light", "dark"])
+def test_every_plot_line_has_3_to_1_against_the_plot(dark) -> None:
+    """Item 4's graphics (WCAG 1.4.11): each line of each scene's plots against the look's plot background
+    (#ffffff, #242424), as the page gets it. Headless: the colours the server sends."""
+    lines = []
+    with running_app(start_loop=False, dark=dark) as app:
+        for name in scene_names():
+            app.switch_scene(name)
+            for plot in plots(app.scene):
+                lines += [(name, s["label"], s["stroke"]) for s in plot.series if s.get("stroke")]
+    assert {name for name, _, _ in lines} >= {"heavy_top", "tennis_racket", "wobble", "pendulum"}
+    low = [(n, label, c, round(wcag(c, PLOT_BACKGROUND[dark]), 2)) for n, label, c in lines]
+    assert all(r >= PLOT_LINE_CONTRAST for *_, r in low), [x for x in low if x[-1] < PLOT_LINE_CONTRAST]
