@@ -9,9 +9,12 @@ the page is patched from the server: :data:`PATCH` is HTML for viser's Html elem
 HTML: ``client/src/components/Html.tsx``) holding
 
 * a ``<style>``: the filled buttons' blue darkened to Mantine's blue 8 (``#1971c2``, 5.02:1 under white),
-  the plots' titles and legends at :data:`app.panel.look.MIN_TEXT_PX`;
-* keyboard shortcuts (:data:`KEYS`) that click the panel's own buttons when the focus is not in a
-  control or a text field (a presentation clicker sends PageDown and PageUp);
+  the plots' titles and legends at :data:`app.panel.look.MIN_TEXT_PX`, a focus ring (:data:`FOCUS`) on
+  every focused control;
+* keyboard shortcuts (:data:`KEYS`) that click the panel's own buttons when the focus is not in a text
+  field, a slider or a dropdown (a presentation clicker sends Page Down/Up or the arrows, which step a
+  lecture when one is loaded), Page Up/Down on a slider (ten steps; Mantine's slider ignores them), and
+  viser's folder titles made buttons (Tab, Enter, Space, ``aria-expanded``);
 * a script (:data:`SCRIPT`), which an inserted ``<script>`` element would not run (``innerHTML`` never
   does), started once per page by an image that fails to load (``onerror``). It watches the page and
   gives each control the name of its visible label (``aria-labelledby``), names icon buttons after
@@ -29,17 +32,22 @@ from __future__ import annotations
 
 import html
 
-__all__ = ["FILLED_BLUE", "KEYS", "PATCH", "SCRIPT", "keys_markdown"]
+__all__ = ["FILLED_BLUE", "FOCUS", "KEYS", "PATCH", "SCRIPT", "keys_markdown"]
 
 KEYS = (
     ("Space", "play or pause"),
-    ("→", "one step (paused)"),
+    ("→ or .", "one step (paused); in a lecture → is the next step and . the clock's step"),
     ("R", "reset to t = 0"),
-    ("Page Down / Page Up", "next / previous lecture step (what a presentation clicker sends)"),
+    (
+        "Page Down / Page Up, ↓ / ↑, → / ←",
+        "next / previous lecture step (what a presentation clicker sends), when a lecture is loaded",
+    ),
     ("Tab / Shift+Tab", "the next / previous control; sliders take ← → ↑ ↓, Page Up/Down, Home/End"),
+    ("Enter or Space", "on a folder's title (Clock, State, Export, Keyboard): open or close it"),
 )
-"""The keyboard map shown in the panel's Keyboard folder (the shortcuts are not taken while the focus is
-in a control or a text field)."""
+"""The keyboard map shown in the panel's Keyboard folder. The shortcuts are not taken while the focus is in
+a text field, a slider or a dropdown (which use these keys themselves), nor Space on a focused button
+(which presses that button)."""
 
 
 def keys_markdown() -> str:
@@ -49,6 +57,10 @@ def keys_markdown() -> str:
 
 FILLED_BLUE = ("#1971c2", "#1864ab")
 """Mantine's blue 8 and 9: the filled buttons' background and its hover (white on them: 5.02:1, 6.09:1)."""
+
+FOCUS = ("#1971c2", "#4dabf7")
+"""The focus ring (2 px, 2 px off the control) in the light and the dark look: Mantine's blue 8 on white
+(5.02:1) and blue 4 on the dark panel (6.2:1 on #242424); WCAG 2.4.7 and 1.4.11 (3:1)."""
 
 SCRIPT = r"""(() => {
   if (window.rblAccess) return;
@@ -92,6 +104,14 @@ SCRIPT = r"""(() => {
       }
       if (name) set(bar, 'aria-label', name);
     }
+    // viser's folder titles are clickable divs: a button for the keyboard and a screen reader too.
+    for (const title of document.querySelectorAll('.mantine-Paper-root[data-with-border] > .mantine-Paper-root:first-child')) {
+      if (!text(title)) continue;
+      title.classList.add('rbl-folder');
+      set(title, 'role', 'button');
+      set(title, 'tabindex', '0');
+      set(title, 'aria-expanded', title.querySelector('.tabler-icon-chevron-up') ? 'true' : 'false');
+    }
     const words = document.querySelector('.rbl-motion');
     if (words) {
       const keep = words.parentElement;
@@ -106,19 +126,56 @@ SCRIPT = r"""(() => {
     }
   }
   // Shortcuts (KEYS): the panel's own buttons clicked, so a key does exactly what the button does (and is
-  // refused on the server just the same for a follower); never while typing or on a focused control.
-  const KEYS = {' ': ['Pause', 'Play'], ArrowRight: ['Step'], r: ['Reset'], R: ['Reset'],
-                PageDown: ['Next'], PageUp: ['Previous']};
-  const TYPING = 'input, textarea, select, button, [contenteditable=true], [role=slider], [role=combobox], '
-    + '[role=listbox], [role=option], [role=dialog]';
+  // refused on the server just the same for a follower). A lecture is loaded when its Next button is
+  // shown: then the arrows step the lecture, as a clicker that sends arrows expects, and '.' the clock.
+  const KEYS = {' ': ['Pause', 'Play'], '.': ['Step'], r: ['Reset'], R: ['Reset'],
+                PageDown: ['Next'], PageUp: ['Previous'], ArrowDown: ['Next'], ArrowUp: ['Previous'],
+                ArrowLeft: ['Previous']};
+  const TYPING = 'input, textarea, select, [contenteditable=true], [role=slider], [role=combobox], '
+    + '[role=listbox], [role=option], [role=dialog], [role=menu]';
+  const shown = (names) => [...document.querySelectorAll('button')].find(
+    b => names.includes(text(b)) && b.offsetParent);
   document.addEventListener('keydown', (e) => {
-    const names = KEYS[e.key];
-    if (!names || e.altKey || e.ctrlKey || e.metaKey || (e.target.closest && e.target.closest(TYPING))) return;
-    const button = [...document.querySelectorAll('button')].find(
-      b => names.includes(text(b)) && !b.disabled && !b.hasAttribute('data-disabled') && b.offsetParent);
+    const target = e.target.closest ? e.target : document.body;
+    if (target.closest('.rbl-folder') && (e.key === 'Enter' || e.key === ' ')) {
+      e.preventDefault();
+      target.closest('.rbl-folder').click();
+      return;
+    }
+    // Mantine's slider takes the arrows, Home and End but not Page Up/Down (WAI-ARIA's larger step): ten
+    // steps, within the slider's range.
+    const thumb = target.closest('[role=slider]');
+    if (thumb && (e.key === 'PageUp' || e.key === 'PageDown') && !e.altKey && !e.ctrlKey && !e.metaKey) {
+      e.preventDefault();
+      // One arrow press gives the step; the value ten steps on (within the range) goes in the slider's number
+      // box, as typed, so the server gets one value (presses in a row would race the server's echo).
+      const arrow = e.key === 'PageUp' ? 'ArrowUp' : 'ArrowDown';
+      const num = (name) => parseFloat(thumb.getAttribute(name));
+      const before = num('aria-valuenow');
+      thumb.dispatchEvent(new KeyboardEvent('keydown', {key: arrow, code: arrow, bubbles: true, cancelable: true}));
+      requestAnimationFrame(() => {
+        const step = num('aria-valuenow') - before;
+        const row = thumb.closest('.mantine-Flex-root');
+        const box = row && row.querySelector('.mantine-NumberInput-input');
+        if (!step || !box) return;
+        const target = Math.min(num('aria-valuemax'), Math.max(num('aria-valuemin'), before + 10 * step));
+        const digits = Math.max(0, -Math.floor(Math.log10(Math.abs(step)) + 1e-9));
+        const typed = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, 'value').set;
+        typed.call(box, target.toFixed(digits));
+        box.dispatchEvent(new Event('input', {bubbles: true}));
+        thumb.focus({preventScroll: true});  // the number box takes the focus as it is typed into
+        setTimeout(() => { if (document.activeElement === box) thumb.focus({preventScroll: true}); }, 50);
+      });
+      return;
+    }
+    if (e.altKey || e.ctrlKey || e.metaKey || target.closest(TYPING)) return;
+    if (e.key === ' ' && target.closest('button, [role=button], a')) return;  // presses what has the focus
+    const names = e.key === 'ArrowRight' ? (shown(['Next']) ? ['Next'] : ['Step']) : KEYS[e.key];
+    if (!names) return;
+    const button = shown(names);
     if (!button) return;
     e.preventDefault();
-    button.click();
+    if (!button.disabled && !button.hasAttribute('data-disabled')) button.click();
   });
   let queued = false;
   new MutationObserver(() => {
@@ -132,6 +189,10 @@ STYLE = f"""<style>
   --mantine-primary-color-filled: {FILLED_BLUE[0]} !important;
   --mantine-primary-color-filled-hover: {FILLED_BLUE[1]} !important; }}
 .u-title, .u-legend, .u-legend * {{ font-size: 14px !important; }}
+:root {{ --rbl-focus: {FOCUS[0]}; }}
+:root[data-mantine-color-scheme=dark] {{ --rbl-focus: {FOCUS[1]}; }}
+:focus-visible, .mantine-Input-input:focus, [role=slider]:focus {{
+  outline: 2px solid var(--rbl-focus) !important; outline-offset: 2px !important; }}
 </style>"""
 
 PATCH = (

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.panel.look import plot_axes
+from app.panel.look import plot_axes, plot_colour
 
 __all__ = ["DRIFT_EVERY", "DRIFT_POINTS", "DRIFT_FLOOR", "InvariantDrift"]
 
@@ -46,7 +46,10 @@ class InvariantDrift:
             data=(np.zeros(1), *(np.full(1, math.log10(DRIFT_FLOOR)) for _ in names)),
             series=(
                 viser.uplot.Series(label="t (s)"),
-                *(viser.uplot.Series(label=name, stroke=colour, width=2) for name, colour in zip(names, colours)),
+                *(
+                    viser.uplot.Series(label=name, stroke=plot_colour(colour, ctx.dark), width=2)
+                    for name, colour in zip(names, colours)
+                ),
             ),
             scales={
                 "x": viser.uplot.Scale(time=False, auto=True),

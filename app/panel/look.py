@@ -12,7 +12,19 @@ from typing import Any
 
 from app.panel.access import PATCH
 
-__all__ = ["MIN_TEXT_PX", "PATCH", "STYLE", "plot_axes", "configure", "hide_number_box", "motion_html"]
+__all__ = [
+    "MIN_TEXT_PX",
+    "PATCH",
+    "PLOT_BACKGROUND",
+    "PLOT_LINE_CONTRAST",
+    "STYLE",
+    "contrast",
+    "plot_axes",
+    "plot_colour",
+    "configure",
+    "hide_number_box",
+    "motion_html",
+]
 
 MIN_TEXT_PX = 14
 """Smallest text in the panel, CSS pixels (Mantine's default is 12 to 13)."""
@@ -42,6 +54,40 @@ def plot_axes() -> tuple[Any, Any]:
     """uPlot's x and y axes (``viser.uplot.Axis``) with their numbers at :data:`MIN_TEXT_PX`; the y axis a
     little wider for the larger digits. viser still gives them the look's colours."""
     return ({"font": PLOT_FONT, "labelFont": PLOT_FONT}, {"font": PLOT_FONT, "labelFont": PLOT_FONT, "size": 58})
+
+
+PLOT_BACKGROUND = {False: "#ffffff", True: "#242424"}
+"""A plot's background in the light and the dark look (Mantine's white and dark 7 under viser's plots)."""
+
+PLOT_LINE_CONTRAST = 3.0
+"""WCAG 2.1 1.4.11: the least contrast of a graphic needed to read the content (a plot's line)."""
+
+
+def _luminance(colour: str) -> float:
+    """WCAG's relative luminance of an ``#rrggbb`` colour."""
+    channels = [int(colour[i : i + 2], 16) / 255.0 for i in (1, 3, 5)]
+    r, g, b = (c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in channels)
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b
+
+
+def contrast(a: str, b: str) -> float:
+    """WCAG's contrast ratio of two ``#rrggbb`` colours, 1 to 21."""
+    la, lb = _luminance(a), _luminance(b)
+    return (max(la, lb) + 0.05) / (min(la, lb) + 0.05)
+
+
+def plot_colour(colour: str, dark: bool) -> str:
+    """A plot line's ``#rrggbb`` colour as the look shows it: unchanged when it has
+    :data:`PLOT_LINE_CONTRAST` against :data:`PLOT_BACKGROUND`, otherwise mixed towards black (light look)
+    or white (dark look) in steps of 5 % until it has, so the hue stays (the dark look's black becomes a
+    grey, the light look's orange a brown)."""
+    background, target = PLOT_BACKGROUND[dark], (255 if dark else 0)
+    rgb = [int(colour[i : i + 2], 16) for i in (1, 3, 5)]
+    for step in range(21):
+        mixed = "#" + "".join(f"{round(c + (target - c) * step / 20):02x}" for c in rgb)
+        if contrast(mixed, background) >= PLOT_LINE_CONTRAST:
+            return mixed
+    raise ValueError(f"no mix of {colour} reaches {PLOT_LINE_CONTRAST}:1 on {background}")
 
 
 def motion_html(text: str) -> str:

@@ -18,6 +18,7 @@ class SceneContext(Protocol):
     server: Any  # viser.ViserServer
     root: str
     lock: threading.RLock
+    dark: bool  # the dark look (plots draw their lines to be read on it)
 
     @property
     def time(self) -> float: ...

@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
-from app.panel.look import plot_axes
+from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, angle, threshold_words, tip_path
@@ -220,8 +220,10 @@ class HeavyTopScene(Scene):
             ),
             series=(
                 viser.uplot.Series(label="θ (°)"),
-                viser.uplot.Series(label="U(θ)", stroke=draw.hex_colour("blue"), width=2),
-                viser.uplot.Series(label="energy ℰ", stroke=draw.hex_colour("guide"), width=1, dash=(6, 4)),
+                viser.uplot.Series(label="U(θ)", stroke=plot_colour(draw.hex_colour("blue"), self.ctx.dark), width=2),
+                viser.uplot.Series(
+                    label="energy ℰ", stroke=plot_colour(draw.hex_colour("guide"), self.ctx.dark), width=1, dash=(6, 4)
+                ),
                 viser.uplot.Series(
                     label="now (θ, U)",
                     stroke=draw.hex_colour("vermillion"),

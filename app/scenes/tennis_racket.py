@@ -15,7 +15,7 @@ import viser
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
 from app.guards.wire import send_position
-from app.panel.look import plot_axes
+from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, listing
@@ -197,9 +197,13 @@ class TennisRacket(Scene):
             data=(np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2)),
             series=(
                 viser.uplot.Series(label="t (s)"),
-                viser.uplot.Series(label="ω₁", stroke=draw.hex_colour("vermillion"), width=2),
-                viser.uplot.Series(label="ω₂", stroke=draw.hex_colour("bluish_green"), width=2),
-                viser.uplot.Series(label="ω₃", stroke=draw.hex_colour("blue"), width=2),
+                viser.uplot.Series(
+                    label="ω₁", stroke=plot_colour(draw.hex_colour("vermillion"), self.ctx.dark), width=2
+                ),
+                viser.uplot.Series(
+                    label="ω₂", stroke=plot_colour(draw.hex_colour("bluish_green"), self.ctx.dark), width=2
+                ),
+                viser.uplot.Series(label="ω₃", stroke=plot_colour(draw.hex_colour("blue"), self.ctx.dark), width=2),
             ),
             title="ω in body axes (rad/s)",
             axes=plot_axes(),
