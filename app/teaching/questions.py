@@ -177,9 +177,9 @@ def true_value(ask: Ask, scene: Any) -> float | None:
 def histogram(values: list[float], low: float, high: float, bins: int = BINS) -> list[int]:
     """Counts of ``values`` in ``bins`` equal bars over [low, high] (the last bar includes ``high``)."""
     counts = [0] * bins
-    width = (high - low) / bins
     for v in values:
-        counts[min(bins - 1, max(0, int((v - low) // width)))] += 1
+        # (v - low) / (high - low) * bins, not (v - low) // width: 0.5 // 0.1 is 4.0 in floating point.
+        counts[min(bins - 1, max(0, math.floor((v - low) / (high - low) * bins)))] += 1
     return counts
 
 
