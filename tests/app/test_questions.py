@@ -349,3 +349,34 @@ def test_export_answers_needs_presenter_mode(tmp_path, monkeypatch):
     with pytest.raises(SystemExit):
         main(["--presenter", "--export-answers", str(tmp_path / "missing" / "a.csv")])
     assert not out.exists()
+
+
+def test_the_presenter_asks_from_the_panel_and_saves_the_csv_a_follower_cannot(lecture_app):
+    app, questions = lecture_app, lecture_app.questions
+    with _browser(app) as (f, f_id, f_panel), _browser(app) as (p, p_id, _):
+        app.classroom.present(app.server.get_clients()[p_id], PIN)
+        wait_for(lambda: questions._panels[p_id].presenter, what="the presenter's panel")
+        panel = questions._panels[p_id]
+        send_value(p, panel.ask_text._impl.uuid, "Which way does L point?")
+        send_value(p, panel.ask_choices._impl.uuid, "up\ndown\n")
+        wait_for(lambda: panel.ask_choices.value == "up\ndown\n", what="the choices")
+        received(p, 0.2)
+        send_value(p, panel.ask_button._impl.uuid, True)
+        wait_for(lambda: getattr(questions.poll.current, "source", None) == "asked from the panel", what="asked")
+        assert questions.poll.current.ask == Ask("Which way does L point?", ("up", "down"))
+        wait_for(lambda: questions._panels[f_id].choice is not None, what="the follower's buttons")
+        assert questions._panels[f_id].choice.options == ("A", "B")
+        assert panel.ask_text.value == ""  # the panel was rebuilt for the question: its boxes are empty
+        send_value(p, panel.ask_text._impl.uuid, "Again?")
+        send_value(p, panel.ask_choices._impl.uuid, "only one")
+        wait_for(lambda: panel.ask_choices.value == "only one", what="the choices")
+        send_value(p, panel.ask_button._impl.uuid, True)
+        assert any("type 2 to 5 choices, one a line (got 1)" in n for n in _notes(received(p, 1.0)))
+        questions.ask_from_panel(app.server.get_clients()[f_id], "Mine?", "a\nb")  # a follower has no Ask button
+        assert questions.poll.current.source == "asked from the panel" and questions.poll.current.ask.text != "Mine?"
+        received(f, 0.2)
+        questions.save_for(app.server.get_clients()[f_id])
+        assert not any(m.get("type") == "FileTransferStartDownload" for m in received(f, 0.5))
+        send_value(p, questions._panels[p_id].save_button._impl.uuid, True)
+        download = [m for m in received(p, 1.0) if m.get("type") == "FileTransferStartDownload"]
+        assert download and download[0]["filename"] == "answers.csv"
