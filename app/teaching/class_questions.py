@@ -16,8 +16,8 @@ from typing import Any
 
 import viser
 
-from app.panel.question_panel import QuestionPanel
 from app.teaching.lectures import Step
+from app.teaching.question_panel import QuestionPanel
 from app.teaching.questions import LETTERS, MAX_CHOICE, MAX_QUESTION, Ask, Poll, VoteRefused, true_value
 from app.teaching.voters import Voters
 

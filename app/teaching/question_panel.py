@@ -3,7 +3,7 @@ reveal, a question of one's own and the CSV (a presenter); the answers as a char
 
 Every element is the browser's own (``client.gui``): what one browser's panel shows is sent to that
 browser only, so a follower's page never receives the count or the answers before the reveal.
-More in docs/app-notes.md (``app.panel.question_panel``).
+More in docs/app-notes.md (``app.teaching.question_panel``).
 """
 
 from __future__ import annotations
