@@ -135,6 +135,24 @@ class QuestionPanel:
             self.folder = None
 
 
+def _answers(n: int) -> str:
+    return f"{n} answer{'' if n == 1 else 's'}"
+
+
+def _said(question: Question) -> str:
+    """The chart in words, for a screen reader (the chart is one image to it)."""
+    ask, counts = question.ask, question.counts()
+    if ask.range is None:
+        parts = [f"{LETTERS[k]}: {n}" for k, n in enumerate(counts)]
+        right = "" if ask.answer is None else f"; the right answer is {LETTERS[int(ask.answer) - 1]}"
+        return html.escape(f"{_answers(len(question.votes))}: " + ", ".join(parts) + right)
+    low, high = ask.range
+    width = (high - low) / BINS
+    parts = [f"{low + k * width:.3g} to {low + (k + 1) * width:.3g}: {n}" for k, n in enumerate(counts) if n]
+    true = "" if question.true is None else f"; the true value is {question.true:.4g} {ask.unit}"
+    return html.escape(f"{_answers(len(question.votes))} ({ask.unit}) " + ", ".join(parts) + true)
+
+
 def _question_markdown(question: Question) -> str:
     ask = question.ask
     lines = [f"**{html.escape(ask.text)}**"]
@@ -149,7 +167,7 @@ def _question_markdown(question: Question) -> str:
 def count_text(question: Question, count: int) -> str:
     """The presenter's line: how many have answered, never what."""
     state = "the vote is open" if question.open else "the vote is closed"
-    return f"**{count} answer{'s' if count != 1 else ''}** so far; {state}."
+    return f"**{_answers(count)}** so far; {state}."
 
 
 def mine_text(question: Question, mine: Any) -> str:
@@ -183,7 +201,9 @@ def results_html(question: Question) -> str:
                 f'height:14px;width:{100 * n / top:.1f}%"></div><span>{n}</span></div></div>'
             )
         return (
-            f'<div role="img" aria-label="answers: {total}">' + "".join(rows) + f"<small>{total} answers</small></div>"
+            f'<div role="img" aria-label="{_said(question)}">'
+            + "".join(rows)
+            + f"<small>{_answers(total)}</small></div>"
         )
     low, high = ask.range
     bars = "".join(
@@ -195,10 +215,11 @@ def results_html(question: Question) -> str:
     if question.true is not None and low <= question.true <= high:
         x = 100 * (question.true - low) / (high - low)
         marker = f'<div style="position:absolute;left:{x:.1f}%;top:0;bottom:0;border-left:2px solid #d1495b"></div>'
-    true = "" if question.true is None else f" True value: <b style='color:#d1495b'>{question.true:.4g} {ask.unit}</b>."
+    # The text keeps the page's colour (legible on the light and the dark look); the red is the line's.
+    true = "" if question.true is None else f" True value (red line): <b>{question.true:.4g} {ask.unit}</b>."
     return (
-        f'<div role="img" aria-label="histogram of {total} answers" style="{style}">'
+        f'<div role="img" aria-label="{_said(question)}" style="{style}">'
         f'<div style="position:relative;display:flex;height:80px;border-bottom:1px solid #888">{bars}{marker}</div>'
         f'<div style="display:flex;justify-content:space-between"><span>{low:g}</span><span>{high:g} {ask.unit}</span>'
-        f"</div><small>{total} answers in {BINS} bars.{true}</small></div>"
+        f"</div><small>{_answers(total)} in {BINS} bars.{true}</small></div>"
     )

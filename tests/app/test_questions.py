@@ -19,6 +19,7 @@ from websockets.sync.client import connect
 from app.__main__ import main
 from app.teaching.class_questions import parse_choices
 from app.teaching.lectures import read_lecture
+from app.teaching.question_panel import results_html
 from app.teaching.questions import TRUTHS, Ask, Poll, VoteRefused, check_ask, histogram, true_value
 from app.teaching.voters import COOKIE
 from physics.heavy_top import HeavyTop
@@ -380,3 +381,17 @@ def test_the_presenter_asks_from_the_panel_and_saves_the_csv_a_follower_cannot(l
         send_value(p, questions._panels[p_id].save_button._impl.uuid, True)
         download = [m for m in received(p, 1.0) if m.get("type") == "FileTransferStartDownload"]
         assert download and download[0]["filename"] == "answers.csv"
+
+
+def test_the_chart_says_its_counts_to_a_screen_reader():
+    poll = Poll()
+    poll.ask(Ask("Flip?", ("steady", "flips"), 2), "step 7")
+    poll.vote("a", "B")
+    chart = results_html(poll.current)
+    assert 'aria-label="1 answer: A: 0, B: 1; the right answer is B"' in chart and "<small>1 answer</small>" in chart
+    poll.ask(Ask("Rate?", unit="rad/s", range=(0.0, 2.0)), "step 10", true=0.5278654505337458)
+    poll.vote("a", 0.5)
+    poll.vote("b", 0.55)
+    chart = results_html(poll.current)
+    assert 'aria-label="2 answers (rad/s) 0.4 to 0.6: 2; the true value is 0.5279 rad/s"' in chart
+    assert "left:26.4%" in chart  # the red line at (0.52787 − 0) / 2 of the width
