@@ -18,7 +18,16 @@ import viser
 
 from app.teaching.lectures import Step
 from app.teaching.question_panel import QuestionPanel
-from app.teaching.questions import LETTERS, MAX_CHOICE, MAX_QUESTION, Ask, Poll, VoteRefused, true_value
+from app.teaching.questions import (
+    LETTERS,
+    MAX_CHOICE,
+    MAX_QUESTION,
+    Ask,
+    Poll,
+    VoteRefused,
+    show_spoilers,
+    true_value,
+)
 from app.teaching.voters import Voters
 
 __all__ = ["ClassQuestions", "parse_choices"]
@@ -131,7 +140,9 @@ class ClassQuestions:
                 self.poll.close()
                 self._closed()
             return
-        self.ask(step.ask, f"step {index + 1}", true_value(step.ask, self.app.shared.scene))
+        scene = self.app.shared.scene
+        self.ask(step.ask, f"step {index + 1}", true_value(step.ask, scene))
+        show_spoilers(step.ask, scene, visible=False)  # the marker of the answer waits for the reveal
 
     def ask(self, ask: Ask, source: str, true: float | None = None) -> None:
         """Put a question to the class (the one before is closed and kept for the CSV)."""
@@ -186,10 +197,11 @@ class ClassQuestions:
         if self.poll.reveal() is None:
             return
         self.app.shared.following.show_text(caption=True)
-        self._show_all()
-        self.write()
+        self._closed()
 
     def _closed(self) -> None:
+        question = self.poll.current
+        show_spoilers(question.ask if question is not None else None, self.app.shared.scene, visible=True)
         self._show_all()
         self.write()
 

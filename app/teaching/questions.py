@@ -21,6 +21,7 @@ __all__ = [
     "BINS",
     "LETTERS",
     "MAX_QUESTION",
+    "SPOILERS",
     "TRUTHS",
     "Ask",
     "Poll",
@@ -28,6 +29,7 @@ __all__ = [
     "VoteRefused",
     "check_ask",
     "histogram",
+    "show_spoilers",
     "true_value",
 ]
 
@@ -59,6 +61,9 @@ TRUTHS: dict[str, tuple[str, str, Callable[[Any], float]]] = {
     "centre_of_percussion": ("pendulum", "m", _centre_of_percussion),
 }
 """A number question's true value from the physics API: name -> (scene, unit, value of the scene shown)."""
+
+SPOILERS: dict[str, tuple[str, ...]] = {"centre_of_percussion": ("cop_marker", "cop_label")}
+"""The scene's nodes (attributes) that show a quantity's true value: hidden while the class answers."""
 
 
 class VoteRefused(ValueError):
@@ -172,6 +177,16 @@ def true_value(ask: Ask, scene: Any) -> float | None:
     if scene is None or getattr(scene, "name", None) != owner:
         return None
     return value(scene)
+
+
+def show_spoilers(ask: Ask | None, scene: Any, visible: bool) -> None:
+    """Hide (or show again) the nodes of ``scene`` that would give a number question's answer away."""
+    if ask is None or ask.truth is None or scene is None or getattr(scene, "name", None) != TRUTHS[ask.truth][0]:
+        return
+    for name in SPOILERS.get(ask.truth, ()):
+        node = getattr(scene, name, None)
+        if node is not None:
+            node.visible = visible
 
 
 def histogram(values: list[float], low: float, high: float, bins: int = BINS) -> list[int]:

@@ -316,6 +316,7 @@ def test_a_raw_client_cannot_vote_twice_and_a_reconnect_keeps_the_browsers_vote(
     app.go_to_step(PENDULUM)
     question = questions.poll.current
     assert question.ask.range == (0.0, 1.0) and question.true == pytest.approx(app.scene.model.effective_length)
+    assert not app.scene.cop_marker.visible and not app.scene.cop_label.visible  # the answer's marker waits
     token = _cookie(app)
     with _browser(app, token) as (ws, _, panel):
         for bad in ("abc", "nan", "inf", "1e308"):
@@ -341,6 +342,7 @@ def test_a_raw_client_cannot_vote_twice_and_a_reconnect_keeps_the_browsers_vote(
         assert questions._identity[cid] == f"connection {cid}"
     questions.reveal(None)
     assert question.counts()[6] == 1
+    assert app.scene.cop_marker.visible and app.scene.cop_label.visible  # shown with the answers
 
 
 def test_export_answers_needs_presenter_mode(tmp_path, monkeypatch):
