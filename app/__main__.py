@@ -8,6 +8,7 @@ department's rooms behind nginx (:mod:`app.rooms`).
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 
@@ -107,6 +108,13 @@ def main(argv: list[str] | None = None) -> None:
         metavar="FILE",
         help="follow a lecture: a TOML file of steps, or the name of one in lectures/ (e.g. rigid-body-motion)",
     )
+    parser.add_argument(
+        "--export-answers",
+        default=None,
+        metavar="FILE",
+        help="presenter mode: write every class question's counts and times to this CSV file whenever a vote "
+        "closes (and when the server stops)",
+    )
     args = parser.parse_args(argv)
 
     from app.serving.addresses import is_loopback, urls
@@ -135,6 +143,12 @@ def main(argv: list[str] | None = None) -> None:
         except ValueError as exc:
             parser.error(f"--lecture: {exc}")
     presenter = True if args.presenter else (False if args.shared else None)
+    if args.export_answers is not None:
+        from pathlib import Path
+
+        folder = Path(args.export_answers).resolve().parent
+        if not folder.is_dir() or not os.access(folder, os.W_OK):
+            parser.error(f"--export-answers: cannot write in {folder}")
     try:
         app = App(
             host=args.host,
@@ -147,6 +161,7 @@ def main(argv: list[str] | None = None) -> None:
             pin=args.pin,
             state=args.state,
             lecture=args.lecture,
+            answers=args.export_answers,
         )
     except ValueError as exc:  # a lecture step or a state the scene refuses
         parser.error(str(exc))

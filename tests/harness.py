@@ -87,10 +87,12 @@ def running_app(
     dark: bool = False,
     share: bool = False,
     lecture: str | None = None,
+    answers: str | None = None,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
     127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``share``: viser's share
-    button shown; ``lecture``: a lecture file or name to follow); stopped on exit."""
+    button shown; ``lecture``: a lecture file or name to follow; ``answers``: the class questions' CSV);
+    stopped on exit."""
     from app.server import App
 
     app = App(
@@ -105,6 +107,7 @@ def running_app(
         dark=dark,
         share=share,
         lecture=lecture,
+        answers=answers,
     )
     try:
         yield app

@@ -23,6 +23,7 @@ from app.panel import look
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
 from app.serving.addresses import is_loopback
 from app.serving.simulation import FPS, Simulation, first_scene
+from app.teaching.class_questions import ClassQuestions
 from app.teaching.following import apply_step
 from app.teaching.lectures import Step, read_lecture
 from app.teaching.presenter import Classroom, check_pin, new_pin
@@ -77,6 +78,9 @@ class App:
         A lecture file, by path or by name in ``lectures/`` (:mod:`app.teaching.lectures`); every step is
         checked before the server serves (ValueError naming the step and the key). In private mode every
         browser follows it on its own.
+    answers : str or Path, optional
+        Presenter mode: a CSV file rewritten with every class question's counts and times whenever a vote
+        closes (``--export-answers``; :mod:`app.teaching.class_questions`, in ``app.questions``).
     """
 
     def __init__(
@@ -95,6 +99,7 @@ class App:
         pin: str | None = None,
         state: str | None = None,
         lecture: str | None = None,
+        answers: str | Path | None = None,
     ) -> None:
         if state is not None:
             scene = parse_state(state)["scene"]  # refused here, before anything starts
@@ -105,6 +110,8 @@ class App:
             presenter = not private and not is_loopback(host)
         if presenter and private:
             raise ValueError("choose presenter mode or private sessions, not both")
+        if answers is not None and not presenter:
+            raise ValueError("class questions are asked in presenter mode: --export-answers needs --presenter")
         self.pin = check_pin(pin) if pin is not None else new_pin()
         self.fps, self.share, self.dark, self.private = float(fps), bool(share), bool(dark), bool(private)
         server = viser.ViserServer(host=host, port=port, verbose=verbose)
@@ -116,6 +123,7 @@ class App:
         self.shared: Simulation | None = None
         self.classroom: Classroom | None = None
         self.teacher: TeacherDesk | None = None
+        self.questions: ClassQuestions | None = None
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         if presenter:
@@ -138,6 +146,8 @@ class App:
                 self.shared = self._simulation(server, refusal=self.refusal, shown_to=self._follows)
                 if state is not None:
                     self.shared.open_state(state)
+                if self.classroom is not None:
+                    self.questions = ClassQuestions(self, answers)
                 if self._lecture is not None:
                     self.shared.load_lecture(self._lecture)
         except ValueError:
@@ -284,6 +294,8 @@ class App:
         if self._thread is not None:
             self._thread.join(timeout=2.0)
             self._thread = None
+        if self.questions is not None:
+            self.questions.write()
         self.server.stop()
 
     @property

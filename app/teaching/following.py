@@ -1,13 +1,15 @@
 """Following a lecture: its steps in the panel with Previous and Next, each step put on the simulation.
 
 A step sets a state or a scene, then its dropdown choices, preset, slider values and camera; a step with
-``seconds`` moves on by itself. The simulation followed is any object with the methods used here
+``seconds`` moves on by itself; a step with a question waits, paused at t = 0, and tells its
+``listeners`` (:mod:`app.teaching.class_questions`). The simulation followed is any object with the methods used here
 (:class:`app.serving.simulation.Simulation`).
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +30,8 @@ class Following:
         self.step_started = 0.0
         self.text: Any = None  # the lecture's markdown in the panel, once a lecture is loaded
         self.folder: Any = None
+        self.listeners: list[Callable[[int, Step], None]] = []  # told of every step shown (index, step)
+        self.caption_shown = True  # a question step's caption waits for the reveal when someone listens
 
     def load(self, lecture: Lecture, *, check: bool = True) -> None:
         """Follow ``lecture`` from its first step; with ``check`` every step is applied once first, so that
@@ -72,9 +76,30 @@ class Following:
                 apply_step(sim, step)
             except ValueError as exc:  # checked when loaded; a body handed over since may refuse it
                 sim.notify(f"Step {index + 1} could not be shown", str(exc), error=True)
-            self.text.content = (
-                f"**{lecture.title}** — step {index + 1} of {len(lecture.steps)}\n\n{step.caption}".rstrip()
-            )
+            if step.ask is not None:  # predict, then watch: the demonstration waits for the answers
+                sim.set_playing(False)
+                sim.restart()
+            self.caption_shown = step.ask is None or not self.listeners
+            self.show_text()
+            for listener in list(self.listeners):
+                listener(index, step)
+
+    def show_text(self, caption: bool | None = None) -> None:
+        """The step's text in the panel: its caption, or while a question waits for the class its question."""
+        lecture = self.lecture
+        if lecture is None:
+            return
+        if caption is not None:
+            self.caption_shown = caption
+        step = lecture.steps[self.step_index]
+        head = f"**{lecture.title}** — step {self.step_index + 1} of {len(lecture.steps)}"
+        body = step.caption
+        if step.ask is not None and not self.caption_shown:
+            body = f"**Question.** {step.ask.text}\n\n*Answer in your panel; the demonstration follows.*"
+        elif step.ask is not None and not self.listeners:  # nobody collects answers: ask it aloud
+            choices = "\n".join(f"{chr(65 + k)}. {c}" for k, c in enumerate(step.ask.choices))
+            body = f"**Question.** {step.ask.text}\n\n{choices}\n\n{step.caption}".replace("\n\n\n\n", "\n\n")
+        self.text.content = f"{head}\n\n{body}".rstrip()
 
     def advance_if_due(self) -> None:
         """Go to the next step when the current one has ``seconds`` and they have passed (the last stays)."""

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from app.scenes import scene_names
+from app.teaching.questions import Ask, check_ask
 from app.teaching.states import parse_state
 
 
@@ -35,6 +36,8 @@ MAX_BYTES = 1_000_000
 """Largest lecture file read, bytes."""
 
 KEYS = ("scene", "preset", "choices", "values", "caption", "camera", "seconds", "state")
+QUESTION_KEYS = ("question", "answer", "unit", "range", "truth")
+"""A step's question (:func:`app.teaching.questions.check_ask`); its ``choices`` are then a list of texts."""
 
 __all__ = ["LECTURES", "Lecture", "Step", "find_lecture", "read_lecture"]
 
@@ -51,6 +54,7 @@ class Step:
     camera: dict[str, list[float]] | None = None
     seconds: float | None = None
     state: str | None = None
+    ask: Ask | None = None
 
 
 @dataclass(frozen=True)
@@ -116,8 +120,17 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
     if not isinstance(raw, dict):
         raise ValueError(f"{where}: a step is a table of keys")
     for key in raw:
-        if key not in KEYS:
-            raise ValueError(f"{where}: unknown key {key!r} (a step has {', '.join(KEYS)})")
+        if key not in KEYS and key not in QUESTION_KEYS:
+            raise ValueError(f"{where}: unknown key {key!r} (a step has {', '.join(KEYS + QUESTION_KEYS)})")
+    ask = None
+    if "question" in raw:
+        try:
+            ask = check_ask(raw, raw.get("scene"))
+        except ValueError as exc:
+            raise ValueError(f"{where}, {exc}") from None
+    elif any(key in raw for key in QUESTION_KEYS) or isinstance(raw.get("choices"), list):
+        given = [key for key in (*QUESTION_KEYS, "choices") if key in raw]
+        raise ValueError(f'{where}, {given[0]}: belongs to a question; the step has no question = "..."')
     state = raw.get("state")
     if state is not None:
         if not isinstance(state, str):
@@ -134,7 +147,7 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
     preset = raw.get("preset")
     if preset is not None and not isinstance(preset, str):
         raise ValueError(f"{where}, preset: the name of one of the scene's presets")
-    choices = raw.get("choices", {})
+    choices = raw.get("choices", {}) if ask is None or ask.numeric else {}
     if not isinstance(choices, dict):
         raise ValueError(f'{where}, choices: a table of dropdown choices, e.g. choices = {{ Body = "Solid cylinder" }}')
     for key, value in choices.items():
@@ -175,4 +188,5 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
         camera=camera,
         seconds=None if seconds is None else float(seconds),
         state=state,
+        ask=ask,
     )

@@ -61,6 +61,7 @@ class Classroom:
         self._panels: dict[Any, _Panel] = {}
         self._toggling: dict[Any, threading.Lock] = {}  # one explore/follow at a time per browser
         self._lock = threading.RLock()
+        self.on_present: list[Callable[[viser.ClientHandle], None]] = []  # told when a browser starts presenting
         self.view = BroadcastView(app.server, read_only=lambda client_id: client_id not in self.presenters)
         app.server.on_client_connect(self._joined)
         app.server.on_client_disconnect(self._left)
@@ -128,6 +129,8 @@ class Classroom:
             panel.presenting()
             if self.exploring(cid):
                 panel.status.content = EXPLORING
+        for listener in list(self.on_present):
+            listener(client)
         return True
 
     def toggle(self, client: viser.ClientHandle) -> None:

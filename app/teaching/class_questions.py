@@ -1,0 +1,223 @@
+"""Class questions in presenter mode: a lecture step's question (or the presenter's own) on every
+follower's panel, one answer per browser, the live count for the presenters, the reveal for everyone.
+
+More in docs/app-notes.md (``app.teaching.class_questions``).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import threading
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import viser
+
+from app.teaching.lectures import Step
+from app.teaching.question_panel import QuestionPanel
+from app.teaching.questions import (
+    LETTERS,
+    MAX_CHOICE,
+    MAX_QUESTION,
+    Ask,
+    Poll,
+    VoteRefused,
+    show_spoilers,
+    true_value,
+)
+from app.teaching.voters import Voters
+
+__all__ = ["ClassQuestions", "parse_choices"]
+
+
+def parse_choices(text: str, choices: str) -> Ask:
+    """The presenter's own question: its text and 2 to 5 choices, one a line (ValueError says what is wrong)."""
+    text = text.strip() if isinstance(text, str) else ""
+    if not text or len(text) > MAX_QUESTION:
+        raise ValueError(f"type a question of 1 to {MAX_QUESTION} characters")
+    lines = [line.strip() for line in (choices if isinstance(choices, str) else "").splitlines() if line.strip()]
+    if not 2 <= len(lines) <= len(LETTERS):
+        raise ValueError(f"type 2 to {len(LETTERS)} choices, one a line (got {len(lines)})")
+    if any(len(line) > MAX_CHOICE for line in lines):
+        raise ValueError(f"a choice has at most {MAX_CHOICE} characters")
+    return Ask(text, tuple(lines))
+
+
+class ClassQuestions:
+    """The class's questions for a presenter-mode :class:`app.serving.app.App`.
+
+    Parameters
+    ----------
+    app : app.serving.app.App
+        Its ``shared`` simulation is the lecture, its ``classroom`` knows the presenters.
+    export : str or Path, optional
+        A CSV file rewritten with every question's counts whenever a vote closes (``--export-answers``).
+    """
+
+    def __init__(self, app: Any, export: str | Path | None = None) -> None:
+        self.app = app
+        self.classroom = app.classroom
+        self.poll = Poll()
+        self.export = None if export is None else Path(export)
+        self.voters = Voters(app.server)
+        self._panels: dict[Any, QuestionPanel] = {}
+        self._identity: dict[Any, str] = {}
+        self._lock = threading.RLock()
+        self._waiting = False  # the question was asked with the clock paused: Play ends the vote
+        app.server.on_client_connect(self._joined)
+        app.server.on_client_disconnect(self._left)
+        self.classroom.on_present.append(self._promoted)
+        app.shared.following.listeners.append(self.step_shown)
+
+    # ------------------------------------------------------------------ browsers
+    def _joined(self, client: viser.ClientHandle) -> None:
+        panel = QuestionPanel(
+            client,
+            on_vote=self._safely(self.vote),
+            on_reveal=self._safely(self.reveal),
+            on_ask=self._safely(self.ask_from_panel),
+            on_save=self._safely(self.save_for),
+        )
+        with self._lock:
+            self._identity[client.client_id] = self.voters.identity(client.client_id)
+            self._panels[client.client_id] = panel
+            self._show(panel)
+
+    def _left(self, client: viser.ClientHandle) -> None:
+        with self._lock:
+            self._panels.pop(client.client_id, None)
+            self._identity.pop(client.client_id, None)
+
+    def _promoted(self, client: viser.ClientHandle) -> None:
+        with self._lock:
+            panel = self._panels.get(client.client_id)
+            if panel is not None:
+                self._show(panel)
+
+    def _presenting(self, client_id: Any) -> bool:
+        return client_id in self.classroom.presenters
+
+    def _show(self, panel: QuestionPanel) -> None:
+        cid = panel.client.client_id
+        panel.show(
+            self.poll.current,
+            presenter=self._presenting(cid),
+            mine=self.poll.answer_of(self._identity.get(cid)),
+            count=self.poll.count(),
+        )
+
+    def _show_all(self) -> None:
+        with self._lock:
+            for panel in list(self._panels.values()):
+                try:
+                    self._show(panel)
+                except Exception:  # noqa: BLE001 - a browser that left meanwhile; the others still get it
+                    traceback.print_exc()
+
+    def _safely(self, fn: Callable[..., None]) -> Callable[..., None]:
+        def run(client: Any, *args: Any) -> None:
+            try:
+                fn(client, *args)
+            except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
+                traceback.print_exc()
+                self._tell(client, "Something went wrong", f"{type(exc).__name__}: {exc}")
+
+        return run
+
+    def _tell(self, client: Any, title: str, body: str) -> None:
+        self.app.notify(title, body, client=client, error=True)
+
+    # ------------------------------------------------------------------ asking and answering
+    def step_shown(self, index: int, step: Step) -> None:
+        """The lecture shows a step (a :class:`app.teaching.following.Following` listener): ask its question,
+        or close the one before."""
+        if step.ask is None:
+            question = self.poll.current
+            if question is not None and question.open:
+                self.poll.close()
+                self._closed()
+            return
+        scene = self.app.shared.scene
+        self.ask(step.ask, f"step {index + 1}", true_value(step.ask, scene))
+        show_spoilers(step.ask, scene, visible=False)  # the marker of the answer waits for the reveal
+
+    def ask(self, ask: Ask, source: str, true: float | None = None) -> None:
+        """Put a question to the class (the one before is closed and kept for the CSV)."""
+        self.poll.ask(ask, source, true=true)
+        self._waiting = not self.app.shared.playing
+        self._show_all()
+        self.write()
+
+    def ask_from_panel(self, client: Any, text: str, choices: str) -> None:
+        if not self._presenting(client.client_id):
+            self._tell(client, "Refused", "Only the presenter asks the class.")
+            return
+        try:
+            ask = parse_choices(text, choices)
+        except ValueError as exc:
+            self._tell(client, "Question not asked", str(exc))
+            return
+        self.ask(ask, "asked from the panel")
+
+    def vote(self, client: Any, value: Any) -> None:
+        """A browser's answer: refused (with a message to that browser only) or kept, one per voter."""
+        cid = client.client_id
+        if self._presenting(cid):
+            self._tell(client, "Refused", "The presenter does not vote: the class does.")
+            return
+        question = self.poll.current
+        if question is not None and question.open and self._waiting and self.app.shared.playing:
+            self.poll.close()  # the demonstration has started: predictions are over
+            self._closed()
+        with self._lock:
+            voter = self._identity.get(cid)
+        if voter is None:
+            self._tell(client, "Refused", "This browser is not following the lecture.")
+            return
+        try:
+            kept = self.poll.vote(voter, value)
+        except VoteRefused as exc:
+            self._tell(client, "Answer refused", str(exc))
+            return
+        question = self.poll.current
+        count = self.poll.count()
+        with self._lock:
+            for other, panel in list(self._panels.items()):
+                if panel.presenter or self._identity.get(other) == voter:  # the count, or a copy of this page
+                    panel.update(question, kept, count)
+
+    def reveal(self, client: Any) -> None:
+        """The presenter's "Show answers": close the vote, put the distribution on every screen."""
+        if client is not None and not self._presenting(client.client_id):
+            self._tell(client, "Refused", "Only the presenter shows the answers.")
+            return
+        if self.poll.reveal() is None:
+            return
+        self.app.shared.following.show_text(caption=True)
+        self._closed()
+
+    def _closed(self) -> None:
+        question = self.poll.current
+        show_spoilers(question.ask if question is not None else None, self.app.shared.scene, visible=True)
+        self._show_all()
+        self.write()
+
+    # ------------------------------------------------------------------ the CSV
+    def save_for(self, client: Any) -> None:
+        """The presenter's "Save answers (CSV)": the file, downloaded by that browser."""
+        if not self._presenting(client.client_id):
+            self._tell(client, "Refused", "Only the presenter saves the answers.")
+            return
+        client.send_file_download("answers.csv", self.poll.csv().encode(), save_immediately=True)
+
+    def write(self) -> None:
+        """Rewrite ``export`` (if given) with every question's counts, atomically."""
+        if self.export is None:
+            return
+        folder = self.export.resolve().parent
+        with tempfile.NamedTemporaryFile("w", dir=folder, delete=False, suffix=".csv", encoding="utf-8") as f:
+            f.write(self.poll.csv())
+        os.replace(f.name, self.export)

@@ -1,0 +1,109 @@
+"""Who is voting, without a name: one identity per browser, kept across its reconnects.
+
+The server hands every browser that loads the page a random token in an HttpOnly cookie
+(:data:`COOKIE`); the browser sends it back when its page opens the websocket, and the token is the
+browser's identity for class questions (:mod:`app.teaching.questions`). A copy of the page in the same
+browser, or the same page after a reconnect, has the same identity and so the same single answer. A
+client that brings no token the server issued (a script's raw websocket) is one voter per connection.
+The token says nothing about the student: no name is asked or kept.
+
+viser 1.1.1 has no hook for its HTTP responses; :func:`issue_cookies` sets one on its websockets server.
+More in docs/app-notes.md (``app.teaching.voters``).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import secrets
+import threading
+from collections import OrderedDict
+from http.cookies import CookieError, SimpleCookie
+from typing import Any
+
+import viser
+
+__all__ = ["COOKIE", "MAX_TOKENS", "Voters"]
+
+COOKIE = "rbl_voter"
+"""Name of the cookie that carries a browser's voter token."""
+
+MAX_TOKENS = 100_000
+"""Tokens remembered; the oldest are forgotten past this (their browsers then vote per connection)."""
+
+
+class Voters:
+    """The voter identity of every browser of one viser server.
+
+    Parameters
+    ----------
+    server : viser.ViserServer
+        A running server: the cookie is set on the pages it serves from now on.
+    """
+
+    def __init__(self, server: viser.ViserServer) -> None:
+        self._server = server
+        self._tokens: OrderedDict[str, None] = OrderedDict()
+        self._lock = threading.Lock()
+        self.installed = _install(server, self._respond)
+
+    def issue(self) -> str:
+        """A new token, remembered (what a page served now receives)."""
+        token = secrets.token_urlsafe(18)
+        with self._lock:
+            self._tokens[token] = None
+            while len(self._tokens) > MAX_TOKENS:
+                self._tokens.popitem(last=False)
+        return token
+
+    def known(self, token: str | None) -> bool:
+        with self._lock:
+            return token is not None and token in self._tokens
+
+    def identity(self, client_id: Any) -> str:
+        """The voter a connected client counts as: its browser's token, or its connection alone."""
+        connection = self._server._websock_server._live_connections.get(client_id)
+        request = getattr(connection, "request", None)
+        token = _token(request.headers.get("Cookie")) if request is not None else None
+        return f"browser {token}" if self.known(token) else f"connection {client_id}"
+
+    def _respond(self, connection: Any, request: Any, response: Any) -> Any:
+        """websockets' process_response: a page served to a browser without a known token sets one."""
+        if request.headers.get("Upgrade") == "websocket" or response.status_code != 200:
+            return response
+        if not self.known(_token(request.headers.get("Cookie"))):
+            response.headers["Set-Cookie"] = f"{COOKIE}={self.issue()}; Path=/; HttpOnly; SameSite=Strict"
+        return response
+
+
+def _token(header: str | None) -> str | None:
+    if not header:
+        return None
+    jar: SimpleCookie = SimpleCookie()
+    try:
+        jar.load(header)
+    except CookieError:
+        return None
+    morsel = jar.get(COOKIE)
+    return None if morsel is None else morsel.value
+
+
+def _install(server: viser.ViserServer, respond: Any) -> bool:
+    """Set ``respond`` as the process_response of viser's websockets server; False if it cannot be found
+    (every client then votes once per connection)."""
+    loop = server._websock_server._background_event_loop
+    if loop is None:
+        return False
+
+    async def find() -> bool:
+        for task in asyncio.all_tasks():
+            frame = getattr(task.get_coro(), "cr_frame", None)
+            serving = frame.f_locals.get("serve_future") if frame is not None else None  # websockets' Server
+            if serving is not None and hasattr(serving, "process_response"):
+                serving.process_response = respond
+                return True
+        return False
+
+    try:
+        return bool(asyncio.run_coroutine_threadsafe(find(), loop).result(timeout=10.0))
+    except Exception:  # noqa: BLE001 - a server that is stopping: votes fall back to one per connection
+        return False
