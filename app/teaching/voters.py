@@ -7,13 +7,12 @@ browser, or the same page after a reconnect, has the same identity and so the sa
 client that brings no token the server issued (a script's raw websocket) is one voter per connection.
 The token says nothing about the student: no name is asked or kept.
 
-viser 1.1.1 has no hook for its HTTP responses; :func:`issue_cookies` sets one on its websockets server.
+viser 1.1.1 has no hook for its HTTP responses: :func:`app.guards.responses.hook_responses` sets one.
 More in docs/app-notes.md (``app.teaching.voters``).
 """
 
 from __future__ import annotations
 
-import asyncio
 import secrets
 import threading
 from collections import OrderedDict
@@ -21,6 +20,8 @@ from http.cookies import CookieError, SimpleCookie
 from typing import Any
 
 import viser
+
+from app.guards.responses import hook_responses, request_headers
 
 __all__ = ["COOKIE", "MAX_TOKENS", "Voters"]
 
@@ -44,7 +45,7 @@ class Voters:
         self._server = server
         self._tokens: OrderedDict[str, None] = OrderedDict()
         self._lock = threading.Lock()
-        self.installed = _install(server, self._respond)
+        self.installed = hook_responses(server, self._respond)
 
     def issue(self) -> str:
         """A new token, remembered (what a page served now receives)."""
@@ -61,9 +62,8 @@ class Voters:
 
     def identity(self, client_id: Any) -> str:
         """The voter a connected client counts as: its browser's token, or its connection alone."""
-        connection = self._server._websock_server._live_connections.get(client_id)
-        request = getattr(connection, "request", None)
-        token = _token(request.headers.get("Cookie")) if request is not None else None
+        headers = request_headers(self._server, client_id)
+        token = _token(headers.get("Cookie")) if headers is not None else None
         return f"browser {token}" if self.known(token) else f"connection {client_id}"
 
     def _respond(self, connection: Any, request: Any, response: Any) -> Any:
@@ -85,25 +85,3 @@ def _token(header: str | None) -> str | None:
         return None
     morsel = jar.get(COOKIE)
     return None if morsel is None else morsel.value
-
-
-def _install(server: viser.ViserServer, respond: Any) -> bool:
-    """Set ``respond`` as the process_response of viser's websockets server; False if it cannot be found
-    (every client then votes once per connection)."""
-    loop = server._websock_server._background_event_loop
-    if loop is None:
-        return False
-
-    async def find() -> bool:
-        for task in asyncio.all_tasks():
-            frame = getattr(task.get_coro(), "cr_frame", None)
-            serving = frame.f_locals.get("serve_future") if frame is not None else None  # websockets' Server
-            if serving is not None and hasattr(serving, "process_response"):
-                serving.process_response = respond
-                return True
-        return False
-
-    try:
-        return bool(asyncio.run_coroutine_threadsafe(find(), loop).result(timeout=10.0))
-    except Exception:  # noqa: BLE001 - a server that is stopping: votes fall back to one per connection
-        return False

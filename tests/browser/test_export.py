@@ -62,7 +62,7 @@ def test_the_panel_export_button_downloads_a_zip(chromium) -> None:
         page, _ = open_page(chromium, app)
         click(page.get_by_text("Export a recording").first)
         with page.expect_download(timeout=60_000) as download:
-            click(page.get_by_role("button", name="Export"))
+            click(page.get_by_role("button", name="Export", exact=True))  # not the folder "Export a recording"
         path = download.value.path()
         archive = zipfile.ZipFile(path)
         assert sorted(archive.namelist()) == ["index.html", "pendulum.csv", "pendulum.png"]

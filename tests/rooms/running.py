@@ -14,9 +14,9 @@ from __future__ import annotations
 import contextlib
 import http.client
 import os
+import random
 import re
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -31,7 +31,8 @@ from websockets.sync.client import ClientConnection, connect
 
 from app.rooms.cli import READY
 from app.rooms.nginx import BACKEND_HEADER, NginxMissing, find_nginx
-from tests.harness import CAMERA_MESSAGE, free_port
+from app.rooms.supervisor import port_free
+from tests.harness import CAMERA_MESSAGE
 
 ROOT = Path(__file__).resolve().parents[2]
 SUBPROTOCOL = f"viser-v{viser.__version__}"
@@ -46,11 +47,28 @@ def nginx_or_skip() -> str:
         pytest.skip(str(exc))
 
 
+BLOCK_PORTS = (20_000, 32_000)
+"""Where :func:`free_block` looks: below Linux's ephemeral ports (32768-60999), which every ``bind(0)`` and
+outgoing connection of the other tests takes from, so a block found free stays free while the rooms start."""
+
+
+def free_block(count: int) -> int:
+    """The first of ``count`` consecutive ports of 127.0.0.1 free now, in :data:`BLOCK_PORTS`: a rooms file
+    places its rooms on the ports after its proxy's."""
+    rng = random.Random()
+    for _ in range(200):
+        first = rng.randrange(BLOCK_PORTS[0], BLOCK_PORTS[1] - count)
+        if all(port_free("127.0.0.1", port) for port in range(first, first + count)):
+            return first
+    raise AssertionError(f"no {count} consecutive free ports in {BLOCK_PORTS}")
+
+
 def rooms_file(folder: Path, rooms: list[dict[str, Any]], listen: int | None = None) -> tuple[Path, int]:
     """Write a rooms file into ``folder``; each room dict is its keys (``port`` and ``hosts`` given as
     written, or ``free`` = number of processes to place on free ports of 127.0.0.1, or ``free_hosts`` =
     loopback addresses to place one process each on). Returns the path and the proxy's port."""
-    listen = listen or free_port()
+    placed = [room for room in rooms if not {"hosts", "free_hosts", "port"} & set(room)]
+    listen = listen or free_block(1 + sum(room.get("processes", 1) for room in placed))
     lines = [f'listen = "127.0.0.1:{listen}"']
     for room in rooms:
         room = dict(room)
@@ -74,9 +92,13 @@ def rooms_file(folder: Path, rooms: list[dict[str, Any]], listen: int | None = N
 
 
 def _free_on(host: str) -> int:
-    with socket.socket() as s:
-        s.bind((host, 0))
-        return int(s.getsockname()[1])
+    """A port free now on ``host``, outside the ephemeral ports (see :data:`BLOCK_PORTS`)."""
+    rng = random.Random()
+    for _ in range(200):
+        port = rng.randrange(*BLOCK_PORTS)
+        if port_free(host, port):
+            return port
+    raise AssertionError(f"no free port on {host} in {BLOCK_PORTS}")
 
 
 class RunningDepartment:
