@@ -11,12 +11,20 @@ import numpy as np
 from numpy.typing import NDArray
 from viser import _messages
 
-__all__ = ["departed", "resend_poses", "send_markdown", "send_orientation", "send_points", "send_position"]
+__all__ = ["departed", "resend_poses", "send_markdown", "send_orientation", "send_points", "send_position", "unsent"]
 
 
 def departed(client: Any) -> bool:
     """The browser has disconnected (viser closed its message buffer and removes its handles)."""
     return bool(client._websock_connection.get_message_buffer().done)
+
+
+def unsent(client: Any) -> bool:
+    """Whether viser's sender has not yet taken everything queued for this browser's own connection (its
+    last frame is still waiting: the network thread is behind, or the browser reads slowly)."""
+    buffer = client._websock_connection.get_message_buffer()
+    cursor = buffer.generator_cursors.get(client.client_id)  # the last message its sender took
+    return cursor is not None and bool(cursor < buffer.message_counter - 1)
 
 
 def _live(handle: Any) -> Any:
