@@ -264,7 +264,7 @@ class App:
         variable of :meth:`run` would keep the last session of a departed browser alive."""
         for simulation in self.simulations():
             try:
-                simulation.frame(dt)
+                simulation.tick(dt)
             except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
                 traceback.print_exc()
 

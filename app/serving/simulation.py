@@ -103,7 +103,7 @@ class Simulation:
         self._shown_to = shown_to
         self.clock = Clock(fps)
         self._dirty = True
-        self._owed = 0.0  # wall time (s) of frames left undrawn while the browser was behind (see frame)
+        self._owed = 0.0  # wall time (s) of frames left undrawn while the browser was behind (see tick)
         self._folder: Any = None
         self._last_time_text = 0.0
         self._described_at = -math.inf  # monotonic time of the last description (DESCRIBE_SECONDS)
@@ -425,6 +425,16 @@ class Simulation:
                 pass
 
     # ------------------------------------------------------------------ the frame
+    def tick(self, wall_dt: float) -> bool:
+        """The real-time loop's frame (:meth:`frame`), left out while this simulation's own browser has not
+        been sent the last one: a frame drawn then would replace that one in viser's buffer unseen. The wall
+        time left out is owed and drawn with the next frame its browser can take; a change is drawn at once."""
+        if not self._dirty and self.behind():
+            self._owed += wall_dt
+            return False
+        wall_dt, self._owed = wall_dt + self._owed, 0.0
+        return self.frame(wall_dt)
+
     def frame(self, wall_dt: float = 1.0 / FPS) -> bool:
         """Advance the clock by ``wall_dt`` × speed (if playing) and redraw; True if a frame was drawn."""
         with self.lock:
@@ -433,12 +443,6 @@ class Simulation:
             scene = self.scene
             if scene is None or self.closed or self.gone():
                 return False
-            if not self._dirty and self.behind():
-                # Its browser has not been sent the last frame yet: a frame drawn now would replace that one
-                # in viser's buffer unseen. The time is drawn with the next frame its browser can take.
-                self._owed += wall_dt
-                return False
-            wall_dt, self._owed = wall_dt + self._owed, 0.0
             advance = self.clock.advance(wall_dt)
             if advance == 0.0 and not self._dirty:
                 return False
