@@ -5,8 +5,10 @@ a pool process killed with SIGKILL.
 process per room, 127.0.0.2 and 127.0.0.3 standing in for two machines of a private pool). The simulated
 browsers are websocket clients speaking viser's protocol (as :mod:`benchmarks.serve`: no browser), in
 further processes (two for the pool, one per presenter room: browsers read on their own machines, not
-under one GIL); each first gets its room's cookie from nginx as a page load does, then opens ``/ROOM``
-with viser's subprotocol and reads from then on. A frame is
+under one GIL), each reading all of its connections on one asyncio event loop (no thread per connection:
+they stand in for browsers on other machines, so they take as little of the measured cores as a reader
+can); each first gets its room's cookie from nginx as a page load does, then opens ``/ROOM`` with viser's
+subprotocol and reads and decodes every message from then on. A frame is
 a websocket message that sets the pose of the room's body (:func:`benchmarks.serve.posed_nodes`).
 
 Rows:
@@ -28,6 +30,7 @@ Run: python -m benchmarks.rooms [--sessions 60] [--followers 30] [--seconds 5] [
 from __future__ import annotations
 
 import argparse
+import asyncio
 import contextlib
 import multiprocessing as mp
 import os
@@ -36,7 +39,6 @@ import resource
 import signal
 import statistics
 import tempfile
-import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -44,11 +46,13 @@ from typing import Any
 
 import msgspec
 import zstandard
+from websockets.asyncio.client import connect
 
 from app.rooms.supervisor import answers
 from app.scenes import REGISTRY, load_all
 from benchmarks.serve import WARMUP, posed_nodes
-from tests.rooms.running import backend_of, proxied, room_cookie, rooms_file, running_department
+from tests.harness import CAMERA_MESSAGE
+from tests.rooms.running import SUBPROTOCOL, backend_of, proxied, room_cookie, rooms_file, running_department
 
 RESULTS = Path(__file__).resolve().parent / "results" / "rooms.md"
 BODY = {"heavy_top": "/scene/top", "pendulum": "/scene/body", "tennis_racket": "/scene/body"}
@@ -76,51 +80,69 @@ def picker_and_nodes(raw: bytes, state: dict[str, Any]) -> None:
             state["scene"] = m["updates"].get("value", state.get("scene"))
 
 
-def clients(port: int, rooms: list[tuple[str, str]], read_for: float, out: Any, go: Any, start: Any) -> None:
-    """In a child process: one browser per (room, body node) of ``rooms``, each reading from its connection
-    on (as a page does). Puts ("connected", n) once all are in, waits for ``go``, reads until ``start.value``
-    + ``read_for`` (monotonic s, one clock for every process), then puts the list of reports: per browser
-    its process, its frames' times, the nodes and the Scene picker it was shown, why it lost its connection."""
-    stop = threading.Event()
+async def browse(port: int, room: str, body: str, report: dict[str, Any], zstd: Any) -> Any:
+    """One browser: its room's cookie from nginx (a page load), the websocket through the proxy, then a
+    task reading every message from then on (each decoded; a frame: a message setting ``body``'s pose)."""
+    cookie, _ = await asyncio.to_thread(room_cookie, port, room)
+    ws = await connect(
+        f"ws://127.0.0.1:{port}/{room}",
+        subprotocols=[SUBPROTOCOL],  # type: ignore[list-item]
+        additional_headers={"Cookie": cookie} if cookie else None,
+        max_size=None,
+        open_timeout=60,
+        close_timeout=1,
+    )
+    await ws.send(CAMERA_MESSAGE)  # viser counts a client once it reports its camera, as the page does
+    report["backend"] = backend_of(ws)  # type: ignore[arg-type]  # the asyncio connection has the same .response
+    connected = time.monotonic()
+
+    async def read() -> None:
+        try:
+            async for message in ws:
+                now = time.monotonic()
+                assert isinstance(message, bytes)
+                if now - connected < WARMUP:  # the room's GUI and meshes arrive first: read them fully
+                    picker_and_nodes(message, report)
+                nodes = posed_nodes(message, zstd)
+                report["nodes"] |= nodes
+                if body in nodes:
+                    report["frames"].append(now)
+            report["lost"] = "the server closed the connection"
+        except Exception as exc:  # noqa: BLE001 - a lost connection: the report says so
+            report["lost"] = f"{type(exc).__name__}: {exc}"
+
+    return ws, asyncio.get_running_loop().create_task(read())
+
+
+async def browsers(
+    port: int, rooms: list[tuple[str, str]], read_for: float, out: Any, go: Any, start: Any
+) -> list[dict[str, Any]]:
+    zstd = zstandard.ZstdDecompressor()  # one for every message of this process
     reports: list[dict[str, Any]] = []
-    sockets = []
-    readers = []
-
-    def read(ws: Any, body: str, report: dict[str, Any], connected: float) -> None:
-        while not stop.is_set():
-            try:
-                message = ws.recv(timeout=0.1)
-            except TimeoutError:
-                continue
-            except Exception as exc:  # noqa: BLE001 - a closed connection: the report says so
-                report["lost"] = f"{type(exc).__name__}: {exc}"
-                return
-            now = time.monotonic()
-            if now - connected < WARMUP:  # the room's GUI and meshes arrive first: read them fully
-                picker_and_nodes(message, report)
-            nodes = posed_nodes(message)
-            report["nodes"] |= nodes
-            if body in nodes:
-                report["frames"].append(now)
-
+    opened = []
     for room, body in rooms:
-        cookie, _ = room_cookie(port, room)
-        ws = proxied(port, room, cookie or None, timeout=60)
-        report = {"room": room, "backend": backend_of(ws), "frames": [], "nodes": set(), "scene": None, "lost": ""}
-        reader = threading.Thread(target=read, args=(ws, body, report, time.monotonic()), daemon=True)
-        reader.start()
-        sockets.append(ws)
+        report: dict[str, Any] = {"room": room, "backend": "", "frames": [], "nodes": set(), "scene": None, "lost": ""}
+        opened.append(await browse(port, room, body, report, zstd))
         reports.append(report)
-        readers.append(reader)
-    out.put(("connected", len(sockets)))
-    go.wait(600)
-    time.sleep(max(0.0, start.value + read_for - time.monotonic()))
-    stop.set()
-    for r in readers:
-        r.join(timeout=2.0)
-    for ws in sockets:
+    out.put(("connected", len(opened)))
+    await asyncio.to_thread(go.wait, 600)
+    await asyncio.sleep(max(0.0, start.value + read_for - time.monotonic()))
+    for ws, reader in opened:
+        reader.cancel()
+        with contextlib.suppress(BaseException):
+            await reader
         with contextlib.suppress(Exception):
-            ws.close()
+            await ws.close()
+    return reports
+
+
+def clients(port: int, rooms: list[tuple[str, str]], read_for: float, out: Any, go: Any, start: Any) -> None:
+    """In a child process: one browser per (room, body node) of ``rooms``, all read by one asyncio event
+    loop (as cheap as a reader can be: no thread per connection), each reading from its connection on as a
+    page does. Puts ("connected", n) once all are in, waits for ``go``, reads until ``start.value`` +
+    ``read_for`` (monotonic s, one clock for every process), then puts the list of reports: per browser its
+    process, its frames' times, the nodes and the Scene picker it was shown, why it lost its connection."""
+    reports = asyncio.run(browsers(port, rooms, read_for, out, go, start))
     out.put([{**r, "nodes": sorted(r["nodes"])} for r in reports])
 
 
@@ -312,7 +334,8 @@ def report(
         f"`{command}`. `rigid-body-lab rooms` in a child process (nginx in front on 127.0.0.1; the pool's two "
         "processes on 127.0.0.2 and 127.0.0.3 standing in for two machines). Simulated browsers: websocket "
         "clients speaking viser's protocol in further processes on the same cores (two for the pool, one per "
-        "presenter room), each getting its room's cookie from nginx first as a page load does; a frame is a "
+        "presenter room; each process reads all its connections on one asyncio event loop and decodes every "
+        "message), each getting its room's cookie from nginx first as a page load does; a frame is a "
         "message that sets the pose of the room's body.",
         "",
         machine,

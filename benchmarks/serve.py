@@ -138,15 +138,17 @@ class _Window(msgspec.Struct):
 _WINDOW = msgspec.msgpack.Decoder(_Window)
 
 
-def posed_nodes(raw: bytes) -> set[str]:
+def posed_nodes(raw: bytes, zstd: zstandard.ZstdDecompressor | None = None) -> set[str]:
     """The scene nodes whose pose one websocket message (a window of viser messages) sets.
 
     viser's wire format: the msgpack's size and the compressed size (8 bytes each, little-endian), the
     zstd-compressed msgpack of ``{"messages": [...], ...}``, then raw binary buffers (not read here).
+    ``zstd``: a decompressor to reuse (a reader of many messages makes one, not one a message).
     """
     inner_size = int.from_bytes(raw[:8], "little")
     compressed = int.from_bytes(raw[8:16], "little")
-    inner = zstandard.ZstdDecompressor().decompress(raw[16 : 16 + compressed], max_output_size=inner_size)
+    zstd = zstd or zstandard.ZstdDecompressor()
+    inner = zstd.decompress(raw[16 : 16 + compressed], max_output_size=inner_size)
     return {str(m.name) for m in _WINDOW.decode(inner).messages if m.type in POSE_MESSAGES}
 
 

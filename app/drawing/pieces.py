@@ -130,7 +130,7 @@ class Arrow:
         self.tip = np.zeros(3)
         self.length = 0.0  # of the arrow last drawn, m
         self._anchor: Anchor = LABEL_ANCHOR
-        self._vector = np.full(3, np.nan)  # what the browsers were last sent
+        self._vector = (math.nan, math.nan, math.nan)  # what the browsers were last sent
         self._head = -1.0
         self._visible = True
         self._label_visible = True
@@ -143,25 +143,29 @@ class Arrow:
         longer arrow's length of each other (L and ω lined up): the two labels then sit in opposite corners of
         one point, at any zoom, and neither moves onto the body.
         """
-        v = np.asarray(vector, dtype=float) * self.scale
-        o = np.asarray(origin, dtype=float)
-        length = float(np.linalg.norm(v))
+        # Python floats, not numpy: three arrows a frame in every session, where numpy's per-call cost
+        # on 3-vectors was most of the work.
+        vx, vy, vz = (float(c) * self.scale for c in np.asarray(vector, dtype=float).reshape(3).tolist())
+        ox, oy, oz = np.asarray(origin, dtype=float).reshape(3).tolist()
+        length = math.sqrt(vx * vx + vy * vy + vz * vz)
         visible = math.isfinite(length) and length > 1e-6
         anchor: Anchor = LABEL_ANCHOR
         if visible:
-            self.tip = o + v
+            tip = (ox + vx, oy + vy, oz + vz)
+            self.tip = np.array(tip)
             self.length = length
             if apart_from is not None and apart_from._visible:
                 near = LABEL_GAP * max(length, apart_from.length)
-                if float(np.linalg.norm(self.tip - apart_from.tip)) < near:
+                ax, ay, az = apart_from.tip.tolist()
+                if math.sqrt((tip[0] - ax) ** 2 + (tip[1] - ay) ** 2 + (tip[2] - az) ** 2) < near:
                     anchor = LABEL_ANCHOR_APART
             # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
             # (the web client does not follow a change of the start point alone). A constant vector
             # (L of a free body) is not resent.
-            if not np.array_equal(v, self._vector):
-                self._vector = v
-                send_points(self.handle, np.array([[np.zeros(3), v]]))
-            send_position(self.handle, o)  # sent only when it changed
+            if (vx, vy, vz) != self._vector:
+                self._vector = (vx, vy, vz)
+                send_points(self.handle, np.array([[[0.0, 0.0, 0.0], [vx, vy, vz]]]))
+            send_position(self.handle, (ox, oy, oz))  # sent only when it changed
             # Keep the head in proportion for short arrows.
             head = min(6.0 * self.shaft_radius, 0.45 * length)
             if head != self._head:
@@ -172,7 +176,7 @@ class Arrow:
             if self._label_visible != visible:
                 self._label_visible = self.label.visible = visible
             if visible:
-                send_position(self.label, self.tip)
+                send_position(self.label, tip)
                 if anchor != self._anchor:  # sent only when it changes
                     self._anchor = self.label.anchor = anchor
 

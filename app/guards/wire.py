@@ -11,12 +11,20 @@ import numpy as np
 from numpy.typing import NDArray
 from viser import _messages
 
-__all__ = ["departed", "resend_poses", "send_orientation", "send_points", "send_position"]
+__all__ = ["departed", "resend_poses", "send_markdown", "send_orientation", "send_points", "send_position", "unsent"]
 
 
 def departed(client: Any) -> bool:
     """The browser has disconnected (viser closed its message buffer and removes its handles)."""
     return bool(client._websock_connection.get_message_buffer().done)
+
+
+def unsent(client: Any) -> bool:
+    """Whether viser's sender has not yet taken everything queued for this browser's own connection (its
+    last frame is still waiting: the network thread is behind, or the browser reads slowly)."""
+    buffer = client._websock_connection.get_message_buffer()
+    cursor = buffer.generator_cursors.get(client.client_id)  # the last message its sender took
+    return cursor is not None and bool(cursor < buffer.message_counter - 1)
 
 
 def _live(handle: Any) -> Any:
@@ -44,8 +52,8 @@ def send_orientation(handle: Any, wxyz: NDArray[np.float64]) -> None:
     impl.api._queue_scene_message(_messages.SetOrientationMessage(impl.name, value))
 
 
-def send_position(handle: Any, position: NDArray[np.float64]) -> None:
-    """Set a scene node's position (m, shape (3,)), if it changed."""
+def send_position(handle: Any, position: NDArray[np.float64] | tuple[float, float, float]) -> None:
+    """Set a scene node's position (m, shape (3,), or three floats), if it changed."""
     impl = _live(handle)
     if impl is None:
         return
@@ -68,6 +76,28 @@ def send_points(handle: Any, points: NDArray[Any]) -> None:
     points = np.array(points, dtype=np.float32)
     impl.props.points = points
     impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, {"points": points}))
+
+
+def send_markdown(handle: Any, content: str) -> None:
+    """Set a markdown element's ``content``, if it changed (a gauge's line of text, rewritten every frame).
+
+    viser's setter parses the text for images (``![...](...)``) and runs the generic property path; text
+    without an image is sent as it is, which is what the parse would give. Text with one goes through
+    viser's setter, which reads the image.
+    """
+    impl = handle._impl
+    if impl.removed:  # as viser's setter: an update would re-create a removed element in the browsers
+        raise RuntimeError("cannot update a removed markdown element")
+    if "![" in content:
+        handle.content = content
+        return
+    if impl.gui_api._websock_interface.get_message_buffer().done:
+        return  # its browser has left
+    handle._content = content  # what ``handle.content`` reads back
+    if impl.props._markdown == content:
+        return
+    impl.props._markdown = content
+    impl.gui_api._websock_interface.queue_message(_messages.GuiUpdateMessage(impl.uuid, {"_markdown": content}))
 
 
 def resend_poses(scene: Any, prefix: str) -> None:

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from app.guards.wire import send_markdown
 from app.panel.rollback import Rollback
 
 __all__ = [
@@ -272,18 +273,19 @@ class Gauge:
         self.text = ctx.server.gui.add_markdown(label)
         self.label = label
         self.bar = ctx.server.gui.add_progress_bar(0.0, color="orange")
-        self._last: tuple[float, str] | None = None
+        self._fill, self._colour, self._text = 0.0, "orange", ""
 
     def set(self, value: float, threshold: float, text: str) -> None:
         fill = 100.0 * min(max(value / (2.0 * threshold), 0.0), 1.0) if threshold > 0 else 0.0
         colour = "blue" if value > threshold else "orange"  # not green/red: told apart by every eye
-        key = (round(fill, 1), colour + text)
-        if key == self._last:
-            return
-        self._last = key
-        self.bar.value = fill
-        self.bar.color = colour
-        self.text.content = f"{self.label}  \n{text}"
+        fill = round(fill, 1)
+        if fill != self._fill:  # each part only when it changes: text, bar and colour are set every frame
+            self._fill = self.bar.value = fill
+        if colour != self._colour:
+            self._colour = self.bar.color = colour
+        if text != self._text:
+            self._text = text
+            send_markdown(self.text, f"{self.label}  \n{text}")
 
 
 def refusable_dropdown(

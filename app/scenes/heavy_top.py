@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import trimesh
 import viser
+from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from app import controls, draw
@@ -149,6 +150,12 @@ THETA_NOW = "θ now (°)"  # the friction top: no turning points, its tilt now (
 
 SLEEPING_TILT = math.radians(5.0)
 """Within this tilt of the vertical a top above the threshold is said to sleep (it stands, barely moving)."""
+
+
+def _cross_down(axis: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``axis × (0, 0, -1)`` = ``(-a_y, a_x, 0)``, written out: ``np.cross`` costs more than the rest of a
+    frame's arithmetic (it is called once per frame of every session)."""
+    return np.array([-axis[1], axis[0], 0.0])
 
 
 def _sleeping_words(above: bool, theta: float) -> str:
@@ -352,7 +359,7 @@ class HeavyTopScene(Scene):
             "L": R @ L_body,
             "omega": R @ (L_body / moments),
             # Gravity's torque about the tip; lying on the table, the table's push cancels it (at rest, dL/dt = 0).
-            "torque": np.zeros(3) if landed else top.mgl * np.cross(axis, [0.0, 0.0, -1.0]),
+            "torque": np.zeros(3) if landed else top.mgl * _cross_down(axis),
             "theta": math.atan2(math.hypot(axis[0], axis[1]), axis[2]),
             "landed": landed,
         }

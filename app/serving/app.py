@@ -17,6 +17,7 @@ from typing import Any
 import viser
 
 from app.guards.event_loop import confine_events
+from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
 from app.panel import look
@@ -116,6 +117,7 @@ class App:
         self.fps, self.share, self.dark, self.private = float(fps), bool(share), bool(dark), bool(private)
         server = viser.ViserServer(host=host, port=port, verbose=verbose)
         confine_events(server)
+        serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
         self.server = server
         self.host, self.port = host, server.get_port()
         self.sessions: dict[Any, Simulation] = {}
@@ -282,7 +284,7 @@ class App:
         variable of :meth:`run` would keep the last session of a departed browser alive."""
         for simulation in self.simulations():
             try:
-                simulation.frame(dt)
+                simulation.tick(dt)
             except Exception:  # noqa: BLE001 - the loop never dies, and one session cannot stop another
                 traceback.print_exc()
 

@@ -18,7 +18,7 @@ import viser
 
 from app.drawing.palette import legend_html, light
 from app.guards.inputs import guard_inputs
-from app.guards.wire import departed, resend_poses
+from app.guards.wire import departed, resend_poses, unsent
 from app.panel.export_folder import ExportRun
 from app.panel.simulation_panel import SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
@@ -103,6 +103,7 @@ class Simulation:
         self._shown_to = shown_to
         self.clock = Clock(fps)
         self._dirty = True
+        self._owed = 0.0  # wall time (s) of frames left undrawn while the browser was behind (see tick)
         self._folder: Any = None
         self._last_time_text = 0.0
         self._described_at = -math.inf  # monotonic time of the last description (DESCRIBE_SECONDS)
@@ -145,6 +146,10 @@ class Simulation:
             return [self.server]
         clients = list(self.server.get_clients().values())
         return clients if self._shown_to is None else [c for c in clients if self._shown_to(c)]
+
+    def behind(self) -> bool:
+        """True while the browser of a per-browser simulation has not been sent everything already drawn."""
+        return isinstance(self.server, viser.ClientHandle) and unsent(self.server)
 
     def gone(self) -> bool:
         """True once the browser of a per-browser simulation has disconnected (nothing to draw for)."""
@@ -420,6 +425,16 @@ class Simulation:
                 pass
 
     # ------------------------------------------------------------------ the frame
+    def tick(self, wall_dt: float) -> bool:
+        """The real-time loop's frame (:meth:`frame`), left out while this simulation's own browser has not
+        been sent the last one: a frame drawn then would replace that one in viser's buffer unseen. The wall
+        time left out is owed and drawn with the next frame its browser can take; a change is drawn at once."""
+        if not self._dirty and self.behind():
+            self._owed += wall_dt
+            return False
+        wall_dt, self._owed = wall_dt + self._owed, 0.0
+        return self.frame(wall_dt)
+
     def frame(self, wall_dt: float = 1.0 / FPS) -> bool:
         """Advance the clock by ``wall_dt`` × speed (if playing) and redraw; True if a frame was drawn."""
         with self.lock:

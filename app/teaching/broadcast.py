@@ -148,8 +148,19 @@ def _chunks(messages: list[Any]) -> list[list[Any]]:
     return [messages[i : i + WINDOW] for i in range(0, len(messages), WINDOW)]
 
 
+_UNTOUCHED: set[type] = set()
+"""Message types :func:`_disabled` passes on as they are (a frame's poses and points: most of the stream),
+learnt as they come; only viser's event loop thread reads and adds to it."""
+
+
 def _disabled(message: Any) -> Any:
     """The message as a read-only browser gets it: every control disabled."""
+    kind = type(message)
+    if kind in _UNTOUCHED:  # every message to every follower passes here: the common case costs one lookup
+        return message
+    if not issubclass(kind, (_messages._CreateGuiComponentMessage, _messages.GuiUpdateMessage)):
+        _UNTOUCHED.add(kind)
+        return message
     if isinstance(message, _messages._CreateGuiComponentMessage):
         props = getattr(message, "props", None)
         if props is not None and hasattr(props, "disabled") and not props.disabled:

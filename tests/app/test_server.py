@@ -40,6 +40,24 @@ def test_check_finite_names_the_bad_value():
         check_finite({"theta": math.inf})
 
 
+REAL = (np.float16, np.float32, np.float64, np.longdouble)
+COMPLEX = (np.complex64, np.complex128)
+BAD_REAL = (math.nan, math.inf, -math.inf)
+BAD_COMPLEX = (*BAD_REAL, complex(0.0, math.inf), complex(math.nan, 0.0))
+
+
+@pytest.mark.parametrize("size", [1, 9, 64, 65, 1000])  # checked in Python up to 64 elements, by numpy above
+@pytest.mark.parametrize(
+    "dtype, bad", [(d, b) for d in REAL for b in BAD_REAL] + [(d, b) for d in COMPLEX for b in BAD_COMPLEX]
+)
+def test_check_finite_finds_one_bad_element_in_an_array_of_any_size_and_float_type(size, dtype, bad):
+    values = np.full(size, np.finfo(dtype).max, dtype=dtype)  # the largest finite number is finite
+    check_finite({"v": values})
+    values[size // 2] = bad
+    with pytest.raises(NumericalFailure, match="v contains NaN or inf"):
+        check_finite({"v": values})
+
+
 @pytest.mark.parametrize("name", SCENES)
 def test_each_scene_builds_steps_and_moves_its_handles(app, name):
     scene = open_scene(app, name)

@@ -96,3 +96,34 @@ def test_an_explorers_copy_is_collected_when_its_browser_leaves():
             simulation, scene = _the_session(app)
         wait_for(lambda: not app.sessions, what="the copy to be dropped")
         wait_for(lambda: _collected(simulation) and _collected(scene), timeout=10, what="the copy to be collected")
+
+
+def test_a_session_whose_browser_was_not_sent_its_last_frame_waits_and_then_catches_up_the_time():
+    with running_app("heavy_top", private=True, start_loop=False) as app, raw_client(app):
+        wait_for(lambda: len(app.sessions) == 1, what="the session")
+        session = next(iter(app.sessions.values()))
+        client = session.server
+        buffer = client._websock_connection.get_message_buffer()
+        wait_for(lambda: client.client_id in buffer.generator_cursors, what="its sender to start")
+        assert session.frame(0.01)  # the first frame (a new scene is drawn at once)
+        wait_for(lambda: not session.behind(), what="its sender to take the frame")
+        t0, frames = session.clock.t, session.frames
+        # The sender has not taken a frame yet (as when the network thread is behind): no frame is drawn
+        # over it, and its wall time is owed.
+        buffer.atomic_start()  # viser's sender takes nothing inside an atomic block
+        try:
+            assert session.tick(0.01) and session.clock.t == pytest.approx(t0 + 0.01, abs=1e-12)
+            assert session.behind()
+            assert not session.tick(0.02) and not session.tick(0.03)
+            assert session.frames == frames + 1 and session.clock.t == pytest.approx(t0 + 0.01, abs=1e-12)
+        finally:
+            buffer.atomic_end()
+        wait_for(lambda: not session.behind(), what="its sender to take the frame")
+        assert session.tick(0.01)  # the owed 0.05 s and this frame's 0.01 s
+        assert session.frames == frames + 2 and session.clock.t == pytest.approx(t0 + 0.07, abs=1e-12)
+        # A frame asked for directly (a test, an export) is drawn whatever the sender does.
+        buffer.atomic_start()
+        try:
+            assert session.frame(0.01) and session.behind() and session.frame(0.01)
+        finally:
+            buffer.atomic_end()

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import viser
 
-from app.guards.wire import send_orientation, send_points, send_position
+from app.guards.wire import send_markdown, send_orientation, send_points, send_position
 
 
 @pytest.fixture(scope="module")
@@ -117,3 +117,40 @@ def test_a_node_of_a_browser_that_left_is_skipped_without_a_warning(server):
         warnings.simplefilter("error")  # viser warns on a message queued on a closed connection
         send_position(handle, np.array([1.0, 2.0, 3.0]))
         send_orientation(handle, np.array([0.0, 1.0, 0.0, 0.0]))
+
+
+def _gui_queued(server):
+    """Capture what the server's GUI queues (viser's setters and send_markdown queue through it)."""
+    sent: list = []
+    interface = server.gui._websock_interface
+    original = interface.queue_message
+    interface.queue_message = lambda message: (sent.append(message), original(message))
+    return sent, lambda: setattr(interface, "queue_message", original)
+
+
+def test_markdown_the_same_message_as_the_setter_then_nothing_for_the_same_text(server):
+    by_setter, by_wire = server.gui.add_markdown("before"), server.gui.add_markdown("before")
+    text = "**L₃ against the threshold**  \nL₃ = 0.4 kg m²/s: above it, tilted 12.5°"
+    sent, restore = _gui_queued(server)
+    try:
+        by_setter.content = text
+        send_markdown(by_wire, text)
+        by_setter.content = text
+        send_markdown(by_wire, text)
+    finally:
+        restore()
+    to_setter = [m.updates for m in sent if m.uuid == by_setter._impl.uuid]
+    to_wire = [m.updates for m in sent if m.uuid == by_wire._impl.uuid]
+    assert to_wire == to_setter == [{"_markdown": text}]
+    assert by_wire.content == by_setter.content == text
+    assert by_wire._impl.props._markdown == by_setter._impl.props._markdown
+
+
+def test_markdown_with_an_image_goes_through_viser_and_a_removed_element_is_refused(server):
+    handle = server.gui.add_markdown("before")
+    with pytest.warns(UserWarning, match="no-such-image"):  # viser's setter tried to read the image
+        send_markdown(handle, "![missing](no-such-image.png)")
+    assert handle.content == "![missing](no-such-image.png)"
+    handle.remove()
+    with pytest.raises(RuntimeError, match="removed"):
+        send_markdown(handle, "after")
