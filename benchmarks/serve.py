@@ -40,6 +40,7 @@ import msgspec
 import zstandard
 
 from app.scenes import load_all, scene_names
+from app.teaching.questions import Ask
 from benchmarks.soak import resident_mb
 from physics.integrators.warm import warm
 from tests.harness import running_app
@@ -63,6 +64,7 @@ class Case:
     restart: bool = False  # restart the clock once every client is connected (see FRICTION)
     heavy: bool = False  # rows in shared mode with a crowd too
     check: Callable[[Any], str | None] | None = None  # why a simulation's scene is not this case, or None
+    question: bool = False  # presenter mode: a class question open on every follower's panel during the row
 
 
 def _friction_check(scene: Any) -> str | None:
@@ -96,13 +98,16 @@ GHOST = Case(
     heavy=True,
     check=_ghost_check,
 )
+QUESTION = Case("question_top", "heavy_top", question=True)
+"""The heavy top in presenter mode while the class answers (issue 24): a question with three choices is put to
+the class once every client is connected, and each client's answer is cast, as a lecture step does."""
 HEAVY = (FRICTION, GHOST)
 
 
 def cases() -> list[Case]:
     """Every scene as it opens, then the heavy cases."""
     load_all()
-    return [Case(name, name) for name in scene_names()] + list(HEAVY)
+    return [Case(name, name) for name in scene_names()] + list(HEAVY) + [QUESTION]
 
 
 def case_state(case: Case) -> str | None:
@@ -214,6 +219,13 @@ def _body_node(app: Any) -> str:
     raise RuntimeError("no simulation draws a body")
 
 
+def _ask_the_class(app: Any) -> None:
+    """Put a three-choice question to the class and cast every connected follower's answer."""
+    app.questions.ask(Ask("After a few seconds the racket...", ("keeps spinning", "wobbles", "flips")), "benchmark")
+    for k, client in enumerate(app.server.get_clients().values()):
+        app.questions.vote(client, "ABC"[k % 3])
+
+
 def _problems(case: Case, app: Any) -> list[str]:
     if case.check is None:
         return []
@@ -237,6 +249,8 @@ def measure(case: Case, mode: str, n_clients: int, seconds: float, state: str | 
         connected = len(app.sessions) if mode == "private" else len(app.server.get_clients())
         if case.restart and mode != "private":
             app.restart()
+        if case.question and app.questions is not None:
+            _ask_the_class(app)
         problems = _problems(case, app)
         if connected < n_clients:
             problems.append(f"only {connected} of {n_clients} clients connected within 60 s")
