@@ -397,7 +397,9 @@ def main(argv: list[str] | None = None) -> None:
         f"Cases: a scene's name is the scene as it opens; `{FRICTION.name}`: the heavy top with spin friction "
         f"(preset “{FRICTION_PRESET}”; the shared clock is restarted once every client is connected, so the "
         f"row runs before the top lands at t ≈ 16 s); `{GHOST.name}`: the heavy top with its integrator ghost "
-        f"(“Compare with integrator”: {GHOST_METHOD}, h = {GHOST_STEP:g} s).",
+        f"(“Compare with integrator”: {GHOST_METHOD}, h = {GHOST_STEP:g} s); `{QUESTION.name}`: the heavy top "
+        "with a class question (three choices) put to the class once every client is connected and every "
+        "follower's answer cast (presenter mode; in the other modes there is no class to ask).",
         "",
         "MACHINE",
         "",
