@@ -30,11 +30,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @dataclass(frozen=True)
 class Run:
-    """One run of the suite: its wall time (s), exit code and pytest's closing line."""
+    """One run of the suite: its wall time (s), exit code, pytest's closing line and the tests that failed or
+    erred (pytest's ``FAILED``/``ERROR`` summary lines)."""
 
     seconds: float
     returncode: int
     summary: str
+    failures: tuple[str, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -72,6 +74,11 @@ def closing_line(output: str) -> str:
     return closing[-1] if closing else (lines[-1] if lines else "")
 
 
+def failures(output: str) -> tuple[str, ...]:
+    """pytest's short summary lines of the tests that failed or erred (``FAILED path::test - why``)."""
+    return tuple(line.strip() for line in output.splitlines() if line.startswith(("FAILED ", "ERROR ")))
+
+
 def run_suite(quick: bool, timeout: float) -> Run:
     """One run of the test command in a fresh process from the repository's root."""
     command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"] + (
@@ -82,8 +89,10 @@ def run_suite(quick: bool, timeout: float) -> Run:
         done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=timeout, env=os.environ.copy())
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
-        return Run(time.perf_counter() - start, -1, f"timed out after {timeout:g} s: {closing_line(out)}")
-    return Run(time.perf_counter() - start, done.returncode, closing_line(done.stdout))
+        return Run(
+            time.perf_counter() - start, -1, f"timed out after {timeout:g} s: {closing_line(out)}", failures(out)
+        )
+    return Run(time.perf_counter() - start, done.returncode, closing_line(done.stdout), failures(done.stdout))
 
 
 def write_table(runs: list[Run], quick: bool, burn: int, path: Path) -> str:
@@ -105,6 +114,8 @@ def write_table(runs: list[Run], quick: bool, burn: int, path: Path) -> str:
     ]
     passed = sum(r.passed for r in runs)
     lines += ["", f"{passed} of {len(runs)} runs passed; slowest {max(r.seconds for r in runs):.0f} s."]
+    for i, r in enumerate(runs, 1):
+        lines += [f"- run {i}: {line}" for line in r.failures]
     text = "\n".join(lines) + "\n"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text, encoding="utf-8")

@@ -6,7 +6,7 @@ import os
 import time
 from pathlib import Path
 
-from benchmarks.suite_time import Run, burning, closing_line, write_table
+from benchmarks.suite_time import Run, burning, closing_line, failures, write_table
 
 
 def test_the_closing_line_is_pytests_counts():
@@ -15,12 +15,19 @@ def test_the_closing_line_is_pytests_counts():
     assert closing_line("no tests ran\n") == "no tests ran"
 
 
+def test_the_failed_tests_are_named():
+    out = "..F\n=== short test summary info ===\nFAILED tests/a.py::t - AssertionError: 6.4\nERROR tests/b.py::u\n=== 1 failed ===\n"
+    assert failures(out) == ("FAILED tests/a.py::t - AssertionError: 6.4", "ERROR tests/b.py::u")
+    assert failures("2005 passed in 300.1s\n") == ()
+
+
 def test_the_table_counts_passes_and_names_the_load(tmp_path):
-    runs = [Run(300.4, 0, "2005 passed in 300.1s"), Run(350.0, 1, "1 failed, 2004 passed in 349.9s")]
+    runs = [Run(300.4, 0, "2005 passed in 300.1s"), Run(350.0, 1, "1 failed, 2004 passed in 349.9s", ("FAILED t::x",))]
     text = write_table(runs, quick=False, burn=2, path=tmp_path / "suite_time.md")
     assert "| 1 | 300 | passed | 2005 passed in 300.1s |" in text
     assert "| 2 | 350 | **failed** (1) |" in text
     assert "1 of 2 runs passed; slowest 350 s." in text and "2 processes spinning" in text
+    assert "- run 2: FAILED t::x" in text
     assert (tmp_path / "suite_time.png").stat().st_size > 1000
 
 
