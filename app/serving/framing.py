@@ -122,7 +122,8 @@ def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
     size = (client.camera.image_width, client.camera.image_height)
     eye, target = framed(position, look_at, size[0], size[1], FOV)
     first = getattr(client, "_rbl_framing", None) is None
-    client._rbl_framing = (size, eye, position, look_at, time.monotonic())
+    start = first_view(position, look_at)[0]  # where viser's client resets to: kept, echoes compare to it
+    client._rbl_framing = (size, eye, position, look_at, time.monotonic(), start)
     with client.atomic():
         client.camera.fov = FOV
         client.camera.position = eye
@@ -133,9 +134,8 @@ def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
 
 def _reframe(camera: Any) -> None:
     client = camera.client
-    size, eye, position, look_at, when = client._rbl_framing
+    size, eye, position, look_at, when, start = client._rbl_framing
     if (camera.image_width, camera.image_height) == size:
-        start = first_view(position, look_at)[0]
         if _near(camera.position, start) and not _near(eye, start):
             show_scene_to(client, position, look_at)  # reset to the first view: framed for this page again
         return
