@@ -142,21 +142,62 @@ def launch_chromium() -> Iterator[Any]:
             browser.close()
 
 
+FRAME_RATE = 10
+"""Frames per second a test page draws at most. Headless Chromium draws WebGL on the CPU (SwiftShader):
+about 60 ms of CPU a frame at 960×720, so a page showing a moving body, which viser's client redraws
+as fast as it can, kept one and a half of the machine's two cores busy for as long as it was open, and the
+pages of two test workers starved each other and the servers they test. 10 frames/s is a slow laptop's
+rate; the page's own behaviour (its controls, its messages, what it draws) is the same at any rate."""
+
+PACE_FRAMES = (
+    """(() => {
+  // Every requestAnimationFrame callback of the page runs in one batch at most FRAME_RATE times a second;
+  // window.rblFrames counts the batches, so a test can wait for the page to have drawn.
+  const native = window.requestAnimationFrame.bind(window);
+  const period = 1000 / FRAME_RATE;
+  let queue = new Map(), next = 1, scheduled = false, last = -Infinity;
+  window.rblFrames = 0;
+  function run(time) {
+    if (time - last < period - 2) { native(run); return; }
+    last = time; scheduled = false; window.rblFrames += 1;
+    const batch = queue; queue = new Map();
+    for (const callback of batch.values()) {
+      try { callback(time); } catch (error) { setTimeout(() => { throw error; }); }
+    }
+  }
+  window.requestAnimationFrame = (callback) => {
+    const id = next++;
+    queue.set(id, callback);
+    if (!scheduled) { scheduled = true; native(run); }
+    return id;
+  };
+  window.cancelAnimationFrame = (id) => { queue.delete(id); };
+})();"""
+).replace("FRAME_RATE", str(FRAME_RATE))
+
+
+def paced_context(browser: Any, **options: Any) -> Any:
+    """A new context of ``browser`` (a Playwright ``Browser``) whose pages draw at most
+    :data:`FRAME_RATE` frames per second (:data:`PACE_FRAMES`)."""
+    context = browser.new_context(**options)
+    context.add_init_script(PACE_FRAMES)
+    return context
+
+
 class ModuleBrowser:
     """A Playwright ``Browser`` shared by many test modules, seen by one: what it opens through
-    ``new_page`` and ``new_context`` is closed by :meth:`close_opened`; everything else is the browser's."""
+    ``new_page`` and ``new_context`` is closed by :meth:`close_opened`; everything else is the browser's.
+    Its pages draw at most :data:`FRAME_RATE` frames per second."""
 
     def __init__(self, browser: Any) -> None:
         self._browser = browser
         self._opened: list[Any] = []
 
     def new_page(self, **options: Any) -> Any:
-        page = self._browser.new_page(**options)
-        self._opened.append(page.context)  # a browser's new_page opens a context of its own
-        return page
+        return self.new_context(**options).new_page()
 
     def new_context(self, **options: Any) -> Any:
-        context = self._browser.new_context(**options)
+        context = paced_context(self._browser, **options)
         self._opened.append(context)
         return context
 
