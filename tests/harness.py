@@ -237,6 +237,21 @@ def open_page(browser: Any, app: Any, timeout: float = 30.0, viewport: dict | No
     return page, client
 
 
+QUIET = """([ms, cap]) => new Promise((resolve) => {
+  const done = (still) => { observer.disconnect(); clearTimeout(limit); resolve(still); };
+  let timer = setTimeout(() => done(true), ms);
+  const limit = setTimeout(() => done(false), cap);
+  const observer = new MutationObserver(() => { clearTimeout(timer); timer = setTimeout(() => done(true), ms); });
+  observer.observe(document.body, {subtree: true, childList: true, attributes: true, characterData: true});
+})"""
+
+
+def quiet(page: Any, still: float = 0.15, cap: float = 5.0) -> bool:
+    """Wait until the page's DOM has not changed for ``still`` seconds (at most ``cap`` seconds); True if it
+    went still. A page whose panel has stopped re-rendering reads one layout."""
+    return bool(page.evaluate(QUIET, [still * 1000, cap * 1000]))
+
+
 def control_id(page: Any, label: str, timeout: float = 30.0) -> str:
     """The DOM id of the viser control whose label text is ``label`` (viser labels it with for=id).
 

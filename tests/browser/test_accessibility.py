@@ -7,7 +7,6 @@ scene, look and size; ``--before``: without the app's patch).
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import pytest
@@ -15,7 +14,7 @@ import pytest
 from app.panel.look import MIN_TEXT_PX
 from app.scenes import REGISTRY, scene_names
 from tests.browser.axe_scan import axe_source, counts, scan
-from tests.harness import launch_chromium, open_page, running_app, wait_for
+from tests.harness import launch_chromium, open_page, quiet, running_app, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -39,7 +38,6 @@ def show(page: Any, sim: Any, name: str) -> None:
     wait_for(lambda: sim.frames > frames + 1, what=f"{name}'s first frames")  # its words are said
     page.wait_for_function(SHOWN, arg=sim.panel.said, timeout=30_000)
     page.get_by_text(title, exact=True).first.wait_for(state="visible", timeout=30_000)
-    time.sleep(0.5)  # the panel's last re-render (a readout's first value) lands
 
 
 def test_the_scan_finds_what_it_is_there_to_find(chromium, axe) -> None:
@@ -115,7 +113,7 @@ def scan_mode(
                     show(page, sim, name)
                     open_folders(page)
                     sim.set_playing(False)  # a still page: the scan reads one layout
-                    time.sleep(0.3)
+                    quiet(page)  # the panel's last re-render (a readout's last value) has landed
                     if width < 600:  # the phone's bottom sheet: the clock's buttons on screen for the contrast
                         page.get_by_role("button", name="Step").first.scroll_into_view_if_needed(timeout=30_000)
                     found = {v["id"]: (v["impact"], v["count"], v["nodes"][:3]) for v in scan(page, source)}
