@@ -215,15 +215,18 @@ class ModuleBrowser:
 def wait_for(
     condition: Callable[[], Any], timeout: float = 20.0, interval: float = 0.05, what: str = "condition"
 ) -> Any:
-    """Poll ``condition`` until it returns something truthy; fail after ``timeout`` seconds."""
+    """Poll ``condition`` until it returns something truthy; fail after ``timeout`` seconds. The first polls
+    come quickly (2 ms apart, doubling up to ``interval`` s): most conditions hold within milliseconds."""
     deadline = time.monotonic() + timeout
+    pause = min(0.002, interval)
     while True:
         value = condition()
         if value:
             return value
         if time.monotonic() > deadline:
             raise AssertionError(f"timed out after {timeout} s waiting for {what}")
-        time.sleep(interval)
+        time.sleep(pause)
+        pause = min(2 * pause, interval)
 
 
 def open_page(browser: Any, app: Any, timeout: float = 30.0, viewport: dict | None = None) -> tuple[Any, Any]:
