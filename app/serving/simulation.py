@@ -340,7 +340,9 @@ class Simulation:
         """Tear the current scene down and build ``name``; on failure go back to the previous one."""
         if name not in REGISTRY:
             raise ValueError(f"unknown scene {name!r}; choose one of: {', '.join(scene_names())}")
-        with self.lock:
+        # One window for the browsers: the old scene's removal and the new one's nodes and controls arrive
+        # together, and each message queued skips waking viser's event loop (about 70 µs a message).
+        with self.lock, self.server.atomic():
             previous = type(self.scene) if self.scene is not None else None
             self._teardown()
             try:
