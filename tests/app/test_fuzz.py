@@ -64,7 +64,8 @@ HARD_CAP = 120.0
 TRAIL = 12
 """Events kept to name in a failure: the seed and the last events before it reproduce it."""
 UPLOADS = 0.01
-"""Share of the events that are uploads (each file that is read costs a worker process about 0.6 s)."""
+"""Share of the events that are uploads (each file that is read costs a worker process, forked ready in about
+15 ms, and the read itself)."""
 TABLE = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "fuzz.md"
 FAILURES = ("Paused", "Something went wrong", "Could not open")
 """Titles of the notifications that say a scene or a callback failed (a refusal is not a failure)."""
