@@ -73,9 +73,10 @@ def test_with_share_in_presenter_mode_only_the_presenter_opens_it():
         ws = stack.enter_context(raw_client(app))
         cid = (set(app.server.get_clients()) - before).pop()
         wait_for(lambda: cid in app.classroom._panels, what="the browser's own panel")
-        received(ws, 0.3)
+        # The state a page is sent on joining, to viser's end of its replay: no refusal in it.
+        received_until(ws, lambda ms: any(m.get("type") == "ReplayDoneMessage" for m in ms))
         _ask(ws, "ShareUrlRequest")  # a follower: refused, told why
-        wait_for(lambda: _told(received(ws, 0.3), "PIN"), what="the follower's refusal")
+        assert _told(received_until(ws, lambda ms: _told(ms, "PIN")), "PIN"), "the follower's refusal"
         assert calls == []
         panel = app.classroom._panels[cid]
         send_value(ws, panel.pin._impl.uuid, pin)
