@@ -21,9 +21,9 @@ controls and to the explorers' copies) and ``private`` (every browser its own si
 its own controls and, now and then, to another browser's, which must be ignored).
 
 Time: each mode stops at its event count or its time cap (:data:`CAPS`), whichever comes first; the three
-take about 19 s together in one process on 2 cores (CPU 18 s; about half of the wall time is the pace of about 200 changes a
-second), and the caps keep them under 90 s on a slower or busier machine (the floors on the counts are set
-so that a capped run still passes).
+take about 19 s together in one process on 2 cores (CPU 18 s; about half of the wall time is the pace of
+about 200 changes a second), and the caps keep them under 90 s on a slower or busier machine (the floors on
+the counts are set so that a capped run still passes).
 """
 
 from __future__ import annotations
