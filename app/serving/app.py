@@ -17,6 +17,7 @@ from typing import Any
 import viser
 
 from app.guards.event_loop import confine_events
+from app.guards.prop_hints import cache_prop_hints
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
@@ -118,6 +119,7 @@ class App:
         server = viser.ViserServer(host=host, port=port, verbose=verbose)
         confine_events(server)
         serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
+        cache_prop_hints()  # a handle's type hints are looked up once per kind of handle, not per handle
         self.server = server
         self.host, self.port = host, server.get_port()
         self.sessions: dict[Any, Simulation] = {}

@@ -21,8 +21,9 @@ controls and to the explorers' copies) and ``private`` (every browser its own si
 its own controls and, now and then, to another browser's, which must be ignored).
 
 Time: each mode stops at its event count or its time cap (:data:`CAPS`), whichever comes first; the three
-took 47 s together on 2 cores under a load average of 6 from other work, and the caps keep them under
-90 s on a slower or busier machine (the floors on the counts are set so that a capped run still passes).
+take about 19 s together in one process on 2 cores (CPU 18 s; about half of the wall time is the pace of
+about 200 changes a second), and the caps keep them under 90 s on a slower or busier machine (the floors on
+the counts are set so that a capped run still passes).
 """
 
 from __future__ import annotations
@@ -64,7 +65,8 @@ HARD_CAP = 120.0
 TRAIL = 12
 """Events kept to name in a failure: the seed and the last events before it reproduce it."""
 UPLOADS = 0.01
-"""Share of the events that are uploads (each file that is read costs a worker process about 0.6 s)."""
+"""Share of the events that are uploads (each file that is read costs a worker process, forked ready in about
+15 ms, and the read itself)."""
 TABLE = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "fuzz.md"
 FAILURES = ("Paused", "Something went wrong", "Could not open")
 """Titles of the notifications that say a scene or a callback failed (a refusal is not a failure)."""
@@ -142,11 +144,16 @@ class Browser:
 
     def __init__(self, app: Any) -> None:
         before = set(app.server.get_clients())
-        self.context = raw_client(app)
+        self.context = raw_client(app, wait=False)
         self.ws = self.context.__enter__()
-        self.cid = wait_for(lambda: set(app.server.get_clients()) - before, what="the client id").pop()
+        # Registered within milliseconds of connecting: a fine poll keeps 60 joins from waiting 3 s in all.
+        self.cid = wait_for(lambda: set(app.server.get_clients()) - before, interval=0.002, what="the client id").pop()
 
     def leave(self) -> None:
+        # A page closing its tab does not wait for the server's closing handshake: while frames flow, the
+        # client's full queue holds it back until the close timeout (1 s a browser). The server sees the
+        # close frame, then the end of the connection.
+        self.ws.close_timeout = 0.05
         self.context.__exit__(None, None, None)
 
 
@@ -286,7 +293,9 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                     browsers.append(browser)
                     trail.append(f"event {events}: browser {browser.cid} joins")
                     if mode == "private":
-                        wait_for(lambda b=browser: b.cid in app.sessions, what="the new browser's session")
+                        wait_for(
+                            lambda b=browser: b.cid in app.sessions, interval=0.005, what="the new browser's session"
+                        )
                     counts["joins"] += 1
                     continue
                 if roll < 0.015 and len(browsers) > 1:

@@ -186,21 +186,24 @@ def _notifications(messages):
 
 
 def test_a_refusal_goes_to_its_browser_only_and_not_into_the_shared_status_line(gui_app):
-    from tests.harness import received
+    from tests.app.reading import received_until
+    from tests.harness import drain, received
 
     app = gui_app
     app.clear_status()
     with raw_client(app) as sender, raw_client(app) as other:
-        received(other, 0.2)
+        drain(other)
         send_value(sender, app.speed_slider._impl.uuid, "fast (status)")
         wait_for(lambda: any("fast (status)" in body for _, body in app.messages), what="the refusal")
-        assert any("fast (status)" in body for body in _notifications(received(sender, 0.5)))
+        told = received_until(sender, lambda ms: any("fast (status)" in body for body in _notifications(ms)))
+        assert any("fast (status)" in body for body in _notifications(told))
         assert not _notifications(received(other, 0.5))  # the other browser hears nothing of it
         assert app.status.content == ""  # the status line everyone shares is not told either
         # A failure of the scene is everyone's: it is in the status line, until the clock runs again.
         app.pause("a numerical failure (test)")
         assert "a numerical failure (test)" in app.status.content
-        assert any("a numerical failure (test)" in body for body in _notifications(received(other, 0.5)))
+        failure = received_until(other, lambda ms: any("a numerical failure (test)" in b for b in _notifications(ms)))
+        assert any("a numerical failure (test)" in body for body in _notifications(failure))
         app.set_playing(True)
         assert app.status.content == ""
 

@@ -12,7 +12,8 @@ import pytest
 from app.serving.simulation import Simulation
 from app.teaching import presenter
 from app.teaching.presenter import Classroom, check_pin, new_pin
-from tests.harness import click_button, raw_client, received, running_app, send_value, still_connected, wait_for
+from tests.app.reading import received_until
+from tests.harness import click_button, drain, raw_client, received, running_app, send_value, still_connected, wait_for
 
 PIN = "4321"
 
@@ -56,6 +57,28 @@ def _shown_value(messages, uuid):
     return value
 
 
+def _created(messages, uuid):
+    """The messages creating control ``uuid`` (with its props), in order."""
+    return [m for m in messages if m.get("uuid") == uuid and "props" in m]
+
+
+def _replayed(messages):
+    """viser's end of the replay of the state a joining page is sent has come."""
+    return any(m.get("type") == "ReplayDoneMessage" for m in messages)
+
+
+def _enables(message, uuid):
+    return message.get("uuid") == uuid and message.get("updates", {}).get("disabled") is False
+
+
+def _lecture_removed(messages, spin, app):
+    """An explorer's page was told to remove the lecture's slider, picker and scene root."""
+    removed = {m["uuid"] for m in messages if m.get("type") == "GuiRemoveMessage"}
+    return {spin._impl.uuid, app.scene_picker._impl.uuid} <= removed and any(
+        m.get("type") == "RemoveSceneNodeMessage" and m["name"] == "/scene" for m in messages
+    )
+
+
 def _uuids(messages, key="uuid"):
     return {m.get(key) for m in messages if key in m}
 
@@ -84,9 +107,10 @@ def test_a_follower_sees_the_lecture_disabled_and_cannot_change_it(lecture):
     app = lecture
     with contextlib.ExitStack() as stack:
         ws, cid, panel = _join(app, stack)
-        messages = received(ws, 1.0)
         spin = app.scene.params.sliders["spin"]
-        created = [m for m in messages if m.get("uuid") == spin._impl.uuid and "props" in m]
+        # The state a page is sent on joining, to viser's end of its replay, and the slider in it.
+        messages = received_until(ws, lambda ms: _replayed(ms) and _created(ms, spin._impl.uuid))
+        created = _created(messages, spin._impl.uuid)
         assert created and created[-1]["props"]["disabled"] is True  # read-only in the follower's page
         assert spin._impl.props.disabled is False  # ... but not on the server: a presenter can use it
         before = app.scene.params.values["spin"]
@@ -112,12 +136,16 @@ def test_the_pin_makes_a_presenter_wrong_pins_are_limited(lecture, monkeypatch):
         _present(app, ws, panel, "9999")
         wait_for(lambda: any(t == "Wrong PIN" for t, _ in app.messages), what="the wrong PIN to be refused")
         assert cid not in app.classroom.presenters
-        received(ws, 0.5)
+        drain(ws)
         _present(app, ws, panel, PIN)
         wait_for(lambda: cid in app.classroom.presenters, what="the browser to become a presenter")
         # Its controls arrive enabled again, and its changes are the lecture's.
         spin = app.scene.params.sliders["spin"]
-        unlocked = [m for m in received(ws, 1.0) if m.get("uuid") == spin._impl.uuid and "updates" in m]
+        unlocked = [
+            m
+            for m in received_until(ws, lambda ms: any(_enables(m, spin._impl.uuid) for m in ms))
+            if m.get("uuid") == spin._impl.uuid and "updates" in m
+        ]
         assert any(m["updates"].get("disabled") is False for m in unlocked)
         before = app.scene.params.values["spin"]
         send_value(ws, spin._impl.uuid, before + 1.0)
@@ -149,7 +177,7 @@ def test_exploring_gives_a_copy_from_the_current_state_and_following_brings_the_
         wait_for(lambda: app.time > 0.3, what="the lecture's clock to run")
 
         student, student_id, student_panel = _join(app, stack)
-        received(student, 0.5)
+        drain(student)
         click_button(student, student_panel.explore._impl.uuid)
         wait_for(lambda: student_id in app.sessions, what="the student's own copy")
         copy = app.sessions[student_id]
@@ -160,7 +188,7 @@ def test_exploring_gives_a_copy_from_the_current_state_and_following_brings_the_
         # The button is relabelled just after the copy is registered: wait for it rather than race it.
         wait_for(lambda: student_panel.explore.label == "Follow the lecturer", what="the button relabelled")
         # The student's page removes the lecture's panel and nodes, then hears nothing more of it.
-        removal = received(student, 1.0)
+        removal = received_until(student, lambda ms: _lecture_removed(ms, spin, app))
         removed = {m["uuid"] for m in removal if m.get("type") == "GuiRemoveMessage"}
         assert spin._impl.uuid in removed and app.scene_picker._impl.uuid in removed
         assert any(m.get("type") == "RemoveSceneNodeMessage" and m["name"] == "/scene" for m in removal)
@@ -180,7 +208,10 @@ def test_exploring_gives_a_copy_from_the_current_state_and_following_brings_the_
         # Follow the lecturer: the copy is dropped and the lecture arrives as it is now, read-only.
         click_button(student, student_panel.explore._impl.uuid)
         wait_for(lambda: student_id not in app.sessions, what="the copy to be dropped")
-        back = received(student, 1.5)
+        back = received_until(
+            student,
+            lambda ms: _created(ms, spin._impl.uuid) and _shown_value(ms, spin._impl.uuid) == changed + 1.0,
+        )
         replayed = [m for m in back if m.get("uuid") == spin._impl.uuid and "props" in m]
         assert replayed and replayed[-1]["props"]["disabled"] is True
         assert _shown_value(back, spin._impl.uuid) == changed + 1.0
@@ -263,7 +294,7 @@ def test_exploring_copies_an_uploaded_body_and_its_state_text_is_refused_by_name
         assert lecture_label.startswith("brick.stl")
         with contextlib.ExitStack() as stack:
             student, student_id, student_panel = _join(app, stack)
-            received(student, 0.3)
+            drain(student)
             click_button(student, student_panel.explore._impl.uuid)
             wait_for(lambda: student_id in app.sessions, what="the student's own copy")
             copy = app.sessions[student_id]

@@ -23,7 +23,8 @@ from app.teaching.question_panel import results_html
 from app.teaching.questions import TRUTHS, Ask, Poll, VoteRefused, check_ask, histogram, true_value
 from app.teaching.voters import COOKIE
 from physics.heavy_top import HeavyTop
-from tests.harness import CAMERA_MESSAGE, received, running_app, send_value, wait_for
+from tests.app.reading import received_until
+from tests.harness import CAMERA_MESSAGE, drain, received, running_app, send_value, wait_for
 
 PIN = "4321"
 RACKET = 6  # the shipped lecture's steps (0-based) with a question
@@ -265,6 +266,11 @@ def _notes(messages):
     return [m["props"]["body"] for m in messages if m.get("type") == "NotificationShowMessage"]
 
 
+def _note_in(messages, text: str) -> bool:
+    """A notification among ``messages`` says ``text``."""
+    return any(text in n for n in _notes(messages))
+
+
 def _text(messages) -> str:
     return msgspec.json.encode(messages).decode()
 
@@ -281,14 +287,14 @@ def test_a_question_step_waits_and_every_follower_answers_once(lecture_app):
         app.classroom.present(app.server.get_clients()[p_id], PIN)
         wait_for(lambda: questions._panels[p_id].presenter, what="the presenter's panel")
         p_panel = questions._panels[p_id]
-        received(a, 0.3), received(b, 0.3)
+        drain(a), drain(b)
         send_value(a, a_panel.choice._impl.uuid, "C")
         wait_for(lambda: questions.poll.count() == 1, what="a's answer")
         wait_for(lambda: p_panel.count.content.startswith("**1 answer**"), what="the presenter's count")
         send_value(a, a_panel.choice._impl.uuid, "A")  # changed: still one answer
         wait_for(lambda: question.votes == {f"connection {a_id}": "A"}, what="the changed answer")
         send_value(a, a_panel.choice._impl.uuid, "Z")  # no such choice
-        wait_for(lambda: any("no option 'Z'" in n for n in _notes(received(a, 0.3))), what="a's refusal")
+        assert _note_in(received_until(a, lambda ms: _note_in(ms, "no option 'Z'")), "no option 'Z'"), "a's refusal"
         send_value(b, b_panel.choice._impl.uuid, "C")
         wait_for(lambda: questions.poll.count() == 2, what="b's answer")
         seen_by_b = received(b, 0.5)
@@ -301,11 +307,12 @@ def test_a_question_step_waits_and_every_follower_answers_once(lecture_app):
         assert question.counts() == [1, 0, 1]
         send_value(p, p_panel.reveal._impl.uuid, True)
         wait_for(lambda: question.revealed_at is not None, what="the reveal")
-        after = _text(received(b, 1.0))
+        after = _text(received_until(b, lambda ms: "2 answers" in _text(ms) and "✓" in _text(ms)))
         assert "2 answers" in after and "✓" in after  # the chart, with the right choice marked
         assert "again and again" in app.following.text.content  # the caption with the answers
         send_value(a, a_panel.choice._impl.uuid, "B")  # after the close (a raw client ignores disabled)
-        assert any("closed" in n or "cannot be changed" in n for n in _notes(received(a, 1.0)))
+        closed = received_until(a, lambda ms: _note_in(ms, "closed") or _note_in(ms, "cannot be changed"))
+        assert any("closed" in n or "cannot be changed" in n for n in _notes(closed))
         assert question.counts() == [1, 0, 1]
     rows = list(csv.reader(io.StringIO(app.export_path.read_text(encoding="utf-8"))))
     assert [r[7] for r in rows if r[4] == "step 7"][-3:] == ["1", "0", "1"]
@@ -323,9 +330,10 @@ def test_a_raw_client_cannot_vote_twice_and_a_reconnect_keeps_the_browsers_vote(
             send_value(ws, panel.number._impl.uuid, bad)
             wait_for(lambda b=bad: panel.number.value == b, what="the text")
             send_value(ws, panel.send._impl.uuid, True)
-            wait_for(lambda: any("the answer is" in n for n in _notes(received(ws, 0.3))), what=f"{bad} refused")
+            refused = received_until(ws, lambda ms: _note_in(ms, "the answer is"))
+            assert any("the answer is" in n for n in _notes(refused)), f"{bad} refused"
         send_value(ws, panel.number._impl.uuid, 0.4)  # a number where text belongs
-        assert any("must be text" in n for n in _notes(received(ws, 0.5)))
+        assert any("must be text" in n for n in _notes(received_until(ws, lambda ms: _note_in(ms, "must be text"))))
         assert questions.poll.count() == 0
         send_value(ws, panel.number._impl.uuid, "0.58")
         wait_for(lambda: panel.number.value == "0.58", what="the text")
@@ -363,7 +371,7 @@ def test_the_presenter_asks_from_the_panel_and_saves_the_csv_a_follower_cannot(l
         send_value(p, panel.ask_text._impl.uuid, "Which way does L point?")
         send_value(p, panel.ask_choices._impl.uuid, "up\ndown\n")
         wait_for(lambda: panel.ask_choices.value == "up\ndown\n", what="the choices")
-        received(p, 0.2)
+        drain(p)
         send_value(p, panel.ask_button._impl.uuid, True)
         wait_for(lambda: getattr(questions.poll.current, "source", None) == "asked from the panel", what="asked")
         assert questions.poll.current.ask == Ask("Which way does L point?", ("up", "down"))
@@ -374,14 +382,16 @@ def test_the_presenter_asks_from_the_panel_and_saves_the_csv_a_follower_cannot(l
         send_value(p, panel.ask_choices._impl.uuid, "only one")
         wait_for(lambda: panel.ask_choices.value == "only one", what="the choices")
         send_value(p, panel.ask_button._impl.uuid, True)
-        assert any("type 2 to 5 choices, one a line (got 1)" in n for n in _notes(received(p, 1.0)))
+        told = received_until(p, lambda ms: _note_in(ms, "type 2 to 5 choices, one a line (got 1)"))
+        assert any("type 2 to 5 choices, one a line (got 1)" in n for n in _notes(told))
         questions.ask_from_panel(app.server.get_clients()[f_id], "Mine?", "a\nb")  # a follower has no Ask button
         assert questions.poll.current.source == "asked from the panel" and questions.poll.current.ask.text != "Mine?"
-        received(f, 0.2)
+        drain(f)
         questions.save_for(app.server.get_clients()[f_id])
         assert not any(m.get("type") == "FileTransferStartDownload" for m in received(f, 0.5))
         send_value(p, questions._panels[p_id].save_button._impl.uuid, True)
-        download = [m for m in received(p, 1.0) if m.get("type") == "FileTransferStartDownload"]
+        sent = received_until(p, lambda ms: any(m.get("type") == "FileTransferStartDownload" for m in ms))
+        download = [m for m in sent if m.get("type") == "FileTransferStartDownload"]
         assert download and download[0]["filename"] == "answers.csv"
 
 

@@ -10,6 +10,8 @@ the new scene must stand where the server put it.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -41,6 +43,29 @@ class PageModel:
                 self.poses.setdefault(name, {"wxyz": IDENTITY, "position": ORIGIN})
 
 
+def _moved(page: PageModel) -> list[str]:
+    return [n for n, p in page.poses.items() if n.startswith("/scene/") and p["wxyz"] != IDENTITY]
+
+
+def _where_the_server_put_them(page: PageModel, app) -> bool:
+    nodes = {n: h for n, h in app.server.scene._handle_from_node_name.items() if n.startswith("/scene")}
+    return all(
+        name in page.poses
+        and np.allclose(page.poses[name]["wxyz"], handle.wxyz, rtol=0, atol=1e-12)
+        and np.allclose(page.poses[name]["position"], handle.position, rtol=0, atol=1e-12)
+        for name, handle in nodes.items()
+    )
+
+
+def _follow(ws, page: PageModel, done, timeout: float = 10.0) -> None:
+    """The page takes what the server sends until ``done()`` (or ``timeout`` s), then 0.1 s more: every
+    message was queued before the read, and a late one would still change what the checks see."""
+    deadline = time.monotonic() + timeout
+    while not done() and time.monotonic() < deadline:
+        page.take(received(ws, 0.02))
+    page.take(received(ws, 0.1))
+
+
 @pytest.mark.parametrize(
     "old, new",
     [("wobble", "inertia_explorer"), ("wobble", "heavy_top"), ("free_fall", "pendulum"), ("tennis_racket", "wobble")],
@@ -52,12 +77,11 @@ def test_a_switch_leaves_no_old_pose_in_the_page(old: str, new: str) -> None:
             app.set_playing(True)
             for _ in range(30):  # half a second of the old scene: its nodes away from their defaults
                 app.frame(1.0 / 60.0)
-            page.take(received(ws, 0.5))
-            moved = [n for n, p in page.poses.items() if n.startswith("/scene/") and p["wxyz"] != IDENTITY]
-            assert moved, "the old scene turned nothing"
+            _follow(ws, page, lambda: _moved(page))
+            assert _moved(page), "the old scene turned nothing"
             app.switch_scene(new)
             app.frame(1.0 / 60.0)
-            page.take(received(ws, 0.5))
+            _follow(ws, page, lambda: _where_the_server_put_them(page, app))
             nodes = {n: h for n, h in app.server.scene._handle_from_node_name.items() if n.startswith("/scene")}
             assert nodes
             for name, handle in nodes.items():

@@ -22,7 +22,8 @@ from typing import Any
 import pytest
 
 from app.serving.app import App
-from tests.harness import click_button, free_port, raw_client, received, running_app, wait_for
+from tests.app.reading import received_until
+from tests.harness import click_button, free_port, raw_client, running_app, wait_for
 
 
 @contextlib.contextmanager
@@ -90,13 +91,12 @@ def test_loopback_is_shared_and_a_non_loopback_host_is_presenter_mode_in_the_app
 
 def _themes(ws: Any, enough: Any) -> list[bool]:
     """``show_share_button`` of every theme message the page receives, once ``enough(themes)``."""
-    themes: list[bool] = []
 
-    def seen() -> bool:
-        themes.extend(m["show_share_button"] for m in received(ws, 0.2) if m.get("type") == "ThemeConfigurationMessage")
-        return enough(themes)
+    def shown(messages: list[dict[str, Any]]) -> list[bool]:
+        return [m["show_share_button"] for m in messages if m.get("type") == "ThemeConfigurationMessage"]
 
-    wait_for(seen, what="the page's theme")
+    themes = shown(received_until(ws, lambda messages: enough(shown(messages)), timeout=20.0))
+    assert enough(themes), f"the page's theme did not come: {themes}"
     return themes
 
 

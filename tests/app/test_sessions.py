@@ -44,10 +44,10 @@ def test_each_browser_gets_its_own_simulation_and_drives_only_it(private_app):
 
 def test_sessions_come_and_go_without_growing(private_app):
     app = private_app
-    for _ in range(10):
-        with raw_client(app):
-            wait_for(lambda: len(app.sessions) == 1, what="a session")
-        wait_for(lambda: not app.sessions, what="the session to be freed")
+    for _ in range(10):  # polled finely: each step takes tens of ms
+        with raw_client(app, wait=False):
+            wait_for(lambda: len(app.sessions) == 1, interval=0.005, what="a session")
+        wait_for(lambda: not app.sessions, interval=0.005, what="the session to be freed")
     assert app.scene is None  # the app itself holds no simulation in private mode
 
 

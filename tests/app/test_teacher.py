@@ -36,9 +36,14 @@ def lab():
 def _join(app, stack):
     """A browser joins; returns (websocket, client id) once its session and its number are there."""
     before = set(app.server.get_clients())
-    ws = stack.enter_context(raw_client(app))
-    (cid,) = set(app.server.get_clients()) - before
-    wait_for(lambda: app.teacher.panel_of(cid) is not None and cid in app.sessions, what="the session and its number")
+    ws = stack.enter_context(raw_client(app, wait=False))
+    # Polled finely: a browser is registered and its session made within tens of ms (35 joins a module).
+    (cid,) = wait_for(lambda: set(app.server.get_clients()) - before, interval=0.005, what="the browser")
+    wait_for(
+        lambda: app.teacher.panel_of(cid) is not None and cid in app.sessions,
+        interval=0.005,
+        what="the session and its number",
+    )
     return ws, cid
 
 

@@ -14,7 +14,8 @@ import msgspec
 import pytest
 
 from app.guards.tunnel import NOT_SHARED
-from tests.harness import click_button, raw_client, received, running_app, send_value, still_connected, wait_for
+from tests.app.reading import received_until
+from tests.harness import click_button, drain, raw_client, received, running_app, send_value, still_connected, wait_for
 
 
 def _ask(ws, kind: str) -> None:
@@ -37,11 +38,11 @@ def test_without_share_no_browser_opens_or_closes_a_tunnel(mode, monkeypatch):
     with running_app("heavy_top", private=mode == "private", presenter=mode == "presenter") as app:
         calls = _recorded(app, monkeypatch)
         with raw_client(app) as ws, raw_client(app) as other:
-            received(ws, 0.3)
-            received(other, 0.3)
+            drain(ws)  # the state each page is sent on joining (no notification in it)
+            drain(other)
             _ask(ws, "ShareUrlRequest")
             _ask(ws, "ShareUrlDisconnect")
-            messages = received(ws, 1.5)
+            messages = received_until(ws, lambda m: _told(m, NOT_SHARED))
             assert _told(messages, NOT_SHARED), "the asking browser is told why"
             assert not _told(received(other, 0.3), NOT_SHARED), "nobody else hears of it"
             assert still_connected(ws, app=app if mode != "private" else None)
@@ -72,9 +73,10 @@ def test_with_share_in_presenter_mode_only_the_presenter_opens_it():
         ws = stack.enter_context(raw_client(app))
         cid = (set(app.server.get_clients()) - before).pop()
         wait_for(lambda: cid in app.classroom._panels, what="the browser's own panel")
-        received(ws, 0.3)
+        # The state a page is sent on joining, to viser's end of its replay: no refusal in it.
+        received_until(ws, lambda ms: any(m.get("type") == "ReplayDoneMessage" for m in ms))
         _ask(ws, "ShareUrlRequest")  # a follower: refused, told why
-        wait_for(lambda: _told(received(ws, 0.3), "PIN"), what="the follower's refusal")
+        assert _told(received_until(ws, lambda ms: _told(ms, "PIN")), "PIN"), "the follower's refusal"
         assert calls == []
         panel = app.classroom._panels[cid]
         send_value(ws, panel.pin._impl.uuid, pin)
