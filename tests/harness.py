@@ -419,6 +419,7 @@ def raw_client(app: Any, wait: bool = True) -> Iterator[Any]:
         f"ws://127.0.0.1:{app.port}",
         subprotocols=[f"viser-v{viser.__version__}"],
         max_size=None,
+        max_queue=None,  # frames the test does not read are buffered, so closing does not wait behind them
         open_timeout=30,
         close_timeout=1,  # unread frames delay the server's close frame; a browser closing does not wait
     )
