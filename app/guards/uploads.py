@@ -40,6 +40,8 @@ def guard_uploads(
     start_index = starts.index(gui._handle_file_transfer_start)
     part_index = parts.index(gui._handle_file_transfer_part)
     original_start, original_part = starts[start_index], parts[part_index]
+    if isinstance(gui._owner, viser.ViserServer):
+        gui._websock_interface = _AcksToUploader(gui, gui._websock_interface)  # type: ignore[assignment]
     with _lock:
         _guis.add(gui)
 
@@ -129,6 +131,33 @@ def _in_flight(client_id: Any) -> tuple[int, int]:
 def _forget(transfer: str) -> None:
     with _lock:
         _started.pop(transfer, None)
+
+
+class _AcksToUploader:
+    """A server's message interface, for one shared GUI, that sends the acknowledgements of an upload's parts
+    to the browser uploading it and everything else to every browser.
+
+    viser 1.1.1 broadcasts them from a shared panel: every other page took the upload as its own ("Uploading"
+    on its button), and they went through the broadcast buffer while a refusal's release goes through the
+    browser's own, so the release could overtake an acknowledgement sent before it and leave the page's
+    button waiting for bytes that never come.
+    """
+
+    def __init__(self, gui: Any, server: Any) -> None:
+        self._gui = gui
+        self._server = server
+
+    def queue_message(self, message: Any) -> None:
+        if isinstance(message, _messages.FileTransferPartAck):
+            state = self._gui._current_file_upload_states.get(message.transfer_uuid)
+            client = self._gui._owner.get_clients().get(state["client_id"]) if state is not None else None
+            if client is not None:
+                client._websock_connection.queue_message(message)
+            return  # a browser that left, or a transfer already dropped: nobody to tell
+        self._server.queue_message(message)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._server, name)
 
 
 def _release(gui: viser.GuiApi, client_id: Any, button: Any, transfer: Any, size: Any) -> None:

@@ -130,6 +130,20 @@ def test_parts_adding_up_to_more_than_the_declared_size_drop_the_transfer(explor
         assert _acks(seen, transfer) == [(80, 100), (100, 100)]  # one part kept, then the release
 
 
+def test_a_shared_panels_upload_is_acknowledged_to_its_browser_only(explorer, readers):
+    """viser broadcasts the acknowledgements of a shared panel's upload; every other page took them as an
+    upload of its own. They go to the uploading browser only, the last with the whole size."""
+    app = explorer
+    with raw_client(app) as sender, raw_client(app) as other:
+        received(other, 0.2)
+        content = b"solid x\nendsolid x\n" * 40
+        transfer = send_upload(sender, _button(app), "box.stl", content)
+        wait_for(lambda: readers, what="the file handed to the reader")
+        seen = received(sender, 0.5)
+        assert _acks(seen, transfer)[-1] == (len(content), len(content))
+        assert not _acks(received(other, 0.5), transfer)
+
+
 def test_uploads_in_flight_are_limited_per_browser_and_for_the_server(explorer, readers):
     app = explorer
     with contextlib.ExitStack() as stack:
