@@ -92,11 +92,14 @@ def mp_sn(m):
     return sn
 
 
-def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True):
+def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True, time_dps: int | None = None):
     """θ, φ, ψ at 30 digits: roots by mp.polyroots, u by mp's sn, φ and ψ by quadrature (half-period
     pieces between turning points are all equal, so 100 periods cost three quadratures). With
     ``angles=False`` only θ (φ and ψ are NaN): no quadrature, so a start within 1e-80 rad of the vertical,
-    whose roots need ~4 × 80 digits, costs seconds."""
+    whose roots need ~4 × 80 digits, costs seconds. ``time_dps`` (with ``angles=False``): the digits of the
+    evaluation at each time, u = u1 + (u2 − u1) sn²(λt + c | m) and θ = acos u, once the roots, m, λ, c and K
+    are found at ``dps``. Near the vertical the roots need ~4 |log10 θ0| digits (the two near u = 1, ~θ0² apart,
+    move by the coefficients' rounding over θ0²), but u and m only ~2 |log10 θ0| (1 − u and 1 − m are ~θ0²)."""
     th0, thd0, phd0, psd0 = ic
     with mp.workdps(dps):
         I1, I3, mgl = mp.mpf(top.I1), mp.mpf(top.I3), mp.mpf(top.mgl)
@@ -161,6 +164,20 @@ def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True):
             half = quad(f, pts[1], pts[2])
             return quad(f, pts[0], pts[1]) + half * (len(pts) - 3) + quad(f, pts[-2], pts[-1])
 
+        if not angles and time_dps is not None:
+            with mp.workdps(time_dps):
+                sn_t, lam_t, c_t, u1_t, du_t = mp_sn(+m), +lam, +c, +u1, u2 - u1
+                thetas = [
+                    float(mp.acos(min(u1_t + du_t * sn_t(lam_t * mp.mpf(float(t)) + c_t) ** 2, mp.mpf(1))))
+                    for t in times
+                ]
+            return (
+                np.array([(theta, math.nan, math.nan) for theta in thetas]),
+                float(2 * K / lam),
+                float(u1),
+                float(u2),
+                float(u3),
+            )
         out = []
         for t in times:
             t = mp.mpf(float(t))
