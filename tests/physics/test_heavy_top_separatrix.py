@@ -3,8 +3,9 @@ spin just below, at and above the sleeping threshold L3 = 2 sqrt(M g ℓ I1), ag
 high-precision references.
 
 References. ``mp_reference`` (tests/physics/test_heavy_top.py) finds its own roots of the cubic in u = cos θ
-with mp.polyroots and evaluates mp's sn, at 60 digits, or at ``4 |log10 θ0| + 60`` digits for a start
-1e-80 rad from the vertical (its roots then lie 1e-160 from 1). For φ and ψ of such a start, whose
+with mp.polyroots and evaluates mp's sn, at 60 digits, or for a start 1e-80 rad from the vertical (its roots
+then lie 1e-160 from 1) finds the roots at ``4 |log10 θ0| + 60`` digits and evaluates each time at
+``2 |log10 θ0| + 70``. For φ and ψ of such a start, whose
 references by quadrature would need hundreds of digits, :func:`linear_reference` is the motion linearised
 about the vertical, ``ζ̈ − iβ ζ̇ − a ζ = 0`` for ``ζ = θ e^{iφ}``: exact to a relative ``O(θ²)``, i.e. to
 1e-20 while θ < 1e-10, solved in closed form and integrated by mpmath.
