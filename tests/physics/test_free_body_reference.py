@@ -10,6 +10,8 @@ from __future__ import annotations
 import mpmath as mp
 import numpy as np
 
+from tests.physics.mp_jacobi import mp_sn_cn_dn
+
 DPS = 30
 
 
@@ -67,6 +69,7 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
         n = -i_a * (i_b - i_c) / (i_c * (i_a - i_b))
         big_l = mp.sqrt(l2)
         kk = mp.ellipk(m)
+        jacobi = mp_sn_cn_dn(m)  # mp.ellipfun's sn, cn, dn, its constants computed once for this m
         pi_c = mp.ellippi(n, m) if m < 1 else mp.mpf(0)  # K = ∞ on the separatrix: never used
 
         known_pi: dict = {}
@@ -88,7 +91,8 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
                 return u / (1 - n) + mp.sign(u) * mp.quad(bump, [0, 1, 4, min(abs(u), 80)])
             j = mp.nint(u / (2 * kk))
             v = u - 2 * j * kk
-            phi = mp.atan2(mp.ellipfun("sn", v, m=m), mp.ellipfun("cn", v, m=m))
+            sn_v, cn_v, _ = jacobi(v)
+            phi = mp.atan2(sn_v, cn_v)
             return 2 * j * pi_c + mp.ellippi(n, phi, m)
 
         def frame(wa_, wb_, wc_):
@@ -108,7 +112,7 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
         for t in times:
             t = mp.mpf(float(t))
             u = lam * t + u0
-            sn, cn, dn = (mp.ellipfun(k, u, m=m) for k in ("sn", "cn", "dn"))
+            sn, cn, dn = jacobi(u)
             wcan = [pa * amp_a * dn, amp_b * sn, pc * amp_c * cn]
             wbody = q.T * mp.matrix(wcan)
             dpsi = big_l * t / i_a + big_l * (i_a - i_c) / (i_a * i_c * lam) * (big_pi(u) - pi0)

@@ -20,6 +20,7 @@ from scipy.integrate import solve_ivp
 
 from physics.heavy_top import HeavyTop, euler_attitude, omega_body_from_euler, symmetry_axis
 from physics.rotations import hat, orthonormality_error
+from tests.physics.mp_jacobi import mp_sn
 
 TOP = HeavyTop(I1=0.02, I3=0.015, mgl=0.3)  # threshold L3 = 2 sqrt(0.006) ≈ 0.155 kg m²/s
 
@@ -68,28 +69,6 @@ def _period(ic) -> float:
 
 
 # ---------------------------------------------------------------------------------------- references
-
-
-def mp_sn(m):
-    """``u ↦ mp.ellipfun("sn", u, m)`` with the parts that depend on m alone (the nome q, θ2(0) and θ3(0))
-    computed once: the same operations at the same precision, so the same digits, at 2 of mp's 5 theta
-    functions a call (mp.ellipfun recomputes q and θ2(0), θ3(0) each time; a quadrature calls it thousands
-    of times with one m)."""
-    if m == 0 or m == 1:  # q = 0 or 1: mp's own limits (sin, tanh)
-        return lambda u: mp.ellipfun("sn", u, m)
-    with mp.extraprec(10):
-        q = mp.qfrom(m=m)
-        theta3 = mp.jtheta(3, 0, q)
-        ratio = mp.mpf(1) * theta3 / mp.jtheta(2, 0, q)
-        theta3_squared = theta3**2
-
-    def sn(u):
-        with mp.extraprec(10):
-            t = mp.convert(u) / theta3_squared
-            v = ratio * mp.jtheta(1, t, q) / mp.jtheta(4, t, q)
-        return +v
-
-    return sn
 
 
 def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True, time_dps: int | None = None):
