@@ -9,7 +9,7 @@ under one GIL), each reading all of its connections on one asyncio event loop (n
 they stand in for browsers on other machines, so they take as little of the measured cores as a reader
 can); each first gets its room's cookie from nginx as a page load does, then opens ``/ROOM`` with viser's
 subprotocol and reads and decodes every message from then on. A frame is
-a websocket message that sets the pose of the room's body (:func:`benchmarks.serve.posed_nodes`).
+a websocket message that sets the pose of the room's body (:func:`benchmarks.serve_clients.posed_nodes`).
 
 Rows:
 
@@ -50,7 +50,7 @@ from websockets.asyncio.client import connect
 
 from app.rooms.supervisor import answers
 from app.scenes import REGISTRY, load_all
-from benchmarks.serve import WARMUP, posed_nodes
+from benchmarks.serve_clients import WARMUP, posed_nodes
 from tests.harness import CAMERA_MESSAGE
 from tests.rooms.running import SUBPROTOCOL, backend_of, proxied, room_cookie, rooms_file, running_department
 

@@ -6,7 +6,8 @@ import msgspec
 import pytest
 import zstandard
 
-from benchmarks.serve import FRICTION, GHOST, Case, case_state, cases, measure, plan, posed_nodes, targets
+from benchmarks.serve import FRICTION, GHOST, Case, case_state, cases, measure, plan, targets
+from benchmarks.serve_clients import posed_nodes
 from tests.harness import running_app
 
 

@@ -33,6 +33,7 @@ from physics.elliptic import (
     reduced_jacobi,
     reduced_jacobi_one,
 )
+from tests.physics.mp_jacobi import mp_sn, mp_sn_cn_dn
 
 mpmath.mp.dps = 40
 
@@ -195,3 +196,21 @@ def test_first_kind_and_the_amplitude_invert_each_other_and_match_mpmath(one_m):
         sn, cn, _ = mp_jacobi(x, one_m)
         assert abs(am[i] - math.atan2(sn, cn)) <= 1e-14 * max(abs(am[i]), 1.0)
         assert jacobi_amplitude_one(x, m, one_m) == pytest.approx(float(am[i]), rel=1e-15, abs=1e-300)
+
+
+def test_mp_sn_cn_dn_is_mp_ellipfun():
+    """The references' Jacobi functions (tests/physics/mp_jacobi.py: mp.ellipfun's formula with its constants
+    computed once per m) give mp.ellipfun's digits, bit for bit, from m = 0 to 1 and 30 to 360 digits."""
+    for dps in (30, 60, 360):
+        with mpmath.workdps(dps):
+            for m in (
+                mpmath.mpf(0),
+                mpmath.mpf("0.3"),
+                1 - mpmath.mpf(10) ** -15,
+                1 - mpmath.mpf(10) ** (40 - dps),
+                mpmath.mpf(1),
+            ):
+                jacobi, sn = mp_sn_cn_dn(m), mp_sn(m)
+                for u in (mpmath.mpf("1e-30"), mpmath.mpf("0.1"), mpmath.mpf("-3.7"), mpmath.mpf(41) / 7):
+                    exact = tuple(mpmath.ellipfun(kind, u, m) for kind in ("sn", "cn", "dn"))
+                    assert jacobi(u) == exact and sn(u) == exact[0], (dps, m, u)

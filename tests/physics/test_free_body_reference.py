@@ -10,6 +10,8 @@ from __future__ import annotations
 import mpmath as mp
 import numpy as np
 
+from tests.physics.mp_jacobi import mp_sn_cn_dn
+
 DPS = 30
 
 
@@ -27,6 +29,14 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
         w = [mp.mpf(float(x)) for x in omega0]
         two_e = sum(i * x * x for i, x in zip(moments, w))
         l2 = sum((i * x) ** 2 for i, x in zip(moments, w))
+
+        def excess(i_ref):
+            # L² − 2 E i_ref = Σ I_k ω_k² (I_k − i_ref), summed term by term. Off a principal axis by a push
+            # δ, 2 E I − L² about that axis is ~δ² of L²: formed as a difference it would need twice δ's
+            # zeros in digits; each term here keeps its relative precision, so only 1 − m (which does
+            # cancel, near the separatrix) sets the digits needed.
+            return sum(i * x * x * (i - i_ref) for i, x in zip(moments, w))
+
         order = sorted(range(3), key=lambda k: -moments[k])
         mid = order[1]
         a = order[0] if l2 > two_e * moments[mid] else order[2]
@@ -39,17 +49,17 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
             axes, signs = (a, c, b), (-1, 1, 1)  # (−e_a, e_c, e_b) is right-handed
         i_a, i_b, i_c = (moments[k] for k in axes)
         wa, wb, wc = (s * w[k] for s, k in zip(signs, axes))
-        ga = abs(two_e * i_a - l2)
-        abs(l2 - two_e * i_b)
-        gc = abs(l2 - two_e * i_c)
-        m = (i_b - i_c) * (two_e * i_a - l2) / ((i_a - i_b) * (l2 - two_e * i_c))
+        l2_minus_2e_ia, l2_minus_2e_ic = excess(i_a), excess(i_c)
+        ga = abs(l2_minus_2e_ia)
+        gc = abs(l2_minus_2e_ic)
+        m = (i_b - i_c) * -l2_minus_2e_ia / ((i_a - i_b) * l2_minus_2e_ic)
         if abs(1 - m) < mp.mpf(10) ** (5 - dps):
             m = mp.mpf(1)  # exactly on the separatrix (L² = 2 E I2 holds exactly for these binary inputs)
         amp_a = mp.sqrt(gc / abs(i_a * (i_a - i_c)))
         amp_b = mp.sqrt(ga / abs(i_b * (i_a - i_b)))
         amp_c = mp.sqrt(ga / abs(i_c * (i_a - i_c)))
         pa = 1 if wa >= 0 else -1
-        lam = -pa * mp.sign(i_a - i_b) * mp.sqrt((i_a - i_b) * (l2 - two_e * i_c) / (i_a * i_b * i_c))
+        lam = -pa * mp.sign(i_a - i_b) * mp.sqrt((i_a - i_b) * l2_minus_2e_ic / (i_a * i_b * i_c))
         s0, c0 = wb / amp_b, wc / amp_c
         pc = 1
         if m == 1 and c0 < 0:  # separatrix: cn = sech > 0, the other branch is ω_c = −A_c sech with −λ
@@ -59,10 +69,19 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
         n = -i_a * (i_b - i_c) / (i_c * (i_a - i_b))
         big_l = mp.sqrt(l2)
         kk = mp.ellipk(m)
+        jacobi = mp_sn_cn_dn(m)  # mp.ellipfun's sn, cn, dn, its constants computed once for this m
         pi_c = mp.ellippi(n, m) if m < 1 else mp.mpf(0)  # K = ∞ on the separatrix: never used
 
+        known_pi: dict = {}
+
         def big_pi(u):
-            # Π(n; am u | m), continued past |u| ≤ K by quasi-periodicity.
+            # Π(n; am u | m), continued past |u| ≤ K by quasi-periodicity; computed once per u (t = 0 is u0,
+            # whose Π is also the offset pi0: at hundreds of digits each Π takes up to a second).
+            if u not in known_pi:
+                known_pi[u] = new_pi(u)
+            return known_pi[u]
+
+        def new_pi(u):
             if m == 1:
                 # mpmath's ellippi refuses m = 1: integrate ∫ du / (1 − n tanh² u) numerically,
                 # as u/(1 − n) plus a correction that decays like e^{−2u}.
@@ -72,7 +91,8 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
                 return u / (1 - n) + mp.sign(u) * mp.quad(bump, [0, 1, 4, min(abs(u), 80)])
             j = mp.nint(u / (2 * kk))
             v = u - 2 * j * kk
-            phi = mp.atan2(mp.ellipfun("sn", v, m=m), mp.ellipfun("cn", v, m=m))
+            sn_v, cn_v, _ = jacobi(v)
+            phi = mp.atan2(sn_v, cn_v)
             return 2 * j * pi_c + mp.ellippi(n, phi, m)
 
         def frame(wa_, wb_, wc_):
@@ -92,7 +112,7 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
         for t in times:
             t = mp.mpf(float(t))
             u = lam * t + u0
-            sn, cn, dn = (mp.ellipfun(k, u, m=m) for k in ("sn", "cn", "dn"))
+            sn, cn, dn = jacobi(u)
             wcan = [pa * amp_a * dn, amp_b * sn, pc * amp_c * cn]
             wbody = q.T * mp.matrix(wcan)
             dpsi = big_l * t / i_a + big_l * (i_a - i_c) / (i_a * i_c * lam) * (big_pi(u) - pi0)
@@ -101,6 +121,24 @@ def reference_motion(moments, omega0, times, attitude0=None, dps=DPS):
             out_w.append([float(wbody[k]) for k in range(3)])
             out_r.append([[float(r[i, k]) for k in range(3)] for i in range(3)])
         return np.array(out_w), np.array(out_r), float(1 - m)
+
+
+def one_minus_m(moments, omega0):
+    """1 − m of a triaxial body for these float inputs taken as exact, as an mpf:
+    ``(I_a − I_c)(L² − 2E I_b) / ((I_a − I_b)(L² − 2E I_c))`` (b the middle axis, a the one
+    reference_motion takes), at 800 digits, where every sum of the inputs' products is exact (an ω component
+    even of 1e-320 squared is within 2,300 bits of the others). The digits reference_motion needs are ~30 more
+    than this has zeros; m itself needs none extra (it is formed without cancellation)."""
+    with mp.workdps(800):
+        inertia = [mp.mpf(float(x)) for x in moments]
+        w = [mp.mpf(float(x)) for x in omega0]
+
+        def excess(i_ref):  # L² − 2 E i_ref, term by term (as in reference_motion)
+            return sum(i * x * x * (i - i_ref) for i, x in zip(inertia, w))
+
+        i_max, i_mid, i_min = sorted(inertia, reverse=True)
+        i_a, i_c = (i_max, i_min) if excess(i_mid) > 0 else (i_min, i_max)
+        return (i_a - i_c) * excess(i_mid) / ((i_a - i_mid) * excess(i_c))
 
 
 def _symmetric_reference(moments, omega0, times, attitude0):

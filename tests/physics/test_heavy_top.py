@@ -20,6 +20,7 @@ from scipy.integrate import solve_ivp
 
 from physics.heavy_top import HeavyTop, euler_attitude, omega_body_from_euler, symmetry_axis
 from physics.rotations import hat, orthonormality_error
+from tests.physics.mp_jacobi import mp_sn
 
 TOP = HeavyTop(I1=0.02, I3=0.015, mgl=0.3)  # threshold L3 = 2 sqrt(0.006) ≈ 0.155 kg m²/s
 
@@ -70,11 +71,14 @@ def _period(ic) -> float:
 # ---------------------------------------------------------------------------------------- references
 
 
-def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True):
+def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True, time_dps: int | None = None):
     """θ, φ, ψ at 30 digits: roots by mp.polyroots, u by mp's sn, φ and ψ by quadrature (half-period
     pieces between turning points are all equal, so 100 periods cost three quadratures). With
     ``angles=False`` only θ (φ and ψ are NaN): no quadrature, so a start within 1e-80 rad of the vertical,
-    whose roots need ~4 × 80 digits, costs seconds."""
+    whose roots need ~4 × 80 digits, costs seconds. ``time_dps`` (with ``angles=False``): the digits of the
+    evaluation at each time, u = u1 + (u2 − u1) sn²(λt + c | m) and θ = acos u, once the roots, m, λ, c and K
+    are found at ``dps``. Near the vertical the roots need ~4 |log10 θ0| digits (the two near u = 1, ~θ0² apart,
+    move by the coefficients' rounding over θ0²), but u and m only ~2 |log10 θ0| (1 − u and 1 − m are ~θ0²)."""
     th0, thd0, phd0, psd0 = ic
     with mp.workdps(dps):
         I1, I3, mgl = mp.mpf(top.I1), mp.mpf(top.I3), mp.mpf(top.mgl)
@@ -100,10 +104,11 @@ def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True):
         # (the same sums, about ten times sooner).
         u_at: dict[mp.mpf, mp.mpf] = {}
         pieces: dict[tuple, mp.mpf] = {}
+        sn = mp_sn(m)
 
         def u(t):
             if t not in u_at:
-                u_at[t] = u1 + (u2 - u1) * mp.ellipfun("sn", lam * t + c, m) ** 2
+                u_at[t] = u1 + (u2 - u1) * sn(lam * t + c) ** 2
             return u_at[t]
 
         def quad(f, a, b):
@@ -138,6 +143,20 @@ def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True):
             half = quad(f, pts[1], pts[2])
             return quad(f, pts[0], pts[1]) + half * (len(pts) - 3) + quad(f, pts[-2], pts[-1])
 
+        if not angles and time_dps is not None:
+            with mp.workdps(time_dps):
+                sn_t, lam_t, c_t, u1_t, du_t = mp_sn(+m), +lam, +c, +u1, u2 - u1
+                thetas = [
+                    float(mp.acos(min(u1_t + du_t * sn_t(lam_t * mp.mpf(float(t)) + c_t) ** 2, mp.mpf(1))))
+                    for t in times
+                ]
+            return (
+                np.array([(theta, math.nan, math.nan) for theta in thetas]),
+                float(2 * K / lam),
+                float(u1),
+                float(u2),
+                float(u3),
+            )
         out = []
         for t in times:
             t = mp.mpf(float(t))
@@ -155,12 +174,35 @@ def mp_reference(top: HeavyTop, ic, times, dps: int = 30, angles: bool = True):
 def dop853(top: HeavyTop, R0, L0, t, rtol=1e-13, atol=1e-15):
     """Euler-Poisson equations in space: Ṙ = hat(ω) R, L̇ = ℓ e3 × (−M g ẑ); ω from L and R. (A tilt of
     1e-9 rad needs ``atol`` far below it.)"""
-    inv = np.array([1 / top.I1, 1 / top.I1, 1 / top.I3])
+    inv1, inv3, mgl = 1 / top.I1, 1 / top.I3, top.mgl
 
     def rhs(_, y):
-        R, L = y[:9].reshape(3, 3), y[9:]
-        w = R @ (inv * (R.T @ L))
-        return np.concatenate([(hat(w) @ R).ravel(), -top.mgl * np.cross(R[:, 2], [0.0, 0.0, 1.0])])
+        # Written out in floats (np.cross, hat and 3×3 products cost ~10 times the arithmetic, and DOP853
+        # calls this ~10⁵ times): ω = R I⁻¹ Rᵀ L; Ṙ = hat(ω) R, column j being ω × R e_j;
+        # L̇ = −M g ℓ (R e3) × ẑ = M g ℓ (−R23, R13, 0).
+        r11, r12, r13, r21, r22, r23, r31, r32, r33, l1, l2, l3 = y.tolist()
+        b1 = (r11 * l1 + r21 * l2 + r31 * l3) * inv1
+        b2 = (r12 * l1 + r22 * l2 + r32 * l3) * inv1
+        b3 = (r13 * l1 + r23 * l2 + r33 * l3) * inv3
+        w1 = r11 * b1 + r12 * b2 + r13 * b3
+        w2 = r21 * b1 + r22 * b2 + r23 * b3
+        w3 = r31 * b1 + r32 * b2 + r33 * b3
+        return np.array(
+            [
+                w2 * r31 - w3 * r21,
+                w2 * r32 - w3 * r22,
+                w2 * r33 - w3 * r23,
+                w3 * r11 - w1 * r31,
+                w3 * r12 - w1 * r32,
+                w3 * r13 - w1 * r33,
+                w1 * r21 - w2 * r11,
+                w1 * r22 - w2 * r12,
+                w1 * r23 - w2 * r13,
+                -mgl * r23,
+                mgl * r13,
+                0.0,
+            ]
+        )
 
     sol = solve_ivp(
         rhs, (t[0], t[-1]), np.concatenate([np.ravel(R0), L0]), method="DOP853", rtol=rtol, atol=atol, t_eval=t

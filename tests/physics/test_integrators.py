@@ -237,15 +237,19 @@ def test_intermediate_axis_flip_neither_damped_nor_pumped():
     ours = integrate(Yoshida4(MOMENTS), np.eye(3), L0, dt, n, save_every=50)
     strang = integrate(LiePoissonStrang(MOMENTS), np.eye(3), L0, dt, n, save_every=50)
     # A scheme that takes an explicit Euler step of Euler's equations and rescales |L| afterwards
-    # (vectorised over nothing: a plain loop, 40,000 cheap steps).
-    L = L0.copy()
-    rescaled = [L.copy()]
-    norm0 = np.linalg.norm(L0)
+    # (vectorised over nothing: a plain loop, 40,000 cheap steps, in floats: np.cross on one 3-vector costs
+    # 30 times its arithmetic).
+    l1, l2, l3 = L0.tolist()
+    i1, i2, i3 = MOMENTS.tolist()
+    rescaled = [(l1, l2, l3)]
+    norm0 = math.sqrt(l1 * l1 + l2 * l2 + l3 * l3)
     for k in range(n):
-        L_new = L + dt * np.cross(L, L / MOMENTS)
-        L = L_new * (norm0 / np.linalg.norm(L_new))
+        w1, w2, w3 = l1 / i1, l2 / i2, l3 / i3
+        n1, n2, n3 = l1 + dt * (l2 * w3 - l3 * w2), l2 + dt * (l3 * w1 - l1 * w3), l3 + dt * (l1 * w2 - l2 * w1)
+        scale = norm0 / math.sqrt(n1 * n1 + n2 * n2 + n3 * n3)
+        l1, l2, l3 = n1 * scale, n2 * scale, n3 * scale
         if (k + 1) % 50 == 0:
-            rescaled.append(L.copy())
+            rescaled.append((l1, l2, l3))
     rel_ours = (_separatrix_distance(ours.L_body) - d0) / abs(d0)
     rel_strang = (_separatrix_distance(strang.L_body) - d0) / abs(d0)
     rel_rescaled = (_separatrix_distance(np.array(rescaled)) - d0) / abs(d0)
