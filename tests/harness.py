@@ -142,12 +142,14 @@ def launch_chromium() -> Iterator[Any]:
             browser.close()
 
 
-FRAME_RATE = 10
+FRAME_RATE = 5
 """Frames per second a test page draws at most. Headless Chromium draws WebGL on the CPU (SwiftShader):
-about 60 ms of CPU a frame at 960×720, so a page showing a moving body, which viser's client redraws
-as fast as it can, kept one and a half of the machine's two cores busy for as long as it was open, and the
-pages of two test workers starved each other and the servers they test. 10 frames/s is a slow laptop's
-rate; the page's own behaviour (its controls, its messages, what it draws) is the same at any rate."""
+about 60 ms of CPU a frame at 960×720, so a page showing a moving body, which viser's client redraws as
+fast as it can, kept one and a half of the machine's two cores busy for as long as it was open, and the
+pages of two test workers starved each other and the servers they test. The page's own behaviour (its
+controls, its messages, what it draws) is the same at any rate; a test that needs the page to have drawn
+waits for ``window.rblFrames`` to count on. On two idle cores the suite took 400 s at 10 frames/s and
+335-345 s at 5."""
 
 PACE_FRAMES = (
     """(() => {

@@ -229,6 +229,9 @@ def test_a_whole_lecture_and_every_scenes_controls_by_keyboard_alone(chromium) -
                 "&& f.getAttribute('aria-expanded') === 'true')",
                 timeout=10_000,
             )
+            # The folder's content is drawn once its opening has run (a few frames on a slow page).
+            first = f"{KEYS[0][0]}: {KEYS[0][1]}"
+            page.wait_for_function("(text) => document.body.innerText.includes(text)", arg=first, timeout=10_000)
             shown = page.evaluate("() => document.body.innerText")
             for key, what in KEYS:
                 assert f"{key}: {what}" in shown, key

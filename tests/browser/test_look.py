@@ -79,6 +79,18 @@ def _settled(page, unlike: np.ndarray | None = None, timeout: float = 30.0) -> n
         previous = shot
 
 
+FRAMES = "() => window.rblFrames ?? null"
+"""How many frames the page has drawn (tests.harness.PACE_FRAMES counts them; null in a page without it)."""
+
+
+def _drawn_again(page) -> None:
+    """Wait until the page has drawn two more frames: the screenshots after it are of what the server sent
+    before this call (two screenshots alike can both come before a slow page's next frame)."""
+    start = page.evaluate(FRAMES)
+    if start is not None:
+        wait_for(lambda: page.evaluate(FRAMES) >= start + 2, 30, what="the page to draw two frames")
+
+
 def _view(app) -> list:
     """What the browsers see the scene from: each one's camera and the size it renders at."""
     return [
@@ -110,6 +122,7 @@ def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, n
         app.request_redraw()
         drawn = app.frames
     wait_for(lambda: app.frames > drawn, 30, what="the paused frame")
+    _drawn_again(page)
     # viser's "software WebGL" notice (headless Chromium has no GPU) may arrive late and cover the body.
     page.evaluate(CLOSE_NOTIFICATIONS)
     wait_for(lambda: page.evaluate(OPEN_NOTIFICATIONS) == 0, 10, what="the notices to close")
@@ -118,6 +131,7 @@ def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, n
         shown = _settled(page)
         with app.lock:
             app.scene.body.handle.visible = False
+        _drawn_again(page)
         hidden = _settled(page, unlike=shown)
         with app.lock:
             app.scene.body.handle.visible = True
