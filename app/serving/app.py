@@ -24,6 +24,7 @@ from app.guards.wire import departed
 from app.panel import look
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
 from app.serving.addresses import is_loopback
+from app.serving.notices import NOTIFY_SECONDS
 from app.serving.simulation import FPS, Simulation, first_scene
 from app.teaching.class_questions import ClassQuestions
 from app.teaching.following import apply_step
@@ -209,8 +210,12 @@ class App:
         client = self.server.get_clients().get(client_id)
         with self.sessions_lock:
             simulation = self.sessions.get(client_id, self.shared)
-        if client is not None and simulation is not None:
+        if client is None:
+            return
+        if simulation is not None:
             simulation.notify("Refused", reason, client=client, error=True)
+        else:  # a private browser whose session is still being made: told all the same
+            client.add_notification("Refused", reason, color="red", auto_close_seconds=NOTIFY_SECONDS)
 
     def _follows(self, client: Any) -> bool:
         """Whether a browser is drawn the shared simulation (not one exploring a copy of its own)."""
