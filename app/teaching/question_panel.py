@@ -69,7 +69,8 @@ class QuestionPanel:
         gui = self.client.gui
         self.count = self.mine = self.choice = self.number = self.send = self.results = self.reveal = None
         title = "Class question" if question is not None or presenter else "Question"
-        with gui.add_folder(title, order=ORDER) as self.folder:
+        self.folder = None
+        with gui.add_folder(title, order=ORDER) as folder:
             if question is not None:
                 gui.add_markdown(_question_markdown(question))
             if presenter:
@@ -80,6 +81,7 @@ class QuestionPanel:
                 self._follower(question, mine)
             if question is not None and question.revealed_at is not None:
                 self.results = gui.add_html(results_html(question))
+        self.folder = folder  # set once every control in it is made: whoever sees it sees them all
 
     def _follower(self, question: Question, mine: Any) -> None:
         gui = self.client.gui
