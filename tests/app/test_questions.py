@@ -377,6 +377,8 @@ def test_the_presenter_asks_from_the_panel_and_saves_the_csv_a_follower_cannot(l
         assert questions.poll.current.ask == Ask("Which way does L point?", ("up", "down"))
         wait_for(lambda: questions._panels[f_id].choice is not None, what="the follower's buttons")
         assert questions._panels[f_id].choice.options == ("A", "B")
+        # The panels are rebuilt one after another, the follower's first: wait for the presenter's whole folder.
+        wait_for(lambda: panel.reveal is not None and panel.folder is not None, what="the presenter's rebuilt panel")
         assert panel.ask_text.value == ""  # the panel was rebuilt for the question: its boxes are empty
         send_value(p, panel.ask_text._impl.uuid, "Again?")
         send_value(p, panel.ask_choices._impl.uuid, "only one")
