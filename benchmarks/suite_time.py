@@ -37,6 +37,8 @@ class Run:
     returncode: int
     summary: str
     failures: tuple[str, ...] = ()
+    report: str = ""
+    """pytest's ``FAILURES``/``ERRORS`` sections of a failed run (printed: a failure under load is rare)."""
 
     @property
     def passed(self) -> bool:
@@ -79,6 +81,17 @@ def failures(output: str) -> tuple[str, ...]:
     return tuple(line.strip() for line in output.splitlines() if line.startswith(("FAILED ", "ERROR ")))
 
 
+def failure_report(output: str) -> str:
+    """pytest's ``FAILURES`` and ``ERRORS`` sections, up to the short summary (empty when all passed)."""
+    lines = output.splitlines()
+    starts = [i for i, line in enumerate(lines) if line.startswith("=") and line.strip("= ") in ("FAILURES", "ERRORS")]
+    if not starts:
+        return ""
+    ends = [i for i, line in enumerate(lines) if line.startswith("=") and "short test summary" in line]
+    end = next((i for i in ends if i > starts[0]), len(lines))
+    return "\n".join(lines[starts[0] : end])
+
+
 def run_suite(quick: bool, timeout: float) -> Run:
     """One run of the test command in a fresh process from the repository's root."""
     command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"] + (
@@ -90,9 +103,14 @@ def run_suite(quick: bool, timeout: float) -> Run:
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
         return Run(
-            time.perf_counter() - start, -1, f"timed out after {timeout:g} s: {closing_line(out)}", failures(out)
+            time.perf_counter() - start,
+            -1,
+            f"timed out after {timeout:g} s: {closing_line(out)}",
+            failures(out),
+            failure_report(out),
         )
-    return Run(time.perf_counter() - start, done.returncode, closing_line(done.stdout), failures(done.stdout))
+    out = done.stdout
+    return Run(time.perf_counter() - start, done.returncode, closing_line(out), failures(out), failure_report(out))
 
 
 def write_table(runs: list[Run], quick: bool, burn: int, path: Path) -> str:
@@ -157,6 +175,8 @@ def main(argv: list[str] | None = None) -> int:
         for i in range(args.runs):
             runs.append(run_suite(args.quick, args.timeout))
             print(f"run {i + 1}: {runs[-1].seconds:.0f} s, {runs[-1].summary}", flush=True)
+            if runs[-1].report:
+                print(runs[-1].report, flush=True)
             write_table(runs, args.quick, args.burn, out)
     return 0 if all(r.passed for r in runs) else 1
 

@@ -6,7 +6,7 @@ import os
 import time
 from pathlib import Path
 
-from benchmarks.suite_time import Run, burning, closing_line, failures, write_table
+from benchmarks.suite_time import Run, burning, closing_line, failure_report, failures, write_table
 
 
 def test_the_closing_line_is_pytests_counts():
@@ -19,6 +19,15 @@ def test_the_failed_tests_are_named():
     out = "..F\n=== short test summary info ===\nFAILED tests/a.py::t - AssertionError: 6.4\nERROR tests/b.py::u\n=== 1 failed ===\n"
     assert failures(out) == ("FAILED tests/a.py::t - AssertionError: 6.4", "ERROR tests/b.py::u")
     assert failures("2005 passed in 300.1s\n") == ()
+
+
+def test_a_failed_runs_report_is_pytests_failure_section():
+    out = (
+        "..F\n=== FAILURES ===\n___ t ___\n    assert 1 == 2\nE   AssertionError\n"
+        "=== short test summary info ===\nFAILED tests/a.py::t\n=== 1 failed in 3s ===\n"
+    )
+    assert failure_report(out) == "=== FAILURES ===\n___ t ___\n    assert 1 == 2\nE   AssertionError"
+    assert failure_report("...\n=== 3 passed in 1s ===\n") == ""
 
 
 def test_the_table_counts_passes_and_names_the_load(tmp_path):
