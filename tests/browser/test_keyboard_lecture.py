@@ -45,6 +45,8 @@ LIVE = """() => { const el = document.querySelector('[aria-live=polite]');
 HIGHLIGHTED = """() => { const o = [...document.querySelectorAll('[role=option][data-combobox-selected]')]
     .find(e => e.offsetParent); return o ? o.textContent : null; }"""
 """The option the keyboard has reached in the open list (Mantine marks it data-combobox-selected)."""
+CLOSED = "(the list closed)"
+"""What :func:`choose` sees when a re-render closed the list it was moving through."""
 
 
 def focused(page: Any) -> dict[str, Any]:
@@ -62,27 +64,37 @@ def tab_to(page: Any, name: str, role: str | None = None, limit: int = 90, back:
     raise AssertionError(f"Tab never reached {name!r} ({role}) in {limit} presses")
 
 
+def _moved(page: Any, before: str) -> str | None:
+    """The highlighted option (or CLOSED) once it is not ``before``; None while it still is."""
+    now = page.evaluate(HIGHLIGHTED) or CLOSED
+    return now if now != before else None
+
+
 def choose(page: Any, label: str, option: str, done: Any, what: str) -> None:
     """Choose ``option`` in the dropdown labelled ``label``: Tab to it, ↓ opens the list, ↓ moves through
     it, Enter takes the highlighted option; until ``done()`` holds on the server (a list that a re-render
-    closed is opened again, as a user would, at most twice)."""
-    for attempt in (1, 2):
+    closed, before or after Enter, is opened again, as a user would, at most twice)."""
+    for attempt in (1, 2, 3):
         tab_to(page, label, "combobox", back=True)
         page.keyboard.press("ArrowDown")
         now = wait_for(lambda: page.evaluate(HIGHLIGHTED), 10, what=f"the open list of {label!r}")
         for _ in range(40):
-            if now.strip() == option:
+            if now == CLOSED or now.strip() == option:
                 break
             page.keyboard.press("ArrowDown")
-            now = wait_for(lambda n=now: (page.evaluate(HIGHLIGHTED) or n) != n and page.evaluate(HIGHLIGHTED), 10)
+            now = wait_for(lambda n=now: _moved(page, n), 10, what=f"the next option of {label!r}")
         else:
             raise AssertionError(f"{option!r} never highlighted in {label!r}")
+        if now == CLOSED:
+            if attempt == 3:
+                raise AssertionError(f"the list of {label!r} closed three times before {option!r} was reached")
+            continue
         page.keyboard.press("Enter")
         try:
             wait_for(done, 10, what=what)
             return
         except AssertionError:
-            if attempt == 2:
+            if attempt == 3:
                 raise
 
 
