@@ -80,22 +80,34 @@ def test_the_effective_potential_survives_reset_preset_and_sliders(chromium) -> 
         page.close()
 
 
+WATCH = """(title) => {
+  // Counts, in the page, every time the plot's data restarts (fewer points, or an earlier newest time than
+  // the look 5 ms before): a loaded page may take longer to show the restart than the old data had run.
+  const find = () => Object.values((window.__viserTestpoints || {}).uplots || {}).find(v =>
+    v.chart.root.querySelector('.u-title') && v.chart.root.querySelector('.u-title').textContent.startsWith(title));
+  window.rblRestarts = window.rblRestarts || {};
+  window.rblWatch = window.rblWatch || {};
+  clearInterval(window.rblWatch[title]);
+  window.rblRestarts[title] = 0;
+  let last = null;
+  window.rblWatch[title] = setInterval(() => {
+    const v = find();
+    if (!v || !v.chart.data[0]) return;
+    const x = v.chart.data[0], n = x.length, newest = n ? x[n - 1] : null;
+    if (last && (n < last[0] || (newest !== null && last[1] !== null && newest < last[1]))) window.rblRestarts[title]++;
+    last = [n, newest];
+  }, 5);
+}"""
+
+
 def _restarted_and_drawn(page, title: str, change) -> None:
     """Make a change that restarts a plot's data; wait until the page shows it restarted (fewer points or an
-    earlier newest time) and then drawn again: data and a finite x scale. A plot that went blank (viser's
-    client dropping its auto x scale) fails one wait or the other."""
+    earlier newest time than just before, watched in the page) and then drawn again: data and a finite x
+    scale. A plot that went blank (viser's client dropping its auto x scale) fails one wait or the other."""
     wait_for(lambda: (c := _chart(page, title)) and c["points"] >= 8, 30, what=f"{title!r} to fill")
-    before = _chart(page, title)
+    page.evaluate(WATCH, title)
     change()
-
-    def restarted() -> bool:
-        chart = _chart(page, title)
-        if chart is None:
-            return False
-        newest = chart["x"][1]
-        return chart["points"] < before["points"] or (newest is not None and newest < before["x"][1])
-
-    wait_for(restarted, 30, what=f"{title!r} to restart")
+    wait_for(lambda: page.evaluate("(t) => window.rblRestarts[t]", title) > 0, 30, what=f"{title!r} to restart")
     wait_for(lambda: _drawn(page, title), 30, what=f"{title!r} drawn again")
 
 
