@@ -177,9 +177,19 @@ def scene_by_keyboard(page: Any, app: Any, name: str) -> None:
     elif name == "heavy_top":
         # Item 3: the live description the page holds, before and after a change by keyboard, says the
         # numbers of the physics API (HeavyTop(...).trajectory) for the server's values.
-        text, view = live(page)
+        # The live region and the view's label are two updates: on a loaded page the second can come a few
+        # frames after the first, so wait until both say what the server says now.
+        text, view = wait_for(
+            lambda: (
+                (now := live(page))
+                and now[0] == app.shared.panel.said
+                and now[1] == f"3D view of the simulation: {now[0]}"
+                and now
+            ),
+            10,
+            what="the live text and the view's label to say the heavy top",
+        )
         heavy_top_says(text, dict(app.scene.params.values))
-        assert view == f"3D view of the simulation: {text}"
         step, _, _ = slider_step(app, "spin")
         nudge(page, app, "spin", "spin ω₃ (rad/s)", "ArrowRight", value(app, "spin") + step)
         page.wait_for_function(f"() => document.querySelector('[aria-live=polite]').textContent !== {text!r}")
