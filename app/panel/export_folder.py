@@ -24,6 +24,10 @@ ExportRun = Callable[[str, float, Callable[[int, int], None]], bytes]
 """What the folder is given: (state text, seconds, progress(done, total)) -> the zip's bytes."""
 
 
+class _Left(Exception):
+    """The browser that asked for an export has left while it ran."""
+
+
 class ExportFolder:
     """The "Export" folder of a simulation's panel (seconds, and the button).
 
@@ -82,17 +86,21 @@ class ExportFolder:
         last = [-1]
 
         def progress(done: int, total: int) -> None:
+            if departed(client):  # nobody to send it to: stop now and free the process's one export place
+                raise _Left
             percent = 100 * done // total
-            if percent >= last[0] + 10 and not departed(client):  # a tenth at a time, not a stream
+            if percent >= last[0] + 10:  # a tenth at a time, not a stream
                 last[0] = percent
                 note.body = f"{seconds:g} s of {name}: {percent} %"
 
         try:
             archive = self.export(text, seconds, progress)
             if departed(client):
-                return  # it left while the export ran: nobody to send it to
+                return  # it left as the export ended: nobody to send it to
             client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
             final = ("Exported", f"rigid-body-lab-{name}.zip ({len(archive) // 1024} kB)", "green")
+        except _Left:
+            return
         except ValueError as exc:
             final = ("Export refused", str(exc), "red")
         except Exception as exc:  # noqa: BLE001 - the server stays up; the browser is told

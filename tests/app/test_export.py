@@ -285,3 +285,31 @@ def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, o
     assert note.title == title and note.loading is False
     assert note.auto_close_seconds == NOTIFY_SECONDS
     assert client.downloads == (["rigid-body-lab-pendulum.zip"] if title == "Exported" else [])
+
+
+def test_an_export_whose_browser_left_stops_at_its_next_frame() -> None:
+    """A browser that leaves while its export runs frees the process's one export place at once (the export
+    stopped at its next frame), instead of holding it for the minutes a long export takes."""
+    from types import SimpleNamespace
+
+    from app.panel.export_folder import ExportFolder
+    from app.recording.export import one_at_a_time
+    from app.serving.notices import NOTIFY_SECONDS
+
+    client = _Client()
+    frames: list[int] = []
+
+    def long_export(text, seconds, progress):
+        with one_at_a_time():
+            for k in range(1, 18_001):
+                frames.append(k)
+                if k == 100:  # the browser leaves
+                    client._websock_connection = SimpleNamespace(get_message_buffer=lambda: SimpleNamespace(done=True))
+                progress(k, 18_000)
+        return b"zip"
+
+    folder = SimpleNamespace(export=long_export, auto_close_seconds=NOTIFY_SECONDS)
+    ExportFolder._run(folder, client, "rbl1:x", 600.0, "pendulum")  # type: ignore[arg-type]
+    assert frames[-1] == 100 and client.downloads == []
+    with one_at_a_time():  # the place is free again
+        pass
