@@ -24,11 +24,8 @@ RECORD = """(text) => {
     // Every change of the readout, timed by the page's own clock: [last look without it, first look with it,
     // value] in ms. Looking every 5 ms in the page keeps a loaded machine's round trips to the page out of the
     // timing.
-    const read = () => { for (const el of document.querySelectorAll('label[for]')) {
-        if (el.textContent.trim() !== text) continue;
-        const input = el.closest('.mantine-Flex-root').querySelector('input');
-        return input ? parseFloat(input.value) : null; }
-      return null; };
+    const shown = READOUT;
+    const read = () => { const v = shown(text); return v === null ? null : parseFloat(v); };
     window.rblReadout = [];
     let last = read(), before = performance.now();
     setInterval(() => {
@@ -36,7 +33,7 @@ RECORD = """(text) => {
       if (value !== last && value !== null && !Number.isNaN(value)) window.rblReadout.push([before, now, value]);
       last = value; before = now;
     }, 5);
-}"""
+}""".replace("READOUT", READOUT)
 
 
 def _time_shown(page) -> float | None:
