@@ -13,6 +13,7 @@ time) leaves.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -23,8 +24,8 @@ from scipy.sparse import lil_matrix
 
 from physics.free_body import FreeBody
 from physics.gyro.model import DragLaw, euler_ratios, model_omega, rotation_from_vector
-from physics.integrators import BlanesMoan6, SpinFriction, advance
 from physics.gyro.recording import Segment
+from physics.integrators import BlanesMoan6, SpinFriction, advance
 
 Floats = NDArray[np.float64]
 
@@ -142,7 +143,9 @@ class FreeBodyFit:
         out = []
         for k, seg in enumerate(self.segments):
             fine = np.linspace(seg.start, seg.end, 20 * len(seg.times))
-            out.append(HalfTurns(_crossings(fine, self.predict(fine, k) @ axis), _crossings(seg.times, seg.omega @ axis)))
+            out.append(
+                HalfTurns(_crossings(fine, self.predict(fine, k) @ axis), _crossings(seg.times, seg.omega @ axis))
+            )
         return out
 
 
@@ -170,7 +173,9 @@ def _crossings(times: Floats, values: Floats) -> Floats:
 def check_segment(segment: Segment, name: str = "the segment") -> None:
     """Refuse a segment that cannot be fitted, saying why (ValueError)."""
     if not isinstance(segment, Segment):
-        raise ValueError(f"{name} must be a physics.gyro.Segment (e.g. from free_flights), got {type(segment).__name__}")
+        raise ValueError(
+            f"{name} must be a physics.gyro.Segment (e.g. from free_flights), got {type(segment).__name__}"
+        )
     if segment.duration < MIN_DURATION:
         raise ValueError(
             f"{name} lasts {segment.duration:.3f} s; at least {MIN_DURATION} s of free flight are needed to fit"
@@ -355,7 +360,7 @@ def fit_free_body(
 def _tilt_significant(theta: Floats, cov: Floats) -> bool:
     """The misalignment's angle exceeds three standard deviations."""
     angle = float(np.linalg.norm(theta))
-    return angle > 0.0 and angle > 3.0 * float(np.sqrt(max(theta @ cov @ theta, 0.0))) / angle
+    return angle > 0.0 and angle > 3.0 * math.sqrt(max(float(theta @ cov @ theta), 0.0)) / angle
 
 
 def _result(problem: _Problem, x: Floats, cov: Floats, fun: Floats) -> FreeBodyFit:
@@ -371,7 +376,7 @@ def _result(problem: _Problem, x: Floats, cov: Floats, fun: Floats) -> FreeBodyF
         theta = x[2:5]
         angle = float(np.linalg.norm(theta))
         if angle > 0.0:
-            angle_sigma = float(np.sqrt(max(theta @ cov[2:5, 2:5] @ theta, 0.0))) / angle
+            angle_sigma = math.sqrt(max(float(theta @ cov[2:5, 2:5] @ theta), 0.0)) / angle
     k = problem.n_shared - 3
     drag = np.zeros(3) if beta is None else beta
     drag_sigma = np.zeros(3) if beta is None else np.sqrt(np.maximum(np.diag(cov)[k : k + 3], 0.0))

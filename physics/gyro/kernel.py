@@ -24,7 +24,7 @@ MAX_STEP = 0.002
 __all__ = ["MAX_STEP", "drag_omega"]
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _rates(w0: float, w1: float, w2: float, inv: Any, d: Any, ab: Any) -> tuple[float, float, float]:
     return (
         (ab[0] * w1 * w2 - d[0] * w0) * inv[0],
@@ -33,7 +33,7 @@ def _rates(w0: float, w1: float, w2: float, inv: Any, d: Any, ab: Any) -> tuple[
     )
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _run(moments: Any, drag: Any, w: Any, t: Any, max_step: float, out: Any) -> None:
     inv = 1.0 / moments
     ab = np.array([moments[1] - moments[2], moments[2] - moments[0], moments[0] - moments[1]])

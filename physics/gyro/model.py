@@ -40,8 +40,8 @@ def rotation_from_vector(theta: Floats) -> Floats:
     angle = float(np.linalg.norm(theta))
     k = np.array([[0.0, -theta[2], theta[1]], [theta[2], 0.0, -theta[0]], [-theta[1], theta[0], 0.0]])
     if angle < 1e-8:
-        return np.eye(3) + k + 0.5 * k @ k
-    return np.eye(3) + np.sin(angle) / angle * k + (1.0 - np.cos(angle)) / angle**2 * k @ k
+        return np.asarray(np.eye(3) + k + 0.5 * k @ k, dtype=float)
+    return np.asarray(np.eye(3) + np.sin(angle) / angle * k + (1.0 - np.cos(angle)) / angle**2 * k @ k, dtype=float)
 
 
 def _sorting(moments: Floats) -> tuple[Floats, Floats]:

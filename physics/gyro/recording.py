@@ -75,11 +75,17 @@ class Segment:
     @classmethod
     def between(cls, recording: Recording, start: float, end: float, clip_rate: float = CLIP_RATE) -> Segment:
         """The samples of ``recording`` with ``start ≤ t ≤ end`` (s) as a segment."""
-        keep = (recording.times >= start) & (recording.times <= end)
-        times, omega = recording.times[keep], recording.omega[keep]
-        if times.size == 0:
-            raise ValueError(f"no samples between {start:g} s and {end:g} s (the recording has {recording.times.size})")
-        return cls(float(times[0]), float(times[-1]), times, omega, clip_rate)
+        return cls.between_arrays(recording.times, recording.omega, start, end, clip_rate)
+
+    @classmethod
+    def between_arrays(
+        cls, times: Floats, omega: Floats, start: float, end: float, clip_rate: float = CLIP_RATE
+    ) -> Segment:
+        """The samples ``times`` (n,) s, ``omega`` (n, 3) rad/s with ``start ≤ t ≤ end`` as a segment."""
+        keep = (times >= start) & (times <= end)
+        if not np.any(keep):
+            raise ValueError(f"no samples between {start:g} s and {end:g} s (there are {times.size})")
+        return cls(float(times[keep][0]), float(times[keep][-1]), times[keep], omega[keep], clip_rate)
 
     @property
     def duration(self) -> float:

@@ -12,7 +12,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("physics.inertia",),
     ("physics.free_body", "physics.free_body_motion", "physics.free_body_trajectory"),
     ("physics.integrators",),
-    ("physics.heavy_top", "physics.heavy_body", "physics.pendulum"),
+    ("physics.heavy_top", "physics.heavy_body", "physics.pendulum", "physics.gyro"),
 )
 
 
