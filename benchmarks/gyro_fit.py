@@ -156,6 +156,9 @@ def analyse(recordings: list[tuple[str, Recording, list[Toss]]], baseline_every:
     done: list[Toss] = []
     count = 0
     for _, rec, tosses in recordings:
+        print(
+            f"gyro_fit: {len(done)} tosses done, next a recording of {rec.times[-1]:.0f} s", file=sys.stderr, flush=True
+        )
         flights = free_flights(rec)
         if tosses and tosses[0].hand is None:
             # No hand marks: every automatic flight is a toss.

@@ -142,7 +142,7 @@ class FreeBodyFit:
         axis = self.rotation[:, AXES.index(self.axes[1])]
         out = []
         for k, seg in enumerate(self.segments):
-            fine = np.linspace(seg.start, seg.end, 20 * len(seg.times))
+            fine = np.linspace(seg.start, seg.end, 5 * len(seg.times))
             out.append(
                 HalfTurns(_crossings(fine, self.predict(fine, k) @ axis), _crossings(seg.times, seg.omega @ axis))
             )
@@ -245,7 +245,9 @@ class _Problem:
         parts = []
         for seg, t, mask, w in zip(self.segments, self.t, self.masks, u0):
             parts.append(((model_omega(moments, rot, beta, w, t) - seg.omega) * mask).ravel())
-        return np.concatenate(parts)
+        # A trial far off (a huge drag stepped backwards, a body the solver tried at a bound) can overflow:
+        # it is a large, finite misfit, so that the solver steps back from it.
+        return np.nan_to_num(np.clip(np.concatenate(parts), -1e6, 1e6), nan=1e6)
 
     def sparsity(self) -> lil_matrix:
         rows = sum(3 * len(s.times) for s in self.segments)

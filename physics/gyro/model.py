@@ -143,9 +143,14 @@ def euler_ratios(pieces: list[tuple[Floats, Floats]]) -> Floats:
             np.stack([z * x, dw[:, 1], -z * x], axis=1),
             np.stack([-x * y, x * y, dw[:, 2]], axis=1),
         ]
-    if not blocks:
+    rows = np.concatenate(blocks) if blocks else np.zeros((0, 3))
+    rows = rows[np.all(np.isfinite(rows), axis=1)]
+    if rows.shape[0] < 3:
         return np.ones(3)
-    vec = np.linalg.svd(np.concatenate(blocks), full_matrices=False)[2][-1]
+    try:
+        vec = np.linalg.svd(rows, full_matrices=False)[2][-1]
+    except np.linalg.LinAlgError:
+        return np.ones(3)
     vec = vec if vec[np.argmax(np.abs(vec))] > 0.0 else -vec
     vec = np.clip(vec, 1e-3 * np.max(vec), None)
     return np.asarray(vec / np.max(vec), dtype=float)
