@@ -48,6 +48,7 @@ from physics.integrators import (
     integrate,
     kinetic_energy,
 )
+from physics.integrators.warm import warm
 from physics.rotations import rotation_angle
 
 LEVELS = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
@@ -101,7 +102,11 @@ def our_methods(case: Case, quick: bool = False):
     # Highest order first: the domination rule below then cuts the low orders' sweeps short.
     methods = [
         SofroniouSpaletta10(case.moments, torque),
+        # L in double-double through the rotations: the same methods with a lower round-off floor, for the
+        # motions that amplify round-off (free_separatrix); they cost about 1.4 times as much per step.
+        SofroniouSpaletta10(case.moments, torque, compensated=True),
         KahanLi8(case.moments, torque),
+        KahanLi8(case.moments, torque, compensated=True),
         Yoshida8(case.moments, torque),
         BlanesMoan6(case.moments, torque),
         Yoshida6(case.moments, torque),
@@ -424,6 +429,9 @@ def main(argv=None) -> int:
         wanted = args.cases.split(",")
         cases = [c for c in cases if c.name in wanted]
     log = (lambda s: None) if args.smoke else (lambda s: print(s, flush=True))
+    # Compile (or load from numba's cache) the kernels first: a compile (seconds, after a kernel changed)
+    # would count as the first run's CPU and end that method's sweep at once.
+    log(f"kernels ready in {warm():.1f} s")
     t_start = time.perf_counter()
     mode = "--smoke" if args.smoke else ("--quick" if args.quick else "full")
     scipy_methods = ", ".join(("DOP853", "RK45", "LSODA") if quick else SCIPY_METHODS)
@@ -438,7 +446,9 @@ def main(argv=None) -> int:
         "machine (2 cores shared with other "
         "work: timings are noisy to ±30 %).",
         "",
-        "Families: ours (integrators: compiled numba kernels, one body), ours (closed form), scipy `solve_ivp` "
+        "Families: ours (integrators: compiled numba kernels, one body; 'compensated': the same method with "
+        "L carried in double-double through its rotations, see docs/physics-notes.md), ours (closed form), "
+        "scipy `solve_ivp` "
         f"({scipy_methods}; quaternion + Euler's equations), MuJoCo 4.0 (Euler, implicitfast, RK4 "
         "through `mujoco.rollout`; friction and drag as velocity-biased actuators). Ratios > 1: we are faster.",
         "",
