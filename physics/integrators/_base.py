@@ -116,7 +116,7 @@ class Splitting(Method):
 
     ``compensated=True`` (keyword-only) carries ``L_body`` in double-double arithmetic through the axis
     rotations of the compiled steps (:mod:`.kernels`): the same method, with round-off 1e-16 times smaller in
-    ``L``, for motions that amplify it (near the separatrix, docs/physics-notes.md), at about 1.4 times the
+    ``L``, for motions that amplify it (near the separatrix, docs/physics-notes.md), at about 1.1 times the
     CPU. It needs the compiled torques (gravity, spin friction, the transverse air drag); ``step``, one
     interpreted step, rounds as the plain method.
     """

@@ -73,7 +73,7 @@ def _rotate_compensated(s, lo, i, th):
     """:func:`_rotate` with ``L_body`` in double-double (high parts in ``s[9:]``, low parts in ``lo``), in place.
 
     ``L`` is rotated by ``(c, s_n) / sqrt(c² + s_n²)`` (the rounded cosine and sine made exactly orthogonal):
-    ``|L|`` is kept to about 1e-32 and ``L² − 2 E I2`` moves only as the step's angle says, not by the
+    ``|L|`` is kept far below one float64 rounding and ``L² − 2 E I2`` moves only as the step's angle says, not by the
     1e-16 that a rotation of rounded ``(c, s_n)`` scales the ``(j, k)`` plane by. ``R`` is rotated as
     in :func:`_rotate` (its rounding does not feed back into the motion).
     """
@@ -88,18 +88,28 @@ def _rotate_compensated(s, lo, i, th):
     t, et = _two_sum(cc, ss)
     half_eta = 0.5 * ((t - 1.0) + (et + _fma(c, c, -cc) + _fma(sn, sn, -ss)))
     a, b, al, bl = s[9 + j], s[9 + k], lo[j], lo[k]
-    # L_j ← c L_j + s_n L_k and L_k ← c L_k − s_n L_j: error-free products and sum of the high parts, the
-    # low parts and the errors into the new low part (Dekker's double-double product and sum).
+    # L_j ← c L_j + s_n L_k and L_k ← c L_k − s_n L_j: the high part is the plain rotation's rounded sum
+    # (so the next angle waits no longer than in :func:`_rotate`); its error, the products' errors (fma),
+    # the rotated low parts and the orthogonality correction go to the low part, off that critical path.
+    # The low part is not renormalised here (it grows by up to an ulp of the high part per rotation):
+    # :func:`_renormalise` does it once a step.
     p, q = c * a, sn * b
     hi, e = _two_sum(p, q)
-    low = e + _fma(c, a, -p) + _fma(sn, b, -q) + (c * al + sn * bl) - half_eta * hi
-    s[9 + j] = hi + low
-    lo[j] = low - (s[9 + j] - hi)
+    s[9 + j] = hi
+    lo[j] = e + _fma(c, a, -p) + _fma(sn, b, -q) + (c * al + sn * bl) - half_eta * hi
     p, q = c * b, sn * a
     hi, e = _two_sum(p, -q)
-    low = e + _fma(c, b, -p) - _fma(sn, a, -q) + (c * bl - sn * al) - half_eta * hi
-    s[9 + k] = hi + low
-    lo[k] = low - (s[9 + k] - hi)
+    s[9 + k] = hi
+    lo[k] = e + _fma(c, b, -p) - _fma(sn, a, -q) + (c * bl - sn * al) - half_eta * hi
+
+
+@njit(cache=True)
+def _renormalise(s, lo):
+    """Double-double ``L_body``: the high parts the nearest floats to ``s[9:] + lo`` (Dekker's fast two-sum)."""
+    for i in range(3):
+        hi = s[9 + i] + lo[i]
+        lo[i] -= hi - s[9 + i]
+        s[9 + i] = hi
 
 
 @njit(cache=True)
@@ -227,6 +237,8 @@ def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag,
                     a = h * sym[1]
                     _right_exp(s, a * s[9], a * s[10], a * s[11])
                     _rotate(s, ax, h * sym[2] * s[9 + ax])
+            if compensated:
+                _renormalise(s, lo)
         if compensated:
             _fold(s, lo)
     return states
