@@ -35,7 +35,7 @@ import numpy as np
 
 from benchmarks.cases import Case, all_cases, check_with_mpmath
 from benchmarks.peers import PeerTimeout, mujoco_run, scipy_energy_series, scipy_run
-from benchmarks.work_precision_merge import merge_cases
+from benchmarks.work_precision_merge import NOTE_START, merge_cases
 from physics.integrators import (
     BlanesMoan6,
     ExactFreeSplitting,
@@ -518,9 +518,11 @@ def main(argv=None) -> int:
             f"python -m benchmarks.work_precision{'' if mode == 'full' else ' ' + mode} --cases {args.cases} --update"
         )
         note = (
-            f"*Re-run alone on {time.strftime('%Y-%m-%d', time.gmtime())} ({mode} mode, {elapsed:.0f} s wall): "
-            f"{', '.join(c.name for c in cases)}, with `{command}`; their rows and sections below are from that run, "
-            "every other case and the long run from the full run. The worst-ratio line is recomputed.*"
+            f"{NOTE_START}{time.strftime('%Y-%m-%d', time.gmtime())} ({mode} mode, {elapsed:.0f} s wall, load average "
+            f"{os.getloadavg()[0]:.1f} at its end): {', '.join(c.name for c in cases)}, with `{command}`; their rows "
+            "and sections below are from that run, every other case and the long run from the full run. A ratio "
+            "compares runs of one process; CPU times of different runs differ with the machine's load. The "
+            "worst-ratio line is recomputed.*"
         )
         text = merge_cases(full, text, [c.name for c in cases], note, TARGET)
     with open(path, "w") as f:

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["merge_cases"]
+__all__ = ["NOTE_START", "merge_cases"]
+
+NOTE_START = "*Re-run alone on "
+"""How the note of a re-run begins (:func:`merge_cases` replaces the note of an earlier re-run of the same cases)."""
 
 _BOLD = re.compile(r"\*\*([^*]+)\*\*")
 
@@ -99,7 +102,13 @@ def merge_cases(full: str, rerun: str, names: list[str], note: str, target: floa
     first = next(i for i, line in enumerate(old) if line.startswith(("**Worst ratio", "Levels a peer")))
     last = next(i for i in range(first, len(old)) if not old[i].strip())
     old[first:last] = _verdict(old, target)
-    # The note: after the header's paragraphs, before the summary.
+    # The note: after the header's paragraphs, before the summary, replacing an earlier re-run of these cases.
+    for i in reversed(range(len(old))):
+        line = old[i]
+        if line.startswith(NOTE_START) and "): " in line and ", with `" in line:
+            rerun_names = line.split("): ", 1)[1].split(", with `", 1)[0].split(", ")
+            if set(rerun_names) <= set(names):
+                del old[i : i + 2]  # the note and its blank line
     summary = next(i for i, line in enumerate(old) if line.startswith("## Summary"))
     old[summary:summary] = [note, ""]
     return "\n".join(old)

@@ -111,6 +111,9 @@ def test_update_puts_a_rerun_case_into_the_full_table(tmp_path):
         start = full.index(part)
         end = full.index("\n### ", start + 4) if "\n### " in full[start + 4 :] else len(full)
         assert full[start:end] in merged
+    # A second re-run of the case replaces the first one's note.
+    assert main(["--smoke", "--cases", "free_generic", "--update", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "work_precision.md").read_text().count("*Re-run alone on ") == 1
     with pytest.raises(SystemExit):
         main(["--smoke", "--update", "--out", str(tmp_path)])  # --update needs --cases
     with pytest.raises(ValueError, match="'no_such_case'"):
