@@ -55,17 +55,20 @@ _fma: Any = intrinsic(_fma_typing)
 
 
 @njit(cache=True)
-def _rotate(s, i, th):
-    """The exact flow of ``L_i²/(2 I_i)``: R ← R exp(θ ê_i), L ← exp(−θ ê_i) L, in place."""
-    j, k = (1, 2) if i == 0 else ((2, 0) if i == 1 else (0, 1))
-    c, sn = math.cos(th), math.sin(th)
-    for row in range(3):
+def _turn(s, j, k, c, sn, rows):
+    """Entries j, k of the first ``rows`` triples of ``s`` (R's rows, then L_body as the fourth) turned by
+    the angle whose cosine and sine are ``c``, ``sn``, in place."""
+    for row in range(rows):
         a, b = s[3 * row + j], s[3 * row + k]
         s[3 * row + j] = c * a + sn * b
         s[3 * row + k] = c * b - sn * a
-    a, b = s[9 + j], s[9 + k]
-    s[9 + j] = c * a + sn * b
-    s[9 + k] = c * b - sn * a
+
+
+@njit(cache=True)
+def _rotate(s, i, th):
+    """The exact flow of ``L_i²/(2 I_i)``: R ← R exp(θ ê_i), L ← exp(−θ ê_i) L, in place."""
+    j, k = (1, 2) if i == 0 else ((2, 0) if i == 1 else (0, 1))
+    _turn(s, j, k, math.cos(th), math.sin(th), 4)
 
 
 @njit(cache=True)
@@ -79,10 +82,7 @@ def _rotate_compensated(s, lo, i, th):
     """
     j, k = (1, 2) if i == 0 else ((2, 0) if i == 1 else (0, 1))
     c, sn = math.cos(th), math.sin(th)
-    for row in range(3):
-        a, b = s[3 * row + j], s[3 * row + k]
-        s[3 * row + j] = c * a + sn * b
-        s[3 * row + k] = c * b - sn * a
+    _turn(s, j, k, c, sn, 3)
     # η = c² + s_n² − 1 (about 1e-16) from the error-free squares; (1 − η/2) makes the rotation orthogonal.
     cc, ss = c * c, sn * sn
     t, et = _two_sum(cc, ss)
