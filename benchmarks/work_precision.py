@@ -3,7 +3,8 @@
 Run ``python -m benchmarks.work_precision`` (full: 32 min wall measured on this 2-core machine while other
 work kept its load at 2 to 12; every scipy method, and mpmath's check of each numerical reference) or with
 ``--quick`` (under a minute: shorter long run, smaller per-run budget, scipy's DOP853, RK45 and LSODA only) or
-``--smoke`` (seconds: four cases, each run timed once, for the test suite). Output in ``--out`` (default ``benchmarks/results``):
+``--smoke`` (seconds: four cases, each run timed once, for the test suite); ``--cases a,b --update`` re-runs
+those cases into the existing table (:mod:`benchmarks.work_precision_merge`). Output in ``--out`` (default ``benchmarks/results``):
 ``work_precision.md`` (tables, with a summary of the best peer's CPU ÷ ours per case and level, the worst
 cell, and our fastest method in each cell) and one PNG per case plus ``long_run_energy.png``.
 
@@ -34,6 +35,7 @@ import numpy as np
 
 from benchmarks.cases import Case, all_cases, check_with_mpmath
 from benchmarks.peers import PeerTimeout, mujoco_run, scipy_energy_series, scipy_run
+from benchmarks.work_precision_merge import NOTE_START, merge_cases
 from physics.integrators import (
     BlanesMoan6,
     ExactFreeSplitting,
@@ -48,6 +50,7 @@ from physics.integrators import (
     integrate,
     kinetic_energy,
 )
+from physics.integrators.warm import warm
 from physics.rotations import rotation_angle
 
 LEVELS = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
@@ -101,7 +104,11 @@ def our_methods(case: Case, quick: bool = False):
     # Highest order first: the domination rule below then cuts the low orders' sweeps short.
     methods = [
         SofroniouSpaletta10(case.moments, torque),
+        # L in double-double through the rotations: the same methods with a lower round-off floor, for the
+        # motions that amplify round-off (free_separatrix); they cost about 1.1 times as much per step.
+        SofroniouSpaletta10(case.moments, torque, compensated=True),
         KahanLi8(case.moments, torque),
+        KahanLi8(case.moments, torque, compensated=True),
         Yoshida8(case.moments, torque),
         BlanesMoan6(case.moments, torque),
         Yoshida6(case.moments, torque),
@@ -411,7 +418,15 @@ def main(argv=None) -> int:
     p.add_argument("--smoke", action="store_true", help="seconds: four cases, tiny budget (for the tests)")
     p.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "results"))
     p.add_argument("--cases", default="", help="comma-separated case names (default all)")
+    p.add_argument(
+        "--update",
+        action="store_true",
+        help="with --cases: put these cases into the existing work_precision.md of --out (the full run's), "
+        "keeping every other case and the long run (not re-run)",
+    )
     args = p.parse_args(argv)
+    if args.update and not args.cases:
+        p.error("--update needs --cases (the cases to re-run into the existing table)")
     os.makedirs(args.out, exist_ok=True)
     quick = args.quick or args.smoke
     budget = 0.02 if args.smoke else (0.1 if args.quick else 1.5)
@@ -424,6 +439,9 @@ def main(argv=None) -> int:
         wanted = args.cases.split(",")
         cases = [c for c in cases if c.name in wanted]
     log = (lambda s: None) if args.smoke else (lambda s: print(s, flush=True))
+    # Compile (or load from numba's cache) the kernels first: a compile (seconds, after a kernel changed)
+    # would count as the first run's CPU and end that method's sweep at once.
+    log(f"kernels ready in {warm():.1f} s")
     t_start = time.perf_counter()
     mode = "--smoke" if args.smoke else ("--quick" if args.quick else "full")
     scipy_methods = ", ".join(("DOP853", "RK45", "LSODA") if quick else SCIPY_METHODS)
@@ -438,7 +456,9 @@ def main(argv=None) -> int:
         "machine (2 cores shared with other "
         "work: timings are noisy to ±30 %).",
         "",
-        "Families: ours (integrators: compiled numba kernels, one body), ours (closed form), scipy `solve_ivp` "
+        "Families: ours (integrators: compiled numba kernels, one body; 'compensated': the same method with "
+        "L carried in double-double through its rotations, see docs/physics-notes.md), ours (closed form), "
+        "scipy `solve_ivp` "
         f"({scipy_methods}; quaternion + Euler's equations), MuJoCo 4.0 (Euler, implicitfast, RK4 "
         "through `mujoco.rollout`; friction and drag as velocity-biased actuators). Ratios > 1: we are faster.",
         "",
@@ -479,14 +499,34 @@ def main(argv=None) -> int:
             + " | ".join("not reached" if p_ is None else f"{p_.cpu / ex.cpu:.3g}" for p_ in peer)
             + " |"
         )
-    long_lines = long_run_energy(args.out, 2000 if args.smoke else (20_000 if quick else 1_000_000), log)
+    long_lines = (
+        []  # the full run's long run stays in the table
+        if args.update
+        else long_run_energy(args.out, 2000 if args.smoke else (20_000 if quick else 1_000_000), log)
+    )
     elapsed = time.perf_counter() - t_start
     md += summary_rows(results)
     md += exact_rows + [""]
     md += ["## Long run", ""] + long_lines + ["## Cases", ""] + body
     md += [f"Total wall time of this run: {elapsed:.0f} s.", ""]
-    with open(os.path.join(args.out, "work_precision.md"), "w") as f:
-        f.write("\n".join(md))
+    path = os.path.join(args.out, "work_precision.md")
+    text = "\n".join(md)
+    if args.update:
+        with open(path) as f:
+            full = f.read()
+        command = (
+            f"python -m benchmarks.work_precision{'' if mode == 'full' else ' ' + mode} --cases {args.cases} --update"
+        )
+        note = (
+            f"{NOTE_START}{time.strftime('%Y-%m-%d', time.gmtime())} ({mode} mode, {elapsed:.0f} s wall, load average "
+            f"{os.getloadavg()[0]:.1f} at its end): {', '.join(c.name for c in cases)}, with `{command}`; their rows "
+            "and sections below are from that run, every other case and the long run from the full run. A ratio "
+            "compares runs of one process; CPU times of different runs differ with the machine's load. The "
+            "worst-ratio line is recomputed.*"
+        )
+        text = merge_cases(full, text, [c.name for c in cases], note, TARGET)
+    with open(path, "w") as f:
+        f.write(text)
     log(f"wrote {os.path.join(args.out, 'work_precision.md')} in {elapsed:.0f} s")
     return 0
 

@@ -22,7 +22,7 @@ from physics.integrators._state import (
     rot_z,
     to_state,
 )
-from physics.integrators.torques import GravityTorque, torque_flows, torque_list
+from physics.integrators.torques import GravityTorque, compiles, torque_flows, torque_list
 
 
 class Method:
@@ -112,7 +112,14 @@ class Method:
 
 
 class Splitting(Method):
-    """Compositions of a symmetric base step ``T(h/2) F(h) T(h/2)`` with weights ``_weights``."""
+    """Compositions of a symmetric base step ``T(h/2) F(h) T(h/2)`` with weights ``_weights``.
+
+    ``compensated=True`` (keyword-only) carries ``L_body`` in double-double arithmetic through the axis
+    rotations of the compiled steps (:mod:`.kernels`): the same method, with round-off 1e-16 times smaller in
+    ``L``, for motions that amplify it (near the separatrix, docs/physics-notes.md), at about 1.1 times the
+    CPU. It needs the compiled torques (gravity, spin friction, the transverse air drag); ``step``, one
+    interpreted step, rounds as the plain method.
+    """
 
     symplectic = True
     # What the free rotation keeps (the class's declaration); an instance narrows it to its torques.
@@ -120,8 +127,18 @@ class Splitting(Method):
     _weights: tuple[float, ...] = (1.0,)
     symmetric: tuple[int, float, float] | None = None  # (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body
 
-    def __init__(self, moments: ArrayLike, torque=None) -> None:
+    def __init__(self, moments: ArrayLike, torque=None, *, compensated: bool = False) -> None:
         super().__init__(moments, torque)
+        if not isinstance(compensated, (bool, np.bool_)):
+            raise ValueError(f"compensated must be True or False, got {compensated!r:.60}")
+        if compensated and not all(compiles(t) for t in self.torques):
+            raise ValueError(
+                "compensated=True runs only in the compiled steps, whose torques are GravityTorque, SpinFriction "
+                f"and TransverseAirDrag; got {[type(t).__name__ for t in self.torques]}"
+            )
+        self.compensated = bool(compensated)
+        if self.compensated:
+            self.name = f"{self.name}, compensated"
         self.program = self._build_program()
         conserves = ["orthonormality of R", "|L| (Casimir) of each free sub-step"]
         if not self.torques:

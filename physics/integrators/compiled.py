@@ -13,24 +13,24 @@ from physics.integrators._base import Method, Splitting
 from physics.integrators.classical_rk4 import ClassicalRK4
 from physics.integrators.exact_free import ExactFreeSplitting
 from physics.integrators.lie_rk4 import LieRK4
-from physics.integrators.torques import GravityTorque, SpinFriction, TransverseAirDrag
+from physics.integrators.torques import GravityTorque, SpinFriction, compiles
 
 _OPS = {"X": kernels.OP_X, "Y": kernels.OP_Y, "Z": kernels.OP_Z, "T0": kernels.OP_T0, "T1": kernels.OP_T1}
 
 
 def torque_arrays(method: Method) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """(gravity (g, 3), friction (f, 8), drag (d, 3)) of the method's torques, or None for another torque."""
+    if not all(compiles(t) for t in method.torques):
+        return None
     gravity, friction, drag = [], [], []
     for t in method.torques:
         if isinstance(t, GravityTorque):
             gravity.append(np.asarray(t.weight_moment, dtype=float))
         elif isinstance(t, SpinFriction):
             friction.append([t.coefficient, t.axis_inverse_moment, *t.axis_body, *t.inverse_moments])
-        elif type(t) is TransverseAirDrag:
+        else:
             inv = np.where(t.moments > 0.0, 1.0 / np.where(t.moments > 0.0, t.moments, 1.0), 0.0)
             drag.append([t.coefficient, inv[0], inv[1]])
-        else:
-            return None
     return (
         np.array(gravity, dtype=float).reshape(-1, 3),
         np.array(friction, dtype=float).reshape(-1, 8),
@@ -55,6 +55,7 @@ class CompiledStep:
             self.fracs = np.array([frac for _, frac in program], dtype=float)
             sym = getattr(method, "symmetric", None)
             self.sym = np.array(sym if sym is not None else (2, 0.0, 0.0), dtype=float)
+            self.compensated = bool(getattr(method, "compensated", False))
 
     def run(self, states: np.ndarray, dt: float, n: int) -> np.ndarray:
         if self.splitting:
@@ -70,6 +71,7 @@ class CompiledStep:
                 self.friction,
                 self.drag,
                 self.sym,
+                self.compensated,
             )
         run = kernels.run_classical_rk4 if self.classical else kernels.run_lie_rk4
         return run(states, dt, n, self.inv, self.zero, self.gravity, self.friction, self.drag)

@@ -11,32 +11,113 @@ Compiled torques (all of :mod:`physics.integrators.torques` and the air drag of
 :class:`.torques.TransverseAirDrag`): gravity at the centre of mass (a kick, ``L ← L + h τ(R)``), spin friction
 about an axis (its exact flow, linear in L), transverse air drag ``−c (ω1, ω2, 0)`` (its exact flow,
 ``L_i ← L_i e^{−c h / I_i}``). Any other torque runs on the interpreted path, slower.
+
+Compensated splittings (``compensated``: the ``compensated=True`` methods) carry ``L_body`` in double-double
+arithmetic (Dekker 1971: a high and a low part, :mod:`physics.double_double`) through the axis rotations of
+one call, and rotate it by the exactly orthogonal rotation nearest to the rounded ``(cos θ, sin θ)``. Near
+the separatrix the motion depends on ``L² − 2 E I2``, a difference of large terms that one rounding of
+``L_body`` in the flip changes by 1e-3 of itself (docs/physics-notes.md, "Near the separatrix").
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
+
+from physics.double_double import two_sum
 
 __all__ = ["OP_X", "OP_Y", "OP_Z", "OP_T0", "OP_T1", "OP_E", "run_splitting", "run_lie_rk4", "run_classical_rk4"]
 
 OP_X, OP_Y, OP_Z, OP_T0, OP_T1, OP_E = 0, 1, 2, 3, 4, 5
+
+_two_sum = njit(cache=True, inline="always")(two_sum)
+
+
+def _fma_typing(typingctx, a, b, c):
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        d = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [d], ir.FunctionType(d, [d, d, d]))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+_fma: Any = intrinsic(_fma_typing)
+"""``_fma(a, b, c)``: ``a b + c`` rounded once (LLVM's fma: the processor's instruction, else libm's), so
+``_fma(a, b, −a b)`` is the rounding error of the product exactly (the error-free product)."""
+
+
+@njit(cache=True)
+def _turn(s, j, k, c, sn, rows):
+    """Entries j, k of the first ``rows`` triples of ``s`` (R's rows, then L_body as the fourth) turned by
+    the angle whose cosine and sine are ``c``, ``sn``, in place."""
+    for row in range(rows):
+        a, b = s[3 * row + j], s[3 * row + k]
+        s[3 * row + j] = c * a + sn * b
+        s[3 * row + k] = c * b - sn * a
 
 
 @njit(cache=True)
 def _rotate(s, i, th):
     """The exact flow of ``L_i²/(2 I_i)``: R ← R exp(θ ê_i), L ← exp(−θ ê_i) L, in place."""
     j, k = (1, 2) if i == 0 else ((2, 0) if i == 1 else (0, 1))
+    _turn(s, j, k, math.cos(th), math.sin(th), 4)
+
+
+@njit(cache=True)
+def _rotate_compensated(s, lo, i, th):
+    """:func:`_rotate` with ``L_body`` in double-double (high parts in ``s[9:]``, low parts in ``lo``), in place.
+
+    ``L`` is rotated by ``(c, s_n) / sqrt(c² + s_n²)`` (the rounded cosine and sine made exactly orthogonal):
+    ``|L|`` is kept far below one float64 rounding and ``L² − 2 E I2`` moves only as the step's angle says, not by the
+    1e-16 that a rotation of rounded ``(c, s_n)`` scales the ``(j, k)`` plane by. ``R`` is rotated as
+    in :func:`_rotate` (its rounding does not feed back into the motion).
+    """
+    j, k = (1, 2) if i == 0 else ((2, 0) if i == 1 else (0, 1))
     c, sn = math.cos(th), math.sin(th)
-    for row in range(3):
-        a, b = s[3 * row + j], s[3 * row + k]
-        s[3 * row + j] = c * a + sn * b
-        s[3 * row + k] = c * b - sn * a
-    a, b = s[9 + j], s[9 + k]
-    s[9 + j] = c * a + sn * b
-    s[9 + k] = c * b - sn * a
+    _turn(s, j, k, c, sn, 3)
+    # η = c² + s_n² − 1 (about 1e-16) from the error-free squares; (1 − η/2) makes the rotation orthogonal.
+    cc, ss = c * c, sn * sn
+    t, et = _two_sum(cc, ss)
+    half_eta = 0.5 * ((t - 1.0) + (et + _fma(c, c, -cc) + _fma(sn, sn, -ss)))
+    a, b, al, bl = s[9 + j], s[9 + k], lo[j], lo[k]
+    # L_j ← c L_j + s_n L_k and L_k ← c L_k − s_n L_j: the high part is the plain rotation's rounded sum
+    # (so the next angle waits no longer than in :func:`_rotate`); its error, the products' errors (fma),
+    # the rotated low parts and the orthogonality correction go to the low part, off that critical path.
+    # The low part is not renormalised here (it grows by up to an ulp of the high part per rotation):
+    # :func:`_renormalise` does it once a step.
+    p, q = c * a, sn * b
+    hi, e = _two_sum(p, q)
+    s[9 + j] = hi
+    lo[j] = e + _fma(c, a, -p) + _fma(sn, b, -q) + (c * al + sn * bl) - half_eta * hi
+    p, q = c * b, sn * a
+    hi, e = _two_sum(p, -q)
+    s[9 + k] = hi
+    lo[k] = e + _fma(c, b, -p) - _fma(sn, a, -q) + (c * bl - sn * al) - half_eta * hi
+
+
+@njit(cache=True)
+def _renormalise(s, lo):
+    """Double-double ``L_body``: the high parts the nearest floats to ``s[9:] + lo`` (Dekker's fast two-sum)."""
+    for i in range(3):
+        hi = s[9 + i] + lo[i]
+        lo[i] -= hi - s[9 + i]
+        s[9 + i] = hi
+
+
+@njit(cache=True)
+def _fold(s, lo):
+    """Round the double-double ``L_body`` to the state (``s[9:] + lo``) and clear ``lo``."""
+    for i in range(3):
+        s[9 + i] += lo[i]
+        lo[i] = 0.0
 
 
 @njit(cache=True)
@@ -106,12 +187,14 @@ def _hold_zero_axes(s, zero):
 
 
 @njit(cache=True)
-def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag, sym):
+def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag, sym, compensated):
     """Take ``n`` steps of ``dt`` of a splitting program for every body of ``states`` (k, 12), in place.
 
     ``ops``/``fracs``: the program; ``inv`` (3,) the inverse moments (0 on a zero moment), ``zero`` (3,)
     the zero-moment axes; ``gravity`` (g, 3), ``friction`` (f, 8), ``drag`` (d, 3) the torques; ``sym``
-    (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body for the exact free flow ``E``.
+    (axis, 1/I⊥, 1/I_s − 1/I⊥) of a symmetric body for the exact free flow ``E``; ``compensated``: carry
+    ``L_body`` in double-double through the rotations (see the module), rounded to the state before a
+    torque sub-flow and at the end of the ``n`` steps.
     """
     has_zero = zero[0] or zero[1] or zero[2]
     ax = int(sym[0])
@@ -122,6 +205,7 @@ def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag,
         (ops[0] == ops[last] and ops[0] <= OP_Z)
         or (ops[0] == OP_T0 and ops[last] == OP_T1 and friction.shape[0] == 0 and drag.shape[0] == 0)
     )
+    lo = np.zeros(3)
     for b in range(states.shape[0]):
         s = states[b]
         for step in range(n):
@@ -131,8 +215,15 @@ def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag,
                 frac = fracs[p] + fracs[last] if fuse and p == 0 and step > 0 else fracs[p]
                 op, h = ops[p], frac * dt
                 if op <= OP_Z:
-                    _rotate(s, op, h * inv[op] * s[9 + op])
-                elif op == OP_T0:
+                    # The angle from the high part: its rounding only shifts the sub-flow's time by 1e-16.
+                    if compensated:
+                        _rotate_compensated(s, lo, op, h * inv[op] * s[9 + op])
+                    else:
+                        _rotate(s, op, h * inv[op] * s[9 + op])
+                    continue
+                if compensated:
+                    _fold(s, lo)
+                if op == OP_T0:
                     _kick(s, h, gravity)
                     _dissipate(s, h, friction, drag, False)
                     if has_zero:
@@ -146,6 +237,10 @@ def run_splitting(states, dt, n, ops, fracs, inv, zero, gravity, friction, drag,
                     a = h * sym[1]
                     _right_exp(s, a * s[9], a * s[10], a * s[11])
                     _rotate(s, ax, h * sym[2] * s[9 + ax])
+            if compensated:
+                _renormalise(s, lo)
+        if compensated:
+            _fold(s, lo)
     return states
 
 

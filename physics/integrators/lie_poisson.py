@@ -20,6 +20,8 @@ class LiePoissonStrang(Splitting):
         Principal moments about the pivot (or centre of mass), kg m², in body-axis order.
     torque : None, a torque, or a list of torques
         See the module docstring.
+    compensated : bool, keyword-only
+        Carry ``L_body`` in double-double through the rotations (:class:`._base.Splitting`); default False.
     """
 
     name = "Lie-Poisson Strang"

@@ -153,6 +153,12 @@ class TransverseAirDrag:
         return out
 
 
+def compiles(torque: object) -> bool:
+    """Whether the compiled steps (:mod:`.kernels`) know this torque: gravity, spin friction and the
+    transverse air drag itself (a subclass of it may change its torque: it runs interpreted)."""
+    return isinstance(torque, (GravityTorque, SpinFriction)) or type(torque) is TransverseAirDrag
+
+
 def torque_list(torque) -> list:
     if torque is None:
         return []

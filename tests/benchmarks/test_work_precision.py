@@ -87,3 +87,34 @@ def test_the_taylor_reference_matches_mpmath_on_a_short_span():
     R_mp, L_mp = mpmath_flow(body, case.R0, case.L0, 0.3)
     assert np.max(np.abs(np.asarray(R, dtype=float) - R_mp)) < 1e-15
     assert np.max(np.abs(np.asarray(L, dtype=float) - L_mp)) < 1e-14 * np.max(np.abs(L_mp))
+
+
+def test_update_puts_a_rerun_case_into_the_full_table(tmp_path):
+    from benchmarks.work_precision import TARGET
+    from benchmarks.work_precision_merge import merge_cases
+
+    assert main(["--smoke", "--out", str(tmp_path)]) == 0
+    full = (tmp_path / "work_precision.md").read_text()
+    # Recomputed from the summary table and the sections, the verdict is the one the full run wrote.
+    same = merge_cases(full, full, ["free_generic"], "NOTE", TARGET)
+    assert same == full.replace("## Summary", "NOTE\n\n## Summary", 1)
+    assert main(["--smoke", "--cases", "free_generic", "--update", "--out", str(tmp_path)]) == 0
+    merged = (tmp_path / "work_precision.md").read_text()
+    assert "*Re-run alone on " in merged and "--cases free_generic --update`" in merged
+    for name in SMOKE_CASES:  # every case keeps its one row per table and its section
+        assert merged.count(f"### {name}\n") == 1
+        assert merged.count(f"| {name} |") + merged.count(f"| {name}* |") == full.count(f"| {name} |") + full.count(
+            f"| {name}* |"
+        )
+    # The other cases and the long run are the full run's, line for line.
+    for part in ("### top_cusps", "### top_spin_friction", "## Long run"):
+        start = full.index(part)
+        end = full.index("\n### ", start + 4) if "\n### " in full[start + 4 :] else len(full)
+        assert full[start:end] in merged
+    # A second re-run of the case replaces the first one's note.
+    assert main(["--smoke", "--cases", "free_generic", "--update", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "work_precision.md").read_text().count("*Re-run alone on ") == 1
+    with pytest.raises(SystemExit):
+        main(["--smoke", "--update", "--out", str(tmp_path)])  # --update needs --cases
+    with pytest.raises(ValueError, match="'no_such_case'"):
+        merge_cases(full, full, ["no_such_case"], "NOTE", TARGET)

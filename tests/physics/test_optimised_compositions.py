@@ -177,15 +177,16 @@ def _orders(errors, steps):
 
 
 # Step counts (a ratio of 1.5 for the tenth order, whose error falls 1000-fold per halving): the error well inside the asymptotic range and a factor 100 or more above round-off.
+@pytest.mark.parametrize("compensated", [False, True])  # L in double-double: the same method, the same order
 @pytest.mark.parametrize(
     "cls, steps", [(BlanesMoan6, (40, 80, 160)), (KahanLi8, (20, 40, 80)), (SofroniouSpaletta10, (12, 18, 27))]
 )
-def test_convergence_order_free_body(cls, steps):
+def test_convergence_order_free_body(cls, steps, compensated):
     moments, omega0, t_end = np.array([2.0, 1.5, 1.0]), np.array([1.0, 0.3, 2.0]), 5.0
     exact = FreeBody(moments).attitude(omega0, t_end)[0]
     errors = []
     for n in steps:
-        tr = integrate(cls(moments), np.eye(3), moments * omega0, t_end / n, n, save_every=n)
+        tr = integrate(cls(moments, compensated=compensated), np.eye(3), moments * omega0, t_end / n, n, save_every=n)
         errors.append(rotation_angle(tr.attitude[-1], exact))
     orders = _orders(errors, steps)
     assert min(errors) > 1e-13 and np.all(np.abs(orders - cls.order) < _tolerance(cls.order)), (
@@ -195,14 +196,15 @@ def test_convergence_order_free_body(cls, steps):
     )
 
 
+@pytest.mark.parametrize("compensated", [False, True])  # the kicks round the double-double L: order kept
 @pytest.mark.parametrize(
     "cls, steps", [(BlanesMoan6, (50, 100, 200)), (KahanLi8, (40, 80, 160)), (SofroniouSpaletta10, (20, 30, 45))]
 )
-def test_convergence_order_heavy_top(cls, steps):
+def test_convergence_order_heavy_top(cls, steps, compensated):
     i1, i3, ell, t_end = 1.0, 0.5, 0.3, 2.0
     sol = HeavyTop(i1, i3, 9.81 * ell).solve(1.0, 0.0, 0.0, 20.0, [0.0, t_end])
     moments = np.array([i1, i1, i3])
-    method = cls(moments, GravityTorque(1.0, [0.0, 0.0, ell]))
+    method = cls(moments, GravityTorque(1.0, [0.0, 0.0, ell]), compensated=compensated)
     errors = []
     for n in steps:
         tr = integrate(method, sol.attitude[0], moments * sol.omega_body[0], t_end / n, n, save_every=n)
@@ -215,8 +217,9 @@ def test_convergence_order_heavy_top(cls, steps):
     )
 
 
+@pytest.mark.parametrize("compensated", [False, True])
 @pytest.mark.parametrize("cls, base, ratio", [(BlanesMoan6, 50, 2), (KahanLi8, 40, 2), (SofroniouSpaletta10, 20, 1.5)])
-def test_convergence_order_with_friction_and_drag(cls, base, ratio):
+def test_convergence_order_with_friction_and_drag(cls, base, ratio, compensated):
     # The asymmetric top with gravity, friction about an axis off z and transverse drag (no closed form):
     # successive differences d_n = |x_n − x_2n| fall as h^p.
     torques = [
@@ -224,7 +227,7 @@ def test_convergence_order_with_friction_and_drag(cls, base, ratio):
         SpinFriction(0.3, MOMENTS, (0.1, 0.0, 1.0)),
         TransverseAirDrag(0.2, MOMENTS),
     ]
-    method = cls(MOMENTS, torques)
+    method = cls(MOMENTS, torques, compensated=compensated)
     assert compiled_step(method) is not None
     R0 = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(1.0), -np.sin(1.0)], [0.0, np.sin(1.0), np.cos(1.0)]])
     L0, t_end = MOMENTS * np.array([0.0, 0.0, 20.0]), 2.0
