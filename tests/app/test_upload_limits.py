@@ -23,10 +23,10 @@ from tests.harness import glb_with_nodes
 def test_a_glb_of_20000_instanced_nodes_is_refused_before_parsing():
     content = glb_with_nodes(20_000)
     assert len(content) < 2 * 1024 * 1024  # about a megabyte: the size check alone lets it through
-    start = time.process_time()
+    start = time.thread_time()
     with pytest.raises(ValueError, match=f"declares 20,000 nodes; the limit is {MAX_NODES:,}"):
         check_declared_size("city.glb", content)
-    assert time.process_time() - start < 0.5  # the header only (a CPU-time bound, generous)
+    assert time.thread_time() - start < 0.5  # the header only: this thread's CPU, not the app threads beside it
     with pytest.raises(ValueError, match="20,000 nodes"):
         body_in_worker("city.glb", content)
 
