@@ -227,8 +227,13 @@ def test_the_table_of_thirty_sessions_one_that_leaves_and_a_spotlight(lab):
         assert len(panel.choice.options) == 30
         # A refresh that finds nothing new sends the teacher nothing: neither the table nor the dropdown.
         table = panel.table._impl.uuid
-        shown = received_until(teacher_ws, lambda ms: any(m.get("uuid") == table for m in ms))
-        assert any(m.get("uuid") == table for m in shown)  # the first refresh's table has come
+        current = panel.table.content
+
+        def has_current(ms: list) -> bool:  # this refresh's table, not an earlier 1 Hz one's of fewer students
+            return any(m.get("uuid") == table and m.get("updates", {}).get("content") == current for m in ms)
+
+        shown = received_until(teacher_ws, has_current)
+        assert has_current(shown)  # this refresh's table has come
         assert app.teacher.refresh(now) == rows
         quiet = [
             m for m in received(teacher_ws, 0.3) if m.get("uuid") in (panel.table._impl.uuid, panel.choice._impl.uuid)
