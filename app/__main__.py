@@ -9,7 +9,13 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import time
+
+
+def plain(doc: str) -> str:
+    """A docstring as a terminal shows it: ``code`` and :role:`name` markup written as plain text."""
+    return re.sub(r":\w+:`~?([^`]+)`", r"\1", doc).replace("``", "")
 
 
 def export_main(argv: list[str]) -> None:
@@ -26,7 +32,11 @@ def export_main(argv: list[str]) -> None:
     )
     parser.add_argument("--scene", default=None, choices=scene_names(), help="the scene (a --state names its own)")
     start = parser.add_mutually_exclusive_group()
-    start.add_argument("--preset", default=None, help="one of the scene's presets, by its name in the panel")
+    start.add_argument(
+        "--preset",
+        default=None,
+        help="one of the scene's presets: its name in the panel, typed in ASCII in any case, or its start (loops)",
+    )
     start.add_argument("--state", default=None, metavar="TEXT", help="a state text (the panel's “Copy state”)")
     parser.add_argument(
         "--seconds", type=float, required=True, help=f"simulated time to record, s (at most {MAX_SECONDS:g})"
@@ -67,7 +77,7 @@ def main(argv: list[str] | None = None) -> None:
 
         raise SystemExit(rooms_main(argv[1:]))
 
-    parser = argparse.ArgumentParser(prog="rigid-body-lab", description=__doc__)
+    parser = argparse.ArgumentParser(prog="rigid-body-lab", description=plain(__doc__ or ""))
     parser.add_argument("--host", default="127.0.0.1", help="127.0.0.1 (default) or 0.0.0.0 for a classroom LAN")
     parser.add_argument("--port", type=int, default=8080)
     parser.add_argument("--scene", default=None, choices=scene_names(), help="scene shown first")
@@ -95,9 +105,10 @@ def main(argv: list[str] | None = None) -> None:
     )
     parser.add_argument(
         "--pin",
-        default=None,
-        help="presenter PIN, 4 to 32 letters or digits (default: random); with --private, the teacher PIN that "
-        "opens the table of every session and Spotlight (without it, --private has no teacher's view)",
+        default=os.environ.get("RBL_PIN") or None,  # app.rooms.config.PIN_VARIABLE: kept off the command line
+        help="presenter PIN, 4 to 32 letters or digits (default: the environment's RBL_PIN, else random); with "
+        "--private, the teacher PIN that opens the table of every session and Spotlight (without it, --private "
+        "has no teacher's view)",
     )
     parser.add_argument(
         "--state", default=None, metavar="TEXT", help="start from a state text (the panel's “Copy state”)"
@@ -115,8 +126,40 @@ def main(argv: list[str] | None = None) -> None:
         help="presenter mode: write every class question's counts and times to this CSV file whenever a vote "
         "closes (and when the server stops)",
     )
+    parser.add_argument(
+        "--max-connections", type=int, default=400, metavar="N", help="browsers connected at once (default 400)"
+    )
+    parser.add_argument(
+        "--max-per-address",
+        type=int,
+        default=4,
+        metavar="N",
+        help="browsers connected at once from one address (default 4)",
+    )
+    parser.add_argument(
+        "--max-sessions",
+        type=int,
+        default=300,
+        metavar="N",
+        help="simulations of their own at once: private sessions or explorers' copies (default 300)",
+    )
+    parser.add_argument(
+        "--max-sessions-per-address",
+        type=int,
+        default=4,
+        metavar="N",
+        help="simulations of their own at once for one address (default 4)",
+    )
+    parser.add_argument(
+        "--max-opens-per-minute",
+        type=int,
+        default=30,
+        metavar="N",
+        help="new connections one address may open a minute, after a first burst (default 30)",
+    )
     args = parser.parse_args(argv)
 
+    from app.guards.admission import Caps
     from app.serving.addresses import is_loopback, urls
     from app.serving.app import App
     from app.teaching.presenter import check_pin
@@ -162,8 +205,15 @@ def main(argv: list[str] | None = None) -> None:
             state=args.state,
             lecture=args.lecture,
             answers=args.export_answers,
+            caps=Caps(
+                args.max_connections,
+                args.max_per_address,
+                args.max_sessions,
+                args.max_sessions_per_address,
+                args.max_opens_per_minute,
+            ),
         )
-    except ValueError as exc:  # a lecture step or a state the scene refuses
+    except ValueError as exc:  # a lecture step or a state the scene refuses, a cap out of range
         parser.error(str(exc))
     if is_loopback(args.host):
         print(f"Rigid Body Lab serving on {app.url}", flush=True)

@@ -13,10 +13,12 @@ from app.drawing.meshes import (
 )
 from app.drawing.palette import (
     COLOURS,
+    DARK_COLOURS,
     GHOST_OPACITY,
     LABELS,
     OKABE_ITO,
     SWATCH_OPACITY,
+    colour,
     hex_colour,
     instance_colour,
     legend_html,
@@ -46,6 +48,8 @@ __all__ = [
     "instance_colour",
     "shown_colour",
     "legend_html",
+    "colour",
+    "DARK_COLOURS",
     "light",
     "wxyz",
     "rotation_z_to",

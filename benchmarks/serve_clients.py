@@ -48,9 +48,10 @@ def posed_nodes(raw: bytes, zstd: zstandard.ZstdDecompressor | None = None) -> s
     return {str(m.name) for m in _WINDOW.decode(inner).messages if m.type in POSE_MESSAGES}
 
 
-def read_clients(port: int, n: int, seconds: float, out: Any) -> None:
+def read_clients(port: int, n: int, seconds: float, out: Any, sources: list[str] | None = None) -> None:
     """In a child process: connect ``n`` clients, read for WARMUP + ``seconds``, report per client its
-    bytes/s, messages/s and, per scene node, the messages/s that set the node's pose."""
+    bytes/s, messages/s and, per scene node, the messages/s that set the node's pose (``sources``: the
+    loopback address each client connects from, default 127.0.0.1)."""
 
     class _Port:  # raw_client needs .port and a server to ask for its clients: skip that wait here
         def __init__(self) -> None:
@@ -77,7 +78,8 @@ def read_clients(port: int, n: int, seconds: float, out: Any) -> None:
                 posed[i].update(posed_nodes(message))
 
     with contextlib.ExitStack() as stack:
-        sockets = [stack.enter_context(raw_client(_Port(), wait=False)) for _ in range(n)]
+        where = sources or [None] * n
+        sockets = [stack.enter_context(raw_client(_Port(), wait=False, source=where[i])) for i in range(n)]
         readers = [threading.Thread(target=read, args=(ws, i), daemon=True) for i, ws in enumerate(sockets)]
         for r in readers:
             r.start()

@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from app.scenes import scene_names  # noqa: E402
-from tests.harness import launch_chromium, open_page, running_app  # noqa: E402
+from tests.harness import DEVICES, launch_chromium, open_page, paced_context, running_app, wait_for  # noqa: E402
 
 _CLOSE_NOTIFICATIONS = "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach(b => b.click())"
 
@@ -27,8 +27,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seconds", type=float, default=5.0, help="run time before each shot (s)")
     parser.add_argument("--teaching", action="store_true", help="only the README's 'Teaching with it' shot")
     parser.add_argument("--readme", action="store_true", help="the README's screenshots (into --out, e.g. docs)")
+    parser.add_argument("--gallery", action="store_true", help="the README's gallery: every scene and a phone")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.gallery:
+        gallery(args.out)
+        return
     if args.teaching:
         teaching(args.out / "teaching.png")
         return
@@ -101,6 +105,35 @@ def readme(out: Path, seconds: float = 6.0) -> None:
             time.sleep(0.5)
             page.screenshot(path=str(out / file))
             print(f"{file}: {out / file}", flush=True)
+
+
+def gallery(out: Path, seconds: float = 5.0) -> None:
+    """The README's gallery (``--gallery --out docs/gallery``): every scene at 1280×800 with the panel open,
+    and the shipped lecture's first question on an emulated iPhone 13 (Playwright's descriptor: 390×664 CSS
+    px, device pixel ratio 3, touch, a mobile user agent)."""
+    with running_app() as app, launch_chromium() as browser:
+        page, _client = open_page(browser, app, timeout=120.0, viewport={"width": 1280, "height": 800})
+        for name in scene_names():
+            app.switch_scene(name)
+            app.set_playing(True)
+            time.sleep(seconds)
+            app.set_playing(False)  # paused: the labels (drawn apart from the 3D picture) catch up with it
+            page.evaluate(_CLOSE_NOTIFICATIONS)
+            time.sleep(2.0)
+            page.screenshot(path=str(out / f"{name}.png"))
+            print(f"{name}: {out / name}.png", flush=True)
+    with running_app(presenter=True, lecture="rigid-body-motion") as app, launch_chromium() as browser:
+        app.go_to_step(6)  # the racket's question: held back, waiting at t = 0
+        phone = paced_context(browser, **DEVICES["iPhone 13"]).new_page()
+        before = set(app.server.get_clients())
+        phone.goto(app.url, wait_until="domcontentloaded")
+        wait_for(lambda: set(app.server.get_clients()) - before, 120, what="the phone to connect")
+        phone.wait_for_selector("canvas", timeout=120_000)
+        time.sleep(seconds)
+        phone.evaluate(_CLOSE_NOTIFICATIONS)
+        time.sleep(0.5)
+        phone.screenshot(path=str(out / "phone.png"), scale="css")
+        print(f"phone: {out / 'phone.png'}", flush=True)
 
 
 def teaching(path: Path) -> None:

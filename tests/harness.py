@@ -14,8 +14,8 @@
 * :func:`raw_client` / :func:`send_value` / :func:`still_connected` — a websocket client speaking viser's
   protocol without a browser (what a page's script, or a hostile one, can send); :func:`send_upload`,
   :func:`start_upload` and :func:`send_part` upload a file through it, truthfully or not.
-* :func:`open_scene` / :func:`matrix` — headless: switch to a scene and play one frame; a handle's
-  attitude as a rotation matrix.
+* :func:`open_scene` / :func:`matrix` / :func:`project` — headless: switch to a scene and play one frame; a
+  handle's attitude as a rotation matrix; where a camera draws points.
 
 Fixtures built on them live in ``tests/conftest.py`` (``browser``) — module-scoped so one Chromium
 serves a whole test module.
@@ -88,10 +88,12 @@ def running_app(
     share: bool = False,
     lecture: str | None = None,
     answers: str | None = None,
+    caps: Any = None,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
     127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``share``: viser's share
-    button shown; ``lecture``: a lecture file or name to follow; ``answers``: the class questions' CSV);
+    button shown; ``lecture``: a lecture file or name to follow; ``answers``: the class questions' CSV;
+    ``caps``: an ``app.guards.admission.Caps``);
     stopped on exit."""
     from app.server import App
 
@@ -108,6 +110,7 @@ def running_app(
         share=share,
         lecture=lecture,
         answers=answers,
+        caps=caps,
     )
     try:
         yield app
@@ -128,6 +131,16 @@ def chromium_or_skip() -> str:
     pytest.skip(message)
 
 
+DEVICES: dict[str, dict[str, Any]] = {}
+"""Playwright's device descriptors (``playwright.devices``: viewport, device pixel ratio, touch, mobile, user
+agent), by name (``"iPhone 13"``), as options of ``new_context`` in Chromium; filled when Chromium starts."""
+
+
+def _for_chromium(descriptor: dict[str, Any]) -> dict[str, Any]:
+    """A device descriptor as Chromium's context options (the browser it names by default is not an option)."""
+    return {k: v for k, v in descriptor.items() if k != "default_browser_type"}
+
+
 @contextlib.contextmanager
 def launch_chromium() -> Iterator[Any]:
     """A headless Chromium (Playwright sync API, Debian's binary; never ``playwright install``)."""
@@ -135,6 +148,7 @@ def launch_chromium() -> Iterator[Any]:
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as pw:
+        DEVICES.update({name: _for_chromium(d) for name, d in pw.devices.items()})
         browser = pw.chromium.launch(executable_path=path, args=CHROMIUM_ARGS, headless=True)
         try:
             yield browser
@@ -401,6 +415,19 @@ def open_scene(app: Any, name: str) -> Any:
     return app.scene
 
 
+def project(points: Any, eye: Any, target: Any, width: float, height: float, fov: float) -> np.ndarray:
+    """Pixels (n, 2), x right and y down, where a perspective camera at ``eye`` looking at ``target`` (up +z,
+    vertical field ``fov`` rad, a ``width`` × ``height`` px view) draws ``points`` (n, 3), m."""
+    eye, target = np.asarray(eye, dtype=float), np.asarray(target, dtype=float)
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, (0.0, 0.0, 1.0))
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    d = np.asarray(points, dtype=float).reshape(-1, 3) - eye
+    scale = 0.5 * height / (np.tan(0.5 * fov) * (d @ forward))
+    return np.column_stack([0.5 * width + scale * (d @ right), 0.5 * height - scale * (d @ up)])
+
+
 def matrix(handle: Any) -> np.ndarray:
     """The rotation matrix (3, 3) of a viser handle's ``wxyz`` quaternion."""
     from scipy.spatial.transform import Rotation
@@ -413,12 +440,17 @@ def matrix(handle: Any) -> np.ndarray:
 # Raw websocket clients: what a page's script (or a hostile one) can send, without a browser.
 # --------------------------------------------------------------------------------------------------
 @contextlib.contextmanager
-def raw_client(app: Any, wait: bool = True) -> Iterator[Any]:
+def raw_client(app: Any, wait: bool = True, source: str | None = None, headers: dict | None = None) -> Iterator[Any]:
     """A websocket client speaking viser's protocol, as the page's script does (``wait``: until the
-    server has registered it; ``app`` then needs ``.server``, otherwise only ``.port``)."""
+    server has registered it; ``app`` then needs ``.server``, otherwise only ``.port``; ``source``: the
+    loopback address it connects from, 127.0.0.2 standing in for another machine; ``headers``: more
+    headers for the request that opens it, a cookie say)."""
     before = set(app.server.get_clients()) if wait else set()
+    more: dict[str, Any] = {} if source is None else {"source_address": (source, 0)}
     ws = connect(
         f"ws://127.0.0.1:{app.port}",
+        additional_headers=headers,
+        **more,
         subprotocols=[f"viser-v{viser.__version__}"],
         max_size=None,
         max_queue=None,  # frames the test does not read are buffered, so closing does not wait behind them

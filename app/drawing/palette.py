@@ -18,6 +18,8 @@ __all__ = [
     "LABELS",
     "GHOST_OPACITY",
     "SWATCH_OPACITY",
+    "DARK_COLOURS",
+    "colour",
     "hex_colour",
     "instance_colour",
     "shown_colour",
@@ -54,10 +56,24 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "impulse": OKABE_ITO["vermillion"],  # an impulse (strike); the pendulum shows no trace
     "reaction": OKABE_ITO["reddish_purple"],  # a constraint's reaction; the pendulum shows no torque
     "ghost": OKABE_ITO["black"],  # the body moved by an integrator: translucent (GHOST_OPACITY), a grey shadow
-    "pivot": OKABE_ITO["black"],  # a fixed point or axle (the pendulum's), the explorer's point the tensor is about
+    # A fixed point or axle (the pendulum's), the explorer's point the tensor is about and its axes: not the
+    # principal axes' black (the explorer draws both); the colour of the pivot's reaction, its push.
+    "pivot": OKABE_ITO["reddish_purple"],
     "ellipsoid": OKABE_ITO["yellow"],  # the inertia ellipsoid, translucent
     "guide": (150, 150, 150),  # construction lines: spheres, equators, the separatrix
 }
+
+
+DARK_COLOURS: dict[str, tuple[int, int, int]] = {
+    "axes": (225, 225, 225),  # black lines vanish on the dark look's near-black: light grey, 12:1 on it
+    "path": (170, 170, 170),  # the light look's dark grey is 2.6:1 on near-black; this grey is 7:1
+}
+"""The dark look's colours where the light look's would vanish against its background (:func:`colour`)."""
+
+
+def colour(quantity: str, dark: bool = False) -> tuple[int, int, int]:
+    """A quantity's RGB colour (0-255) in the light look or, with ``dark``, the dark look."""
+    return DARK_COLOURS.get(quantity, COLOURS[quantity]) if dark else COLOURS[quantity]
 
 
 GHOST_OPACITY = 0.35
@@ -122,22 +138,23 @@ def shown_colour(sent: ArrayLike) -> tuple[int, int, int]:
     return (r, g, b)
 
 
-def legend_html(quantities: tuple[str, ...] | list[str]) -> str:
-    """HTML legend: a coloured swatch and a name for each quantity key of :data:`COLOURS`."""
+def legend_html(quantities: tuple[str, ...] | list[str], dark: bool = False) -> str:
+    """HTML legend: a coloured swatch (as the look draws it, :func:`colour`) and a name for each quantity key
+    of :data:`COLOURS`."""
     rows = []
     for key in quantities:
-        colour = _rgb_hex(COLOURS[key])
+        swatch = _rgb_hex(colour(key, dark))
         # A translucent quantity: its colour at its opacity inside an outline of the full colour (the ghost's
         # swatch would otherwise be the guides' grey).
         opacity = (
             f";background:rgba({','.join(str(c) for c in COLOURS[key])},{SWATCH_OPACITY[key]})"
-            f";box-shadow:inset 0 0 0 1px {colour}"
+            f";box-shadow:inset 0 0 0 1px {swatch}"
             if key in SWATCH_OPACITY
             else ""
         )
         rows.append(
             f'<div style="display:flex;align-items:center;gap:6px;margin:1px 0">'
-            f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{colour}{opacity}">'
+            f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{swatch}{opacity}">'
             f"</span>{LABELS[key]}</div>"
         )
     return '<div class="rbl-legend">' + "".join(rows) + "</div>"

@@ -16,7 +16,7 @@ import viser
 from numpy.typing import ArrayLike, NDArray
 
 from app.drawing.meshes import rotation_z_to, wxyz
-from app.drawing.palette import COLOURS, instance_colour
+from app.drawing.palette import COLOURS, colour, instance_colour
 from app.guards.wire import send_orientation, send_points, send_position
 
 __all__ = [
@@ -182,18 +182,29 @@ class Arrow:
 
 
 class PrincipalFrame(_Posed):
-    """The principal axes e1, e2, e3 of the body as black lines (e3, the symmetry axis, drawn longest).
+    """The principal axes e1, e2, e3 of the body as lines (e3, the symmetry axis, drawn longest): black, light
+    grey in the dark look (``dark``); in another quantity's colour for another point's axes (``quantity``,
+    e.g. the explorer's pivot).
 
     Not viser's RGB frame: red and green already mean ω and the body cone in every scene.
     """
 
-    def __init__(self, server: viser.ViserServer, name: str, *, length: float = 0.6, thickness: float = 3.0) -> None:
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        name: str,
+        *,
+        length: float = 0.6,
+        thickness: float = 3.0,
+        quantity: str = "axes",
+        dark: bool = False,
+    ) -> None:
         ends = np.diag([0.8 * length, 0.8 * length, length])
         points = np.stack([-ends, ends], axis=1)  # each axis through the origin, both ways
         self.handle = server.scene.add_line_segments(
             name,
             points=points.astype(np.float32),
-            colors=COLOURS["axes"],
+            colors=colour(quantity, dark),
             thickness=thickness,
             thickness_units="screen",
         )
@@ -219,6 +230,8 @@ class Trace:
     min_step : float
         A new point closer than this (m) to the last one replaces nothing and is skipped, so a paused or
         slow motion does not fill the buffer with duplicates.
+    dark : bool
+        Drawn in the dark look's colour (:func:`app.drawing.palette.colour`).
     """
 
     def __init__(
@@ -230,8 +243,10 @@ class Trace:
         capacity: int = 1500,
         thickness: float = 2.5,
         min_step: float = 1e-4,
+        dark: bool = False,
     ) -> None:
         self._server = server
+        self._colour = colour(quantity, dark)  # the dark look's where the light look's would vanish
         self._name = name
         self.quantity = quantity
         self._thickness = thickness
@@ -258,7 +273,7 @@ class Trace:
             self._server.scene.add_line_segments(
                 f"{self._name}/{k}",
                 points=self._segments[k],
-                colors=COLOURS[self.quantity],
+                colors=self._colour,
                 thickness=self._thickness,
                 thickness_units="screen",
                 visible=False,

@@ -12,7 +12,7 @@ from typing import Any
 
 import viser
 
-__all__ = ["hook_responses", "request_headers"]
+__all__ = ["connection_address", "hook_responses", "peer_address", "request_headers", "user_agent"]
 
 
 def request_headers(server: viser.ViserServer, client_id: int) -> Any:
@@ -21,6 +21,39 @@ def request_headers(server: viser.ViserServer, client_id: int) -> Any:
     connection = server._websock_server._live_connections.get(client_id)
     request = getattr(connection, "request", None)
     return None if request is None else request.headers
+
+
+def user_agent(client: Any) -> str:
+    """The ``User-Agent`` of the request that opened a browser's websocket (``client``: a viser
+    ``ClientHandle``); empty when unknown."""
+    server = getattr(client, "_viser_server", None)
+    headers = None if server is None else request_headers(server, client.client_id)
+    return "" if headers is None else str(headers.get("User-Agent", ""))
+
+
+def peer_address(server: viser.ViserServer, client_id: int) -> str | None:
+    """The network address client ``client_id`` connects from (None for a client that is not connected).
+
+    Behind the rooms' proxy (:mod:`app.rooms.nginx`) every websocket comes from a loopback address and the
+    proxy names the browser's in ``X-Real-IP``; that header is believed only from a loopback peer (a browser
+    elsewhere could write any address into it).
+    """
+    connection = server._websock_server._live_connections.get(client_id)
+    return None if connection is None else connection_address(connection)
+
+
+def connection_address(connection: Any) -> str:
+    """The address of a websockets ``ServerConnection`` (see :func:`peer_address`)."""
+    remote = getattr(connection, "remote_address", None)
+    host = str(remote[0]) if remote else "unknown"
+    if host.startswith("::ffff:"):
+        host = host[len("::ffff:") :]
+    if host == "::1" or host.startswith("127."):
+        request = getattr(connection, "request", None)
+        forwarded = request.headers.get("X-Real-IP") if request is not None else None
+        if forwarded and len(forwarded) <= 64:
+            return forwarded.strip()
+    return host
 
 
 def hook_responses(server: viser.ViserServer, respond: Callable[[Any, Any, Any], Any]) -> bool:

@@ -15,6 +15,7 @@ from typing import Any
 import viser
 from viser import _messages
 
+from app.guards.responses import peer_address
 from app.uploads import limits
 
 __all__ = ["guard_uploads"]
@@ -22,6 +23,7 @@ __all__ = ["guard_uploads"]
 _lock = threading.Lock()
 _guis: weakref.WeakSet[Any] = weakref.WeakSet()  # every guarded GUI: the in-flight count spans them all
 _started: dict[str, float] = {}  # transfer uuid -> when it was accepted (time.monotonic())
+_active: dict[str, tuple[float, str]] = {}  # transfer uuid -> (when it last sent a part, its address)
 
 
 def guard_uploads(
@@ -50,14 +52,16 @@ def guard_uploads(
             return  # another GUI's button (viser ignores it here too)
         reason = permit(client_id) if permit is not None else None
         if reason is None:
-            reason = _refusal(client_id, message)
+            reason = _refusal(client_id, message, _address(gui, client_id))
         if reason is not None:
             _release(gui, client_id, message.source_component_uuid, message.transfer_uuid, message.size_bytes)
             refuse(client_id, reason)
             return
         original_start(client_id, message)
+        now = time.monotonic()
         with _lock:
-            _started[message.transfer_uuid] = time.monotonic()
+            _started[message.transfer_uuid] = now
+            _active[message.transfer_uuid] = (now, _address(gui, client_id))
 
     def part(client_id: Any, message: _messages.FileTransferPart) -> None:
         state = gui._current_file_upload_states.get(message.transfer_uuid)
@@ -74,6 +78,10 @@ def guard_uploads(
             refuse(client_id, f"Upload refused: {name} sent more bytes than it declared ({state['total_bytes']:,}).")
             return
         original_part(client_id, message)
+        with _lock:
+            seen = _active.get(message.transfer_uuid)
+            if seen is not None:
+                _active[message.transfer_uuid] = (time.monotonic(), seen[1])
         if message.transfer_uuid not in gui._current_file_upload_states:
             _forget(message.transfer_uuid)  # complete: viser has handed it to the button's callback
 
@@ -81,8 +89,8 @@ def guard_uploads(
     parts[part_index] = part
 
 
-def _refusal(client_id: Any, message: _messages.FileTransferStartUpload) -> str | None:
-    """Why this transfer may not start, or None."""
+def _refusal(client_id: Any, message: _messages.FileTransferStartUpload, address: str) -> str | None:
+    """Why this transfer may not start, or None (``address``: the browser's, :func:`_address`)."""
     size, count, filename = message.size_bytes, message.part_count, message.filename
     if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > limits.MAX_NAME:
         return f"Upload refused: a file name is at most {limits.MAX_NAME} characters of text."
@@ -92,9 +100,11 @@ def _refusal(client_id: Any, message: _messages.FileTransferStartUpload) -> str 
     too_large = limits.size_refusal(name, size)
     if too_large is not None:
         return f"Upload refused: {too_large}"
-    mine, everyone = _in_flight(client_id)
+    mine, everyone, here = _in_flight(client_id, address)
     if mine >= limits.PER_CLIENT:
         return f"Upload refused: {name} was sent while your previous file is still arriving; wait for it."
+    if here >= limits.PER_ADDRESS:
+        return f"Upload refused: {name} was sent while another file from your address is arriving; wait for it."
     if everyone >= limits.MAX_TRANSFERS:
         return f"Upload refused: the server is receiving {everyone} other files; upload {name} again in a moment."
     return None
@@ -104,10 +114,12 @@ def _count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 2**53
 
 
-def _in_flight(client_id: Any) -> tuple[int, int]:
-    """Transfers in flight (this browser's, everyone's) over every guarded GUI; stalled ones dropped."""
+def _in_flight(client_id: Any, address: str = "") -> tuple[int, int, int]:
+    """Transfers in flight (this browser's, everyone's, this address's) over every guarded GUI; stalled ones
+    (over :data:`~app.uploads.limits.STALL_SECONDS` since they started, or
+    :data:`~app.uploads.limits.IDLE_SECONDS` since their last part) dropped."""
     now = time.monotonic()
-    mine = everyone = 0
+    mine = everyone = here = 0
     with _lock:
         guis = list(_guis)
     for gui in guis:
@@ -115,22 +127,33 @@ def _in_flight(client_id: Any) -> tuple[int, int]:
         for transfer, state in list(states.items()):
             with _lock:
                 started = _started.setdefault(transfer, now)
-            if now - started > limits.STALL_SECONDS:
+                last, where = _active.setdefault(transfer, (now, ""))
+            if now - started > limits.STALL_SECONDS or now - last > limits.IDLE_SECONDS:
                 states.pop(transfer, None)
                 _forget(transfer)
                 continue
             everyone += 1
             mine += state["client_id"] == client_id
+            here += bool(address) and where == address
     with _lock:  # transfers viser finished or dropped (a browser that left) are forgotten here
         live = {t for gui in guis for t in list(gui._current_file_upload_states)}
         for transfer in [t for t in _started if t not in live]:
             del _started[transfer]
-    return mine, everyone
+            _active.pop(transfer, None)
+    return mine, everyone, here
+
+
+def _address(gui: Any, client_id: Any) -> str:
+    """The address of the browser ``client_id`` of ``gui``'s server ("" if it is not connected)."""
+    owner = gui._owner
+    server = owner if isinstance(owner, viser.ViserServer) else owner._viser_server
+    return peer_address(server, client_id) or ""
 
 
 def _forget(transfer: str) -> None:
     with _lock:
         _started.pop(transfer, None)
+        _active.pop(transfer, None)
 
 
 class _AcksToUploader:

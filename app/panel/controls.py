@@ -6,6 +6,7 @@ More in docs/app-notes.md (``app.panel.controls``).
 from __future__ import annotations
 
 import math
+import unicodedata
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -17,9 +18,11 @@ __all__ = [
     "SliderSpec",
     "ParameterPanel",
     "Readout",
+    "HELD",
     "Presets",
     "Gauge",
     "refusable_dropdown",
+    "folded",
 ]
 
 
@@ -162,6 +165,32 @@ class ParameterPanel:
             self._syncing = False
 
 
+_ASCII = {
+    "\u0307": "dot",
+    "φ": "phi",
+    "θ": "theta",
+    "ω": "omega",
+    "ψ": "psi",
+    "Ω": "omega",
+    "−": "-",
+    "×": "x",
+    "½": "1/2",
+    "⁄": "/",
+}
+
+
+def folded(text: str) -> str:
+    """A name as one might type it in ASCII: lower case, Greek letters spelt out (a dot above: ``dot``),
+    accents dropped, subscripts as digits, spaces collapsed (``folded("φ̇0 = −1 × steady") ==
+    "phidot0 = -1 x steady"``)."""
+    spelt = "".join(_ASCII.get(c, c) for c in unicodedata.normalize("NFKD", text))
+    return " ".join("".join(c for c in spelt if not unicodedata.combining(c)).lower().split())
+
+
+HELD = "held back: shown with the answers"
+"""What a readout says while a class question asks for its value."""
+
+
 class Readout:
     """A read-only number with a label and units, rewritten only when its text changes.
 
@@ -171,9 +200,12 @@ class Readout:
     def __init__(self, ctx: Any, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
         self.fmt = fmt
         self.handle = ctx.server.gui.add_text(label, initial_value="—", disabled=True, hint=hint)
+        self.value_text = "—"  # the text it states (shown unless held back)
+        self.held = False
 
     @property
     def text(self) -> str:
+        """The text shown in the panel (:data:`HELD` while held back)."""
         return self.handle.value
 
     def set(self, value: float | str) -> None:
@@ -183,6 +215,16 @@ class Readout:
             text = "∞" if value > 0 else ("−∞" if value < 0 else "—")
         else:
             text = self.fmt.format(value)
+        self.value_text = text
+        self._show()
+
+    def hold(self, held: bool) -> None:
+        """Hold the value back (a class question asks for it) or show it again (the answers are shown)."""
+        self.held = bool(held)
+        self._show()
+
+    def _show(self) -> None:
+        text = HELD if self.held else self.value_text
         if self.handle.value != text:
             self.handle.value = text
 
@@ -239,13 +281,24 @@ class Presets:
         self.choose(name, client=getattr(event, "client", None))
 
     def resolve(self, name: str) -> str | None:
-        """The preset's name now (a former name is taken too), or None if there is no such preset."""
+        """The preset's name now, or None if there is no such preset. Taken too: a former name, the name typed
+        in ASCII and any case (``phidot0 = -1 x steady`` for ``φ̇0 = −1 × steady``), and the start of one name
+        only (``loops``; ``sleeping top`` fits two and is refused)."""
         name = self.renamed.get(name, name)
-        return name if name in self.presets else None
+        if name in self.presets:
+            return name
+        typed = folded(name)
+        if not typed:
+            return None
+        same = [p for p in self.presets if folded(p) == typed]
+        starting = [p for p in self.presets if folded(p).startswith(typed)]
+        found = same or starting
+        return found[0] if len(found) == 1 else None
 
     def choose(self, name: str, client: Any = None) -> bool:
-        """Apply a preset by name (or a former name); returns True if accepted."""
-        name = self.renamed.get(name, name)
+        """Apply a preset by name (or a former name, or a name :meth:`resolve` takes); returns True if
+        accepted (KeyError for no such preset)."""
+        name = self.resolve(name) or name
         preset = self.presets[name]
         try:
             # A computed preset (e.g. a steady-precession rate) may not exist for the current body.

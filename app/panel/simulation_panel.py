@@ -94,6 +94,12 @@ class SimulationPanel:
         self.play_button.label = "Pause" if playing else "Play"
         self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
 
+    def show_clock(self, running: bool) -> None:
+        """The clock's buttons and speed work, or (a still scene, nothing moves) are disabled."""
+        for handle in (self.play_button, self.step_button, self.reset_button, self.speed_slider):
+            if handle.disabled == running:
+                handle.disabled = not running
+
     def show_words(self, text: str) -> None:
         """Put the motion in words in the live region; an unchanged text is not sent (nor announced)."""
         if text != self.said:

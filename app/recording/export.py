@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from app.guards.text import csv_row
 from app.recording.picture import render_png
 from physics.validation import finite_scalar
 
@@ -100,6 +101,8 @@ def record(sim: Any, out: Path, frames: int, fps: float, progress: Callable[[int
     for k in range(frames + 1):
         if k > 0:
             serializer.insert_sleep(1.0 / fps)
+            if scene.static:  # a still scene (its clock stays at 0): each frame is the same picture, drawn
+                sim.request_redraw()
             if not sim.frame(1.0 / fps):
                 last = sim.messages[-1][1] if sim.messages else "no message"
                 raise ValueError(f"the scene stopped at t = {sim.time:.3f} s: {last}")
@@ -114,7 +117,7 @@ def record(sim: Any, out: Path, frames: int, fps: float, progress: Callable[[int
     paths.html.write_text(html, encoding="utf-8")
     with paths.csv.open("w", newline="", encoding="utf-8") as handle:
         writer = csv.writer(handle)
-        writer.writerow(list(rows[0]))
+        writer.writerow(csv_row(rows[0]))  # the columns' names; the cells below are numbers
         writer.writerows([[repr(float(v)) for v in row.values()] for row in rows])
     paths.png.write_bytes(picture)
     return paths

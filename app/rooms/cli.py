@@ -25,12 +25,12 @@ import time
 from pathlib import Path
 from types import FrameType
 
-from app.rooms.config import Backend, Department, Room, RoomsError, app_arguments, read_rooms
+from app.rooms.config import Backend, Department, Room, RoomsError, app_arguments, pin_environment, read_rooms
 from app.rooms.nginx import NginxMissing, find_nginx, nginx_command, nginx_conf, rooms_conf
 from app.rooms.supervisor import ChildSpec, Supervisor, is_local_address, port_free
 from app.rooms.units import PROXY_UNIT, TARGET, app_unit, machines, proxy_unit, target_unit, unit_name
 
-__all__ = ["READY", "check_ports", "main", "run", "write", "write_nginx"]
+__all__ = ["READY", "check_ports", "main", "run", "write", "write_nginx", "write_private"]
 
 READY = "Rooms ready on"
 """The start of the line printed once nginx and every room answer (tests wait for it)."""
@@ -106,7 +106,8 @@ def run(department: Department, nginx: str) -> int:
         for room, backend in local:
             label = room.name if len(room.backends) == 1 else f"{room.name} {backend.index}"
             command = (sys.executable, "-m", "app", *app_arguments(room, backend))
-            spec = ChildSpec(label, command, backend.host, backend.port, env, port_said=SERVING)
+            own = {**env, **pin_environment(room)}  # the PIN in its environment: never on a command line
+            spec = ChildSpec(label, command, backend.host, backend.port, own, port_said=SERVING)
             rooms.append(supervisor.add(spec))
         for room in department.rooms:
             for backend in room.backends:
@@ -144,11 +145,29 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
     units = folder / "systemd"
     units.mkdir(exist_ok=True)
     where = machines(department)
+    secrets = folder / "secrets"  # the PINs, for systemd (root) alone
+    readable = [sys.base_prefix, sys.prefix, APP_ROOT]
     for room in department.rooms:
+        pins = pin_environment(room)
         for backend in room.backends:
-            path = units / unit_name(room, backend)
-            path.write_text(app_unit(room, backend, sys.executable, workdir=APP_ROOT))
-            path.chmod(0o640 if room.mode == "presenter" else 0o644)
+            name = unit_name(room, backend)
+            environment_file = None
+            if pins:
+                secrets.mkdir(mode=0o700, exist_ok=True)
+                secrets.chmod(0o700)
+                environment_file = secrets / name.replace(".service", ".env")
+                write_private(environment_file, "".join(f"{k}={v}\n" for k, v in pins.items()))
+            path = units / name
+            text = app_unit(
+                room,
+                backend,
+                sys.executable,
+                workdir=APP_ROOT,
+                environment_file=None if environment_file is None else str(environment_file),
+                readable=readable,
+            )
+            path.write_text(text)
+            path.chmod(0o644)  # no secret in it
     here = where.get("this machine", [])
     nginx_path = nginx or "/usr/sbin/nginx"
     (units / PROXY_UNIT).write_text(proxy_unit(nginx_path, folder, here))
@@ -174,8 +193,22 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
             "On each other machine: install Rigid Body Lab the same way (the units run",
             f"{sys.executable} -m app), copy its units and a target that wants them.",
         ]
-    lines += ["", "Presenter PINs:", *_pins(department)] if _pins(department) else []
-    (folder / "README.txt").write_text("\n".join(lines) + "\n")
+    if _pins(department):
+        lines += [
+            "",
+            f"The presenter PINs are in {secrets}/ (mode 0600, for systemd), and here (this file is 0600):",
+            *_pins(department),
+        ]
+    write_private(folder / "README.txt", "\n".join(lines) + "\n")
+
+
+def write_private(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` readable by its owner alone (0600 from the moment it exists, and made 0600
+    if it existed before)."""
+    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    with os.fdopen(descriptor, "w", encoding="utf-8") as handle:
+        os.fchmod(handle.fileno(), 0o600)
+        handle.write(text)
 
 
 def main(argv: list[str]) -> int:

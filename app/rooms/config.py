@@ -37,7 +37,9 @@ __all__ = [
     "Department",
     "Room",
     "RoomsError",
+    "PIN_VARIABLE",
     "app_arguments",
+    "pin_environment",
     "parse_address",
     "parse_rooms",
     "read_rooms",
@@ -320,6 +322,16 @@ def _backends(draft: dict[str, Any], top: _Where, next_port: int) -> tuple[tuple
     return backends, next_port
 
 
+PIN_VARIABLE = "RBL_PIN"
+"""The environment variable the app takes its PIN from when no ``--pin`` is given: a presenter room's PIN
+is never on a command line, where ``ps`` shows it to every user of the machine."""
+
+
+def pin_environment(room: Room) -> dict[str, str]:
+    """What a room's process needs in its environment: the presenter PIN (:data:`PIN_VARIABLE`), or nothing."""
+    return {PIN_VARIABLE: str(room.pin)} if room.mode == "presenter" and room.pin is not None else {}
+
+
 def app_arguments(room: Room, backend: Backend, *, host: str | None = None) -> list[str]:
     """The app's command-line arguments for one backend (after ``python -m app``); ``host``: the address
     it binds (default the backend's own)."""
@@ -327,7 +339,7 @@ def app_arguments(room: Room, backend: Backend, *, host: str | None = None) -> l
     if room.scene is not None:
         args += ["--scene", room.scene]
     if room.mode == "presenter":
-        args += ["--presenter", "--pin", str(room.pin)]
+        args += ["--presenter"]  # the PIN goes in the environment (pin_environment)
     elif room.mode == "private":
         args += ["--private"]
     else:

@@ -5,20 +5,69 @@ Each room's process is ``rigid-body-lab-NAME.service`` (a pool's are ``rigid-bod
 gets its unit too: it is copied to that machine (:func:`machines` says which unit goes where). The
 proxy's unit runs nginx with the written configuration; ``rigid-body-lab.target`` starts and stops
 everything that runs on one machine.
+
+An app's unit runs it as a user of its own made for it (``DynamicUser=``), with the file system read-only
+(``ProtectSystem=strict``), homes hidden, a private /tmp, no new privileges and a memory ceiling; the mesh
+worker it starts is in the same cgroup, under the same limits. A presenter room's PIN is never on a command
+line: systemd reads it from an ``EnvironmentFile=`` only root can read (``--write`` writes it 0600), and the
+app takes it from the environment (:data:`app.rooms.config.PIN_VARIABLE`).
 """
 
 from __future__ import annotations
 
 import shlex
 from collections.abc import Sequence
-from pathlib import Path
+from pathlib import Path, PurePath
 
 from app.rooms.config import Backend, Department, Room, app_arguments
 
-__all__ = ["PROXY_UNIT", "TARGET", "app_unit", "is_loopback_host", "machines", "proxy_unit", "target_unit", "unit_name"]
+__all__ = [
+    "HARDENING",
+    "MEMORY_MAX",
+    "PROXY_UNIT",
+    "TARGET",
+    "app_unit",
+    "is_loopback_host",
+    "machines",
+    "proxy_unit",
+    "target_unit",
+    "unit_name",
+]
 
 TARGET = "rigid-body-lab.target"
 PROXY_UNIT = "rigid-body-lab-proxy.service"
+
+
+MEMORY_MAX = "2G"
+"""The memory ceiling of one app process and its mesh worker (which alone may take 1 GiB: app.uploads.limits)."""
+
+HARDENING = (
+    "DynamicUser=yes",
+    "NoNewPrivileges=yes",
+    "ProtectSystem=strict",
+    "PrivateTmp=yes",
+    "ProtectKernelTunables=yes",
+    "ProtectKernelModules=yes",
+    "ProtectControlGroups=yes",
+    "RestrictSUIDSGID=yes",
+    "LockPersonality=yes",
+    "UMask=0077",
+    "RestrictAddressFamilies=AF_INET AF_INET6 AF_UNIX",
+    "CapabilityBoundingSet=",
+    f"MemoryMax={MEMORY_MAX}",
+    "TasksMax=512",
+    # numba's compiled kernels are cached here (the installed tree is read-only to the service).
+    "CacheDirectory=rigid-body-lab",
+    "Environment=NUMBA_CACHE_DIR=/var/cache/rigid-body-lab",
+)
+"""The sandbox of every app unit (``ProtectHome=`` is added by :func:`app_unit`: it depends on where
+Python is installed)."""
+
+_HOMES = ("/home", "/root", "/run/user")
+
+
+def _under_a_home(path: str) -> bool:
+    return any(PurePath(path).is_relative_to(home) for home in _HOMES)
 
 
 def unit_name(room: Room, backend: Backend) -> str:
@@ -31,8 +80,32 @@ def _exec(command: Sequence[str]) -> str:
     return " ".join(shlex.quote(part) for part in command)
 
 
-def app_unit(room: Room, backend: Backend, python: str, *, workdir: str | None = None) -> str:
-    """The unit of one app process: ``python -m app`` with the room's mode on the backend's address."""
+def app_unit(
+    room: Room,
+    backend: Backend,
+    python: str,
+    *,
+    workdir: str | None = None,
+    environment_file: str | None = None,
+    readable: Sequence[str] = (),
+) -> str:
+    """The unit of one app process: ``python -m app`` with the room's mode on the backend's address.
+
+    Parameters
+    ----------
+    room, backend : Room, Backend
+        The room and which of its processes.
+    python : str
+        The interpreter to run.
+    workdir : str, optional
+        The directory the app runs in (the installed tree).
+    environment_file : str, optional
+        A presenter room's file of ``RBL_PIN=...`` (mode 0600, read by systemd before it drops privileges).
+    readable : sequence of str
+        Directories the service must read (Python's prefix, the installed tree). Homes are hidden
+        (``ProtectHome=yes``); when one of these is in a home, homes are an empty ``tmpfs`` instead, with
+        these directories bound read-only into it.
+    """
     command = [python, "-m", "app", *app_arguments(room, backend)]
     lines = [
         "[Unit]",
@@ -45,23 +118,22 @@ def app_unit(room: Room, backend: Backend, python: str, *, workdir: str | None =
         f"ExecStart={_exec(command)}",
         "Environment=PYTHONUNBUFFERED=1",
     ]
+    if environment_file is not None:
+        lines.append(f"EnvironmentFile={environment_file}")
     if workdir is not None:
         lines.append(f"WorkingDirectory={workdir}")
+    homes = sorted({path for path in readable if _under_a_home(path)})
     lines += [
         "Restart=always",
         "RestartSec=2",
         "KillSignal=SIGTERM",
         "TimeoutStopSec=10",
-        "NoNewPrivileges=yes",
-        "PrivateTmp=yes",
-        "# The app needs no privileges: run it as an ordinary user of your choice.",
-        "# User=rigid-body-lab",
-        "",
-        "[Install]",
-        f"WantedBy={TARGET}",
+        *HARDENING,
+        "ProtectHome=tmpfs" if homes else "ProtectHome=yes",
     ]
-    if room.mode == "presenter":  # the PIN is in the command line: keep the file from other users
-        lines.insert(lines.index("[Service]") + 1, "# The presenter PIN is on the command line below.")
+    if homes:
+        lines.append("BindReadOnlyPaths=" + " ".join(homes))
+    lines += ["", "[Install]", f"WantedBy={TARGET}"]
     return "\n".join(lines) + "\n"
 
 

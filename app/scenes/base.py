@@ -6,10 +6,45 @@ How to write a scene, with a complete example: docs/architecture.md ("Adding a s
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
-__all__ = ["Scene", "SceneContext", "register", "REGISTRY"]
+__all__ = ["Answer", "Scene", "SceneContext", "register", "REGISTRY"]
+
+
+@dataclass(frozen=True)
+class Answer:
+    """What of a scene states or shows one of its quantities: held back while a class question about that
+    quantity is open (:meth:`Scene.hold`), shown again at the reveal.
+
+    Each name is an attribute path of the scene (``"params.sliders.phidot0"``: attributes, then dict keys).
+
+    Attributes
+    ----------
+    quantity : str
+        The quantity a lecture's question asks about (a step's ``truth``, or its ``about``).
+    readouts : tuple of str
+        Readouts (anything with ``hold(bool)``, e.g. :class:`app.panel.controls.Readout`) that state it:
+        they say it is held back instead.
+    hidden : tuple of str
+        Scene nodes, labels, plots, sliders or markdown (anything with ``visible``) hidden meanwhile; the
+        scene's caption in the panel is ``"caption_markdown"``.
+    """
+
+    quantity: str
+    readouts: tuple[str, ...] = ()
+    hidden: tuple[str, ...] = ()
+
+
+def _resolve(scene: Any, path: str) -> Any:
+    """The object at an attribute path of ``scene`` (dots: attributes, then dict keys), or None."""
+    obj = scene
+    for part in path.split("."):
+        obj = obj.get(part) if isinstance(obj, dict) else getattr(obj, part, None)
+        if obj is None:
+            return None
+    return obj
 
 
 class SceneContext(Protocol):
@@ -65,10 +100,54 @@ class Scene:
         (3.0, -3.0, 2.0),
         (0.0, 0.0, 0.5),
     )
+    view: ClassVar[tuple[float, float] | None] = None
+    """Width and height (m), across the camera's look-at point, of what the scene must show: each browser's
+    camera comes as close as lets it fill the part of the view the panel leaves free
+    (:func:`app.serving.framing.framed`); None: the camera's own distance."""
+    static: ClassVar[bool] = False
+    """A still picture with nothing that moves in time (the inertia explorer): its clock stays paused at 0."""
+    answers: ClassVar[tuple[Answer, ...]] = ()
+    """The quantities a class question may ask about, and what of the scene states each (:class:`Answer`)."""
 
     def __init__(self, ctx: SceneContext) -> None:
         self.ctx = ctx
         self.traces: list[Any] = []  # app.draw.Trace objects cleared by reset()/restart()
+        self.held: frozenset[str] = frozenset()  # quantities held back while a question about them is open
+        self.caption_markdown: Any = None  # the caption in the panel (the simulation sets it)
+        self._shown_before: dict[str, bool] = {}  # what a hidden element's visibility was before
+
+    def hold(self, quantities: Iterable[str]) -> None:
+        """Hold back what states ``quantities`` (names of :attr:`answers`) and show again what states the
+        others: readouts say they are held back, declared nodes are hidden; :meth:`describe` leaves them out.
+
+        Raises
+        ------
+        ValueError
+            A quantity the scene does not declare (the names it declares are listed).
+        """
+        wanted = frozenset(quantities)
+        declared = {a.quantity for a in self.answers}
+        if not wanted <= declared:
+            unknown = sorted(wanted - declared)[0]
+            raise ValueError(
+                f"the scene {self.title!r} declares no answer {unknown!r}; it declares {sorted(declared) or 'none'}"
+            )
+        for answer in self.answers:
+            held = answer.quantity in wanted
+            for path in answer.readouts:
+                readout = _resolve(self, path)
+                if readout is not None:
+                    readout.hold(held)
+            for path in answer.hidden:
+                node = _resolve(self, path)
+                if node is None:
+                    continue
+                if held and path not in self._shown_before:
+                    self._shown_before[path] = bool(node.visible)
+                    node.visible = False
+                elif not held and path in self._shown_before:
+                    node.visible = self._shown_before.pop(path)
+        self.held = wanted
 
     def build(self) -> None:
         """Create the scene nodes (under ``ctx.root``) and the GUI (lands in the scene's folder)."""

@@ -19,6 +19,7 @@ START = np.array([-0.9, 0.0, 0.3])  # launch point of the centre of mass (m)
 VELOCITY = np.array([1.6, 0.0, 5.0])  # launch velocity (m/s): flight time 2 v_z / g ≈ 1.02 s
 FLIGHT_TIME = 2.0 * float(VELOCITY[2]) / G  # s
 RISE = float(VELOCITY[2]) ** 2 / (2.0 * G)  # m, launch point to the top of the parabola
+LABEL_GAP = 0.05  # m between the body's widest reach from its path and the path's label
 
 
 @register
@@ -33,8 +34,9 @@ class FreeFall(Wobble):
         "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ. At 1× it runs in real time: each throw "
         f"rises {RISE:.3g} m and lasts its flight time 2 v₀z/g = {FLIGHT_TIME:.3g} s, then starts again."
     )
-    camera = ((0.4, -3.3, 1.5), (0.0, 0.0, 0.9))
-    size = 0.45
+    camera = ((0.4, -3.3, 1.7), (0.0, 0.0, 1.05))
+    view = (2.3, 2.4)  # the whole flight, and the arrows at its top
+    size = 0.8
 
     def build(self) -> None:
         self.flight_time = FLIGHT_TIME
@@ -43,9 +45,19 @@ class FreeFall(Wobble):
         self.ctx.server.scene.add_line_segments(
             self.ctx.root + "/path",
             points=np.stack([path[:-1], path[1:]], axis=1),
-            colors=draw.COLOURS["path"],
-            thickness=1.5,
+            colors=draw.colour("path", self.ctx.dark),
+            thickness=2.5,
             thickness_units="screen",
+        )
+        # Two parabolas: the centre of mass's (grey, fixed) and the axis tip's trace (the trace's colour);
+        # the fixed one is named outside its rising leg, left of it: the body passes there only at launch.
+        rising = path[len(path) // 5]
+        self.path_label = draw.add_label(
+            self.ctx.server,
+            self.ctx.root + "/path_label",
+            "centre of mass",
+            position=rising + [-LABEL_GAP - self.size / 2, 0.0, 0.0],
+            anchor="center-right",
         )
         super().build()
 

@@ -22,7 +22,7 @@ from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
-from app.scenes.base import Scene, register
+from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle, threshold_words, tip_path
 from physics import G
 from physics.heavy_top import HeavyTop, friction_stepper
@@ -182,6 +182,9 @@ class HeavyTopScene(Scene):
         "top stands on the table: the spin decays, it falls and comes to rest on its rim."
     )
     camera = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
+    view = (2.4, 2.1)  # the axis tip's sphere across, L and ω above the top
+    # The precession's rate and sense: its readout, the φ̇₀ slider a steady preset sets to it, the words.
+    answers = (Answer("precession_rate", readouts=("precession_readout",), hidden=("params.sliders.phidot0",)),)
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
@@ -271,9 +274,9 @@ class HeavyTopScene(Scene):
         sol = motion.at(np.zeros(1))
         self.top, self.values, self.start, self.exact, self.motion = top, dict(values), start, sol, motion
         L0 = sol.attitude[0] @ (np.array([top.I1, top.I1, top.I3]) * sol.omega_body[0])
-        # L and ω reach a little past the axis-tip sphere, so their labels stay in a 1280×800 view.
-        self.L_scale = 1.25 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
-        self.omega_scale = 1.1 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
+        # L and ω reach well past the top's end (LENGTH), so they and their labels stand clear of the body.
+        self.L_scale = 1.45 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
+        self.omega_scale = 1.25 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
         self.note.content = _nudge_words(values)
@@ -396,9 +399,18 @@ class HeavyTopScene(Scene):
         sol, kind = self.exact, self.motion.kind
         if kind == "vertical":
             return f"Heavy top, upright: standing on its tip; {spin}."
-        precessing = f"precessing at {amount(sol.precession_rate, 'rad/s')}"
+        if "precession_rate" in self.held:  # a class question asks for it: the rate and its sense wait
+            precessing = "precessing (its rate is the class question)"
+        else:
+            precessing = f"precessing at {amount(sol.precession_rate, 'rad/s')}"
         if kind == "steady":
             return f"Heavy top, steady precession: {precessing} at a tilt of {angle(sol.theta_min)}; {spin}."
+        if angle(sol.theta_min) == angle(sol.theta_max):  # a nutation too small to say in three digits
+            nutation = f"{math.degrees(sol.theta_max - sol.theta_min):.2g}°"
+            return (
+                f"Heavy top, nearly steady precession: {precessing} at a tilt of {angle(sol.theta_min)}, "
+                f"nutating by {nutation}; {spin}."
+            )
         shape = tip_path(sol.Lz, sol.L3, sol.theta_min, sol.theta_max)
         between = f"between {angle(sol.theta_min)} and {angle(sol.theta_max)}"
         return f"Heavy top, {shape}: {precessing}, nutating {between} every {amount(sol.nutation_period, 's')}; {spin}."

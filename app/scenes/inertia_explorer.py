@@ -13,6 +13,7 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
+from app.guards.text import markdown_text
 from app.recording.columns import vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, listing
@@ -102,6 +103,8 @@ class InertiaExplorer(Scene):
         "I(d) = I_CM + M (d² δ − d dᵀ) (parallel-axis theorem)."
     )
     camera = ((2.4, -2.4, 2.0), (0.0, 0.0, 1.0))
+    view = (1.9, 1.9)  # the body, its principal axes and a pivot up to 0.5 m off
+    static = True  # nothing moves: no clock
     centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass is drawn (m)
 
     def build(self) -> None:
@@ -114,11 +117,11 @@ class InertiaExplorer(Scene):
         # Opaque (3:1 against what is behind it, docs/look.md); the principal axes reach past the drawn body
         # (at most 0.6 m from its centre of mass, DISPLAY_SIZE / 2) so they show outside it.
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
-        self.frame = draw.PrincipalFrame(server, root + "/principal", length=AXES_LENGTH)
+        self.frame = draw.PrincipalFrame(server, root + "/principal", length=AXES_LENGTH, dark=self.ctx.dark)
         self.axis_labels = [draw.add_label(server, f"{root}/axis_label_{i + 1}", f"{i + 1}") for i in range(3)]
         self.ellipsoid = draw.InertiaEllipsoid(server, root + "/ellipsoid", cap=ELLIPSOID_CAP)
         self.pivot_marker = server.scene.add_icosphere(root + "/pivot", radius=0.035, color=draw.COLOURS["pivot"])
-        self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4)
+        self.pivot_frame = draw.PrincipalFrame(server, root + "/pivot_axes", length=0.4, quantity="pivot")
         self.lever = server.scene.add_line_segments(
             root + "/lever",
             points=np.zeros((1, 2, 3), dtype=np.float32),
@@ -217,7 +220,7 @@ class InertiaExplorer(Scene):
             + tensor_markdown(props.tensor, "Tensor about the centre of mass")
         )
         self.note.content = (
-            f"**{label}**, {props.mass:.4g} kg; drawn at {scale:.4g}× its size. "
+            f"**{markdown_text(label)}**, {props.mass:.4g} kg; drawn at {scale:.4g}× its size. "
             f"Pivot d = {np.linalg.norm(pivot_offset):.4g} m from the CM: M d² = "
             f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m²."
         )

@@ -14,7 +14,7 @@ import trimesh
 
 from app import controls, draw
 from app.guards.wire import send_position
-from app.scenes.base import Scene, register
+from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle
 from assets import load_mesh, mass_properties
 from physics import G
@@ -72,6 +72,14 @@ def _period_text(model: PhysicalPendulum, theta: float, thetadot: float) -> str:
     return f"{small:.4g} / {swing_period(model, amplitude):.4g}"
 
 
+CAMERA = ((2.3, -0.8, 1.6), (0.0, 0.0, 1.45))
+_forward = np.subtract(CAMERA[1], CAMERA[0])
+SCREEN_RIGHT = np.cross(_forward, [0.0, 0.0, 1.0]) / np.linalg.norm(np.cross(_forward, [0.0, 0.0, 1.0]))
+"""The horizontal direction the scene's camera draws to the right (its labels sit to either side of the bat)."""
+LABEL_OFFSET = 0.08
+"""m from a marker's centre to its label: past the marker's radius (0.05 m at most)."""
+
+
 @register
 class Pendulum(Scene):
     name = "pendulum"
@@ -83,7 +91,16 @@ class Pendulum(Scene):
         "length ℓ = k²/a⊥. **Strike!** (arrow J): the pivot pushes back (arrow 'pivot') unless the blow lands "
         "at the centre of percussion, ℓ below the pivot: the bat's sweet spot (the button under *Strike!*)."
     )
-    camera = ((2.3, -0.8, 1.6), (0.0, 0.0, 1.45))
+    camera = CAMERA
+    view = (1.8, 1.8)  # the bat and its swing
+    # The effective length ℓ is the centre of percussion's depth; the period 2π √(ℓ/g) gives it too.
+    answers = (
+        Answer(
+            "centre_of_percussion",
+            readouts=("l_readout", "period_readout"),
+            hidden=("cop_marker", "cop_label", "cop_button"),
+        ),
+    )
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
@@ -98,16 +115,20 @@ class Pendulum(Scene):
             thickness=4.0,
             thickness_units="screen",
         )
-        self.cm_marker = server.scene.add_icosphere(root + "/cm", radius=0.045, color=draw.COLOURS["path"])
+        self.cm_marker = server.scene.add_icosphere(
+            root + "/cm", radius=0.045, color=draw.colour("path", self.ctx.dark)
+        )
         self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
-        self.cop_label = draw.add_label(server, root + "/cop_label", "centre of percussion")
-        self.cm_label = draw.add_label(server, root + "/cm_label", "CM")
+        # The markers' labels in two columns beside the bat (CM and centre of percussion right, the strike
+        # point left), each starting clear of its marker: never on the bat, never on each other.
+        self.cop_label = draw.add_label(server, root + "/cop_label", "centre of percussion", anchor="center-left")
+        self.cm_label = draw.add_label(server, root + "/cm_label", "CM", anchor="center-left")
         self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.04, color=draw.COLOURS["impulse"])
         # Both balls are the blow's colour: the labels tell the strike point from the centre of percussion.
-        self.hit_label = draw.add_label(server, root + "/hit_label", "strike point")
+        self.hit_label = draw.add_label(server, root + "/hit_label", "strike point", anchor="center-right")
         self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.02)
         self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.02)
-        self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400)
+        self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400, dark=self.ctx.dark)
         self.traces: list[Any] = [self.trace]
 
         self.choice = controls.refusable_dropdown(
@@ -223,11 +244,14 @@ class Pendulum(Scene):
             if amplitude is None
             else f"swinging ±{angle(amplitude)} every {amount(swing_period(model, amplitude), 's')}"
         )
+        hung = f"Physical pendulum, {self.choice.value} hung {amount(self.params.values['pivot'], 'm')} below its end"
+        strike = f"the strike point {amount(self.params.values['strike'], 'm')}"
+        if "centre_of_percussion" in self.held:  # a class question asks for ℓ: its periods would give it
+            release = f"released at {angle(math.radians(self.params.values['amplitude']))}"
+            return f"{hung}: {release}; {strike} below the pivot."
         return (
-            f"Physical pendulum, {self.choice.value} hung {amount(self.params.values['pivot'], 'm')} below its end: "
-            f"{swing} (small swings {amount(model.small_oscillation_period, 's')}); the centre of percussion is "
-            f"{amount(model.effective_length, 'm')} below the pivot, the strike point "
-            f"{amount(self.params.values['strike'], 'm')}."
+            f"{hung}: {swing} (small swings {amount(model.small_oscillation_period, 's')}); the centre of "
+            f"percussion is {amount(model.effective_length, 'm')} below the pivot, {strike}."
         )
 
     def draw(self, state: dict[str, Any]) -> None:
@@ -237,13 +261,14 @@ class Pendulum(Scene):
         cm = self.model.center_of_mass_at(theta)
         cop = self.model.center_of_percussion(theta)
         send_position(self.cm_marker, cm)
-        send_position(self.cm_label, cm + np.array([0.0, 0.05, 0.0]))
+        send_position(self.cm_label, cm + LABEL_OFFSET * SCREEN_RIGHT)
         send_position(self.cop_marker, cop)
-        send_position(self.cop_label, cop + np.array([0.0, 0.05, 0.0]))
+        send_position(self.cop_label, cop + LABEL_OFFSET * SCREEN_RIGHT)
         down = R @ np.array([0.0, 0.0, -1.0])
         hit = self.pivot + self.params.values["strike"] * down
         send_position(self.hit_marker, hit)
-        send_position(self.hit_label, hit - np.array([0.0, 0.05, 0.0]))  # the other side from the CoP's label
+        # Left of the bat: on the centre of percussion (the lecture's key step) it is not drawn over its label.
+        send_position(self.hit_label, hit - LABEL_OFFSET * SCREEN_RIGHT)
         self.trace.append(cm)  # the legend says "path of the centre of mass": it is
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))

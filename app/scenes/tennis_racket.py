@@ -17,7 +17,7 @@ from app.drawing.ghost import IntegratorGhost
 from app.guards.wire import send_position
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
-from app.scenes.base import Scene, register
+from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, listing
 from assets import ASSETS, load_mesh, mass_properties
 from physics.free_body import FreeBody
@@ -105,11 +105,22 @@ class TennisRacket(Scene):
         "A body with two equal moments (a cylinder from the explorer) has no intermediate axis: it precesses "
         "steadily at Ω = ω_s (I⊥ − I_s)/I⊥ and never flips."
     )
-    camera = ((2.4, -2.6, 1.9), (-0.5, 0.0, 1.0))
+    # From above, so the racket spinning flat is seen across its face; the L-sphere beside it on screen.
+    camera = ((2.4, -2.6, 2.4), (-0.45, -0.25, 1.0))
+    view = (2.4, 1.8)  # the racket, its arrows and the L-sphere
+    # Whether (and how often) it flips: the readouts of the linear stability and the measured period, the
+    # polhode on the L-sphere, the caption that states the theorem.
+    answers = (
+        Answer(
+            "flip",
+            readouts=("stability_readout", "rate_readout", "first_flip_readout", "period_readout"),
+            hidden=("polhode", "separatrix", "caption_markdown"),
+        ),
+    )
     centre = np.array([0.0, 0.0, 1.0])
-    sphere_centre = np.array([-1.4, 0.3, 1.0])  # left of the body on screen (the GUI is on the right)
-    sphere_radius = 0.45
-    size = 0.9  # largest dimension the body is drawn at (m)
+    sphere_centre = np.array([-1.05, -0.95, 1.0])  # left of the body on screen, clear of it (the GUI is right)
+    sphere_radius = 0.33
+    size = 1.4  # largest dimension the body is drawn at (m)
 
     def build(self) -> None:
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
@@ -117,11 +128,13 @@ class TennisRacket(Scene):
         self._last_source = ""
         self.body = draw.BodyMesh(server, root + "/body", trimesh.creation.box())
         # A child of the body: it turns with it without a message of its own each frame.
-        self.frame = draw.PrincipalFrame(server, root + "/body/frame", length=0.6 * self.size)
+        self.frame = draw.PrincipalFrame(server, root + "/body/frame", length=0.6 * self.size, dark=self.ctx.dark)
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         # The L-sphere in body axes: faint sphere, body axes, separatrix, polhode, current L.
-        lsphere_axes = draw.PrincipalFrame(server, root + "/lsphere_axes", length=1.25 * self.sphere_radius)
+        lsphere_axes = draw.PrincipalFrame(
+            server, root + "/lsphere_axes", length=1.25 * self.sphere_radius, dark=self.ctx.dark
+        )
         lsphere_axes.set_pose(np.eye(3), self.sphere_centre)
         self.sphere_sphere = server.scene.add_icosphere(
             root + "/lsphere_shell",
@@ -273,8 +286,9 @@ class TennisRacket(Scene):
         self.body.set_mesh(drawn)
         self.ghost.start_free(moments, self.motion, drawn)
         self.mesh_scale = scale
-        self.L_scale = 0.9 * self.size / self.L_norm
-        self.omega_scale = 0.9 * self.size / float(np.linalg.norm(omega0))
+        # Past the racket's half-length (0.5 size) and its label still in the view (Scene.view, 0.9 m above).
+        self.L_scale = 0.55 * self.size / self.L_norm
+        self.omega_scale = 0.55 * self.size / float(np.linalg.norm(omega0))
         # Readouts: lecture's linear stability, and the flip period measured from the exact ω(t).
         stab = model.stability(axis, spin)
         self.stability = stab
@@ -343,6 +357,8 @@ class TennisRacket(Scene):
             f"{amount(float(self.omega0[self.axis_index]), 'rad/s')} about axis {self.axis_index + 1}"
         )
         period = amount(self.flip_period, "s")
+        if "flip" in self.held:  # a class question asks what it does next
+            return f"{spun}: what it does next is the class question."
         if self.precession is not None:
             return f"{spun}: two equal moments, so ω precesses at {amount(self.precession.body, 'rad/s')} in the body, every {period}, and never flips."
         if self.stability.kind == "unstable":

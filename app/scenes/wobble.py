@@ -54,6 +54,7 @@ class Wobble(Scene):
         "The arrows L and ω keep their lengths (|L| and |ω| are constant here): both are drawn 1.1 m long."
     )
     camera = ((2.2, -2.2, 1.9), (0.0, 0.0, 1.15))
+    view: ClassVar[tuple[float, float] | None] = (2.4, 2.4)  # the body, its cones and L and ω
     centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass sits (m)
     size = 1.0  # largest dimension of the body (m); arrows and cones scale with it
 
@@ -61,7 +62,7 @@ class Wobble(Scene):
         server, root = self.ctx.server, self.ctx.root
         self.body = draw.BodyMesh(server, root + "/body", draw.cylinder_mesh(0.5, 0.5))
         # A child of the body: it turns with it without a message of its own each frame.
-        self.frame = draw.PrincipalFrame(server, root + "/body/frame", length=0.75 * self.size)
+        self.frame = draw.PrincipalFrame(server, root + "/body/frame", length=0.75 * self.size, dark=self.ctx.dark)
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         self.body_cone = draw.Cone(server, root + "/body_cone", "body_cone")

@@ -16,8 +16,11 @@ from typing import Any
 
 import viser
 
+from app.guards.admission import Admission, Caps, install_admission
 from app.guards.event_loop import confine_events
+from app.guards.gate import install_gate
 from app.guards.prop_hints import cache_prop_hints
+from app.guards.responses import peer_address
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
@@ -32,6 +35,7 @@ from app.teaching.lectures import Step, read_lecture
 from app.teaching.presenter import Classroom, check_pin, new_pin
 from app.teaching.states import parse_state
 from app.teaching.teacher import TeacherDesk
+from app.teaching.voters import Voters
 from physics.integrators.warm import warm
 
 __all__ = ["App", "export", "export_zip"]
@@ -84,6 +88,9 @@ class App:
     answers : str or Path, optional
         Presenter mode: a CSV file rewritten with every class question's counts and times whenever a vote
         closes (``--export-answers``; :mod:`app.teaching.class_questions`, in ``app.questions``).
+    caps : Caps, optional
+        Connections and sessions per address and per process (:class:`app.guards.admission.Caps`; the
+        defaults suit a lecture hall of 300).
     """
 
     def __init__(
@@ -103,6 +110,7 @@ class App:
         state: str | None = None,
         lecture: str | None = None,
         answers: str | Path | None = None,
+        caps: Caps | None = None,
     ) -> None:
         if state is not None:
             scene = parse_state(state)["scene"]  # refused here, before anything starts
@@ -119,10 +127,14 @@ class App:
         self.fps, self.share, self.dark, self.private = float(fps), bool(share), bool(dark), bool(private)
         server = viser.ViserServer(host=host, port=port, verbose=verbose)
         confine_events(server)
+        self.gate = install_gate(server)  # only the message types a page sends reach viser
+        # Checked first, as a websocket opens: connections and sessions per address and per process.
+        self.admission = install_admission(server, Admission(caps or Caps(), sessions_per_connection=private))
         serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
         cache_prop_hints()  # a handle's type hints are looked up once per kind of handle, not per handle
         self.server = server
         self.host, self.port = host, server.get_port()
+        self.voters = Voters(server)  # one identity per browser, kept across reconnects (PINs, votes)
         self.sessions: dict[Any, Simulation] = {}
         self.sessions_lock = threading.Lock()
         self.shared: Simulation | None = None
@@ -201,6 +213,11 @@ class App:
         """ "shared", "presenter" or "private"."""
         return "private" if self.private else ("presenter" if self.classroom is not None else "shared")
 
+    def who(self, client_id: Any) -> tuple[str, str]:
+        """A client's browser (its voter identity, kept across reconnects) and its network address: what the
+        PIN limits count against (:class:`app.teaching.pin_gate.PinGate`)."""
+        return self.voters.identity(client_id), peer_address(self.server, client_id) or f"connection {client_id}"
+
     def refusal(self, client_id: Any) -> str | None:
         """Why a browser may not drive the shared simulation (a follower in presenter mode), or None."""
         return self.classroom.refusal(client_id) if self.classroom is not None else None
@@ -224,9 +241,16 @@ class App:
     def _copy_for(self, client: viser.ClientHandle) -> Simulation:
         """A browser's own copy of the lecture, at the lecture's current state (presenter mode)."""
         assert self.shared is not None
+        with self.sessions_lock:
+            owners = list(self.sessions)
+        refused = self.admission.session_refusal(client.client_id, owners)
+        if refused is not None:
+            raise ValueError(f"no copy of your own: {refused}")
         snapshot = self.shared.snapshot()
         copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
         copy.restore(snapshot)
+        if self.questions is not None:  # a question open on the lecture keeps its answer in the copy too
+            copy.hold_back(self.questions.holding())
         return copy
 
     # ------------------------------------------------------------------ private sessions

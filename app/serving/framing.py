@@ -12,6 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from app.guards.responses import user_agent
+
 __all__ = [
     "FOV",
     "FRAMING_GRACE",
@@ -20,6 +22,8 @@ __all__ = [
     "SHEET_FRACTION",
     "first_view",
     "free_region",
+    "is_mobile",
+    "phone_layout",
     "framed",
     "show_scene_to",
 ]
@@ -52,16 +56,38 @@ FIRST_VIEW_PX = (1280.0, 800.0)
 """The view a browser's first camera is framed for, before the page reports its own size."""
 
 
-def free_region(width: float, height: float) -> tuple[float, float, float, float]:
-    """The part of a ``width`` × ``height`` px view the panel leaves free: (left, top, right, bottom), px."""
-    if width <= PHONE_PX:
+def phone_layout(width: float, height: float, mobile: bool = False) -> bool:
+    """Whether viser lays its panel out as a phone's bottom sheet for a ``width`` × ``height`` view.
+
+    viser reports its canvas in device pixels (CSS pixels × a pixel ratio it lowers when frames are slow), so
+    a phone's 390 CSS px arrive as 780 or more: a browser that says it is a phone (``mobile``, from its user
+    agent) held upright is laid out as one whatever its pixel count.
+    """
+    return width <= PHONE_PX or (mobile and height > width)
+
+
+def is_mobile(agent: str) -> bool:
+    """A user agent of a phone's browser (Safari on iPhone, Chrome on Android: both say "Mobile")."""
+    return "Mobile" in agent or "Android" in agent
+
+
+def free_region(width: float, height: float, mobile: bool = False) -> tuple[float, float, float, float]:
+    """The part of a ``width`` × ``height`` px view the panel leaves free: (left, top, right, bottom), px
+    (``mobile``: see :func:`phone_layout`)."""
+    if phone_layout(width, height, mobile):
         # A few pixels above the sheet's edge: a swinging body framed to the edge itself can reach under it.
         return (0.0, 0.0, width, (1.0 - SHEET_FRACTION) * height - SHEET_MARGIN_PX)
     return (0.0, 0.0, max(width - PANEL_PX, 0.5 * width), height)
 
 
 def framed(
-    position: ArrayLike, look_at: ArrayLike, width: float, height: float, fov: float
+    position: ArrayLike,
+    look_at: ArrayLike,
+    width: float,
+    height: float,
+    fov: float,
+    view: tuple[float, float] | None = None,
+    mobile: bool = False,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """A scene's camera moved so that what it frames is seen clear of the panel.
 
@@ -73,11 +99,17 @@ def framed(
         The browser's view, px (viser's ``client.camera.image_width`` / ``image_height``).
     fov : float
         Vertical field of view, rad.
+    view : (float, float), optional
+        The width and height (m), across the look-at point, of what the scene must show
+        (:attr:`app.scenes.base.Scene.view`): the camera comes as close as lets that fill the free region
+        (its body then as large as it can be). Default: the camera's own distance, backed off to fit.
+    mobile : bool
+        The browser is a phone's (:func:`phone_layout`).
 
     Returns
     -------
     (position, look_at) : ndarrays, shape (3,)
-        Unchanged for an unknown view size (0 px), otherwise backed off along the line of sight and
+        Unchanged for an unknown view size (0 px), otherwise moved along the line of sight and
         panned so the look-at point is at the centre of :func:`free_region`.
     """
     eye, target = np.asarray(position, dtype=float), np.asarray(look_at, dtype=float)
@@ -91,11 +123,15 @@ def framed(
         right = np.array([1.0, 0.0, 0.0])
     right /= np.linalg.norm(right)
     up = np.cross(right, forward)
-    left, top, right_px, bottom = free_region(width, height)
+    left, top, right_px, bottom = free_region(width, height, mobile)
     free_w, free_h = right_px - left, bottom - top
-    # Back off until FILL of the scene's own view (REFERENCE_ASPECT wide, the same height) fits.
-    back = max(1.0, FILL * REFERENCE_ASPECT * height / free_w, FILL * height / free_h)
-    distance *= back
+    if view is not None:
+        # The distance at which the free region just holds view[0] × view[1] metres at the look-at point.
+        per_px = max(view[0] / free_w, view[1] / free_h)  # m per px
+        distance = per_px * height / (2.0 * math.tan(0.5 * fov))
+    else:
+        # Back off until FILL of the scene's own view (REFERENCE_ASPECT wide, the same height) fits.
+        distance *= max(1.0, FILL * REFERENCE_ASPECT * height / free_w, FILL * height / free_h)
     metres_per_px = 2.0 * distance * math.tan(0.5 * fov) / height
     dx = 0.5 * (left + right_px) - 0.5 * width  # where the free centre is, from the view's centre, px
     dy = 0.5 * (top + bottom) - 0.5 * height  # (down is positive)
@@ -103,13 +139,15 @@ def framed(
     return target + shift - distance * forward, target + shift
 
 
-def first_view(position: ArrayLike, look_at: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def first_view(
+    position: ArrayLike, look_at: ArrayLike, view: tuple[float, float] | None = None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The camera (position, look_at), m, each shape (3,), a new browser starts from (viser's initial
     camera): the scene's camera framed for :data:`FIRST_VIEW_PX`."""
-    return framed(position, look_at, *FIRST_VIEW_PX, FOV)
+    return framed(position, look_at, *FIRST_VIEW_PX, FOV, view)
 
 
-def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
+def show_scene_to(client: Any, position: Any, look_at: Any, view: tuple[float, float] | None = None) -> None:
     """Point a browser's camera at a scene (its camera ``position``, ``look_at``), framed clear of the panel.
 
     A page reports its real size only after its layout settles (and again when the window or a phone's
@@ -120,10 +158,14 @@ def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
     scene's root arrives, which on a loaded machine can come after the framing (and "Reset View" does it too).
     """
     size = (client.camera.image_width, client.camera.image_height)
-    eye, target = framed(position, look_at, size[0], size[1], FOV)
+    mobile = getattr(client, "_rbl_mobile", None)
+    if mobile is None:
+        mobile = client._rbl_mobile = is_mobile(user_agent(client))
+    eye, target = framed(position, look_at, size[0], size[1], FOV, view, mobile)
     first = getattr(client, "_rbl_framing", None) is None
-    start = first_view(position, look_at)[0]  # where viser's client resets to: kept, echoes compare to it
+    start = first_view(position, look_at, view)[0]  # where viser's client resets to: kept, echoes compare to it
     client._rbl_framing = (size, eye, position, look_at, time.monotonic(), start)
+    client._rbl_view = view
     with client.atomic():
         client.camera.fov = FOV
         client.camera.position = eye
@@ -135,13 +177,14 @@ def show_scene_to(client: Any, position: Any, look_at: Any) -> None:
 def _reframe(camera: Any) -> None:
     client = camera.client
     size, eye, position, look_at, when, start = client._rbl_framing
+    view = getattr(client, "_rbl_view", None)
     if (camera.image_width, camera.image_height) == size:
         if _near(camera.position, start) and not _near(eye, start):
-            show_scene_to(client, position, look_at)  # reset to the first view: framed for this page again
+            show_scene_to(client, position, look_at, view)  # reset to the first view: framed for this page again
         return
     if not _near(camera.position, eye) and time.monotonic() - when > FRAMING_GRACE:
         return  # the viewer has moved the camera: theirs now
-    show_scene_to(client, position, look_at)
+    show_scene_to(client, position, look_at, view)
 
 
 def _near(echo: Any, eye: Any) -> bool:

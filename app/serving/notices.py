@@ -12,6 +12,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from app.guards.text import markdown_text
+
 __all__ = ["NOTIFY_SECONDS", "Notices"]
 
 NOTIFY_SECONDS = 6.0
@@ -65,7 +67,7 @@ class Notices:
                 pass
         if error and (client is None or self._own_browser):
             with self.lock:
-                self._status.content = f"⚠ **{title}**: {body}"
+                self._status.content = f"⚠ **{markdown_text(title)}**: {markdown_text(body)}"
 
     def clear_status(self) -> None:
         """Empty the status line (a change was accepted, or the scene changed)."""

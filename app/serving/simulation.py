@@ -18,6 +18,7 @@ import viser
 
 from app.drawing.palette import legend_html, light
 from app.guards.inputs import guard_inputs
+from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
 from app.panel.export_folder import ExportRun
 from app.panel.simulation_panel import SimulationPanel
@@ -169,7 +170,7 @@ class Simulation:
 
     def _on_connect(self, client: viser.ClientHandle) -> None:
         if self.scene is not None:
-            show_scene_to(client, *self.scene.camera)
+            show_scene_to(client, *self.scene.camera, self.scene.view)
 
     # ------------------------------------------------------------------ lectures and states
     @property
@@ -219,6 +220,14 @@ class Simulation:
         if isinstance(self.server, viser.ViserServer):
             self.server.initial_camera.position = eye
             self.server.initial_camera.look_at = target
+
+    def hold_back(self, quantities: Any) -> None:
+        """Hold back what of the scene states ``quantities`` (a class question asks for them; empty: show
+        everything again), and say the motion in words again at once (:meth:`app.scenes.base.Scene.hold`)."""
+        with self.lock:
+            if self.scene is not None and (self.scene.held or quantities):
+                self.scene.hold(quantities)
+                self._dirty = True
 
     # ------------------------------------------------------------------ the context scenes use
     @property
@@ -310,17 +319,21 @@ class Simulation:
                 self.notify("Paused", reason, error=True)
 
     def set_playing(self, playing: bool) -> None:
+        """Play or pause; a still scene (``Scene.static``) stays paused at t = 0."""
         with self.lock:
+            if self.scene is not None and self.scene.static:
+                playing = False
             self.clock.playing = bool(playing)
             self.panel.show_playing(self.clock.playing)
             if self.clock.playing:
                 self.clear_status()
 
     def step(self) -> None:
-        """Pause and advance one frame's worth of simulation time (1/60 s × speed)."""
+        """Pause and advance one frame's worth of simulation time (1/60 s × speed); nothing in a still scene."""
         with self.lock:
             self.set_playing(False)
-            self.clock.steps += 1
+            if self.scene is None or not self.scene.static:
+                self.clock.steps += 1
 
     def set_speed(self, speed: float) -> None:
         speed = float(speed)
@@ -364,17 +377,20 @@ class Simulation:
                 scene = self._build(previous)
             cls = type(scene)
             self.panel.show_scene(cls.title)
-            self.legend.content = legend_html(cls.quantities)
+            self.legend.content = legend_html(cls.quantities, dark=self.dark)
             self.clear_status()  # the status line belongs to the scene
             self.view = cls.camera
             for c in self.clients():
-                show_scene_to(c, *cls.camera)
+                show_scene_to(c, *cls.camera, cls.view)
             if isinstance(self.server, viser.ViserServer):  # a browser's first view, before it reports its size
-                position, look_at = first_view(*cls.camera)
+                position, look_at = first_view(*cls.camera, cls.view)
                 self.server.initial_camera.fov = FOV
                 self.server.initial_camera.position = position
                 self.server.initial_camera.look_at = look_at
             self.clock.t = 0.0
+            if cls.static or previous is None or previous.static:  # a still scene has no clock; after one, play
+                self.set_playing(not cls.static)
+            self.panel.show_clock(not cls.static)
             self._dirty = True
 
     def _build(self, cls: type[Scene]) -> Scene:
@@ -387,7 +403,7 @@ class Simulation:
         try:
             with self._folder:
                 if cls.caption:
-                    self.server.gui.add_markdown(cls.caption)
+                    scene.caption_markdown = self.server.gui.add_markdown(lecturer_markdown(cls.caption))
                 scene.build()
         finally:
             self._building = None

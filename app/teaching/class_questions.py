@@ -25,7 +25,7 @@ from app.teaching.questions import (
     Ask,
     Poll,
     VoteRefused,
-    show_spoilers,
+    held_back,
     true_value,
 )
 from app.teaching.voters import Voters
@@ -62,11 +62,12 @@ class ClassQuestions:
         self.classroom = app.classroom
         self.poll = Poll()
         self.export = None if export is None else Path(export)
-        self.voters = Voters(app.server)
+        self.voters = app.voters if isinstance(getattr(app, "voters", None), Voters) else Voters(app.server)
         self._panels: dict[Any, QuestionPanel] = {}
         self._identity: dict[Any, str] = {}
         self._lock = threading.RLock()
         self._waiting = False  # the question was asked with the clock paused: Play ends the vote
+        self.showing = False  # the panels show the current question (a step without one takes it away)
         app.server.on_client_connect(self._joined)
         app.server.on_client_disconnect(self._left)
         self.classroom.on_present.append(self._promoted)
@@ -103,7 +104,7 @@ class ClassQuestions:
     def _show(self, panel: QuestionPanel) -> None:
         cid = panel.client.client_id
         panel.show(
-            self.poll.current,
+            self.poll.current if self.showing else None,
             presenter=self._presenting(cid),
             mine=self.poll.answer_of(self._identity.get(cid)),
             count=self.poll.count(),
@@ -134,19 +135,20 @@ class ClassQuestions:
     def step_shown(self, index: int, step: Step) -> None:
         """The lecture shows a step (a :class:`app.teaching.following.Following` listener): ask its question,
         or close the one before."""
-        if step.ask is None:
-            question = self.poll.current
-            if question is not None and question.open:
-                self.poll.close()
-                self._closed()
+        if step.ask is None:  # the question before (and its chart) leaves the panels
+            self.poll.close()
+            self.showing = False
+            self._closed()
             return
         scene = self.app.shared.scene
+        # What states the answer waits for the reveal, on the lecture and on every copy explored from it.
         self.ask(step.ask, f"step {index + 1}", true_value(step.ask, scene))
-        show_spoilers(step.ask, scene, visible=False)  # the marker of the answer waits for the reveal
+        self.hold_back(held_back(step.ask, scene))
 
     def ask(self, ask: Ask, source: str, true: float | None = None) -> None:
         """Put a question to the class (the one before is closed and kept for the CSV)."""
         self.poll.ask(ask, source, true=true)
+        self.showing = True
         self._waiting = not self.app.shared.playing
         self._show_all()
         self.write()
@@ -200,10 +202,27 @@ class ClassQuestions:
         self._closed()
 
     def _closed(self) -> None:
-        question = self.poll.current
-        show_spoilers(question.ask if question is not None else None, self.app.shared.scene, visible=True)
+        self.hold_back(())
         self._show_all()
         self.write()
+
+    def holding(self) -> tuple[str, ...]:
+        """The quantities held back now: those the open question asks about (empty once it closes)."""
+        question = self.poll.current
+        if question is None or not question.open:
+            return ()
+        return held_back(question.ask, self.app.shared.scene)
+
+    def hold_back(self, quantities: tuple[str, ...]) -> None:
+        """Hold back (or, empty, show again) what states ``quantities`` on the lecture and on every browser's
+        own copy of it that shows the same scene."""
+        sims = [self.app.shared]
+        with self.app.sessions_lock:
+            sims += list(self.app.sessions.values())
+        name = getattr(self.app.shared.scene, "name", None)
+        for sim in sims:
+            if getattr(sim.scene, "name", None) == name or not quantities:
+                sim.hold_back(quantities)
 
     # ------------------------------------------------------------------ the CSV
     def save_for(self, client: Any) -> None:

@@ -15,6 +15,7 @@ from typing import Any
 
 import viser
 
+from app.guards.text import lecturer_markdown
 from app.teaching.lectures import Lecture, Step
 
 __all__ = ["Following", "apply_step"]
@@ -99,7 +100,7 @@ class Following:
         elif step.ask is not None and not self.listeners:  # nobody collects answers: ask it aloud
             choices = "\n".join(f"{chr(65 + k)}. {c}" for k, c in enumerate(step.ask.choices))
             body = f"**Question.** {step.ask.text}\n\n{choices}\n\n{step.caption}".replace("\n\n\n\n", "\n\n")
-        self.text.content = f"{head}\n\n{body}".rstrip()
+        self.text.content = lecturer_markdown(f"{head}\n\n{body}".rstrip())
 
     def advance_if_due(self) -> None:
         """Go to the next step when the current one has ``seconds`` and they have passed (the last stays)."""
@@ -123,6 +124,11 @@ def apply_step(sim: Any, step: Step) -> None:
         sim.switch_scene(step.scene)
     scene = sim.scene
     assert scene is not None
+    if step.ask is not None:  # what the question asks about must be something the scene can hold back
+        declared = sorted(a.quantity for a in scene.answers)
+        unknown = [q for q in step.ask.about if q not in declared]
+        if unknown:
+            raise ValueError(f"about: {scene.name} declares no answer {unknown[0]!r}; it declares {declared or 'none'}")
     inputs = sim.scene_inputs
     for label, choice in step.choices.items():  # a dropdown (the body, the axis) before the sliders
         handle = next((h for h in inputs if str(h.label) == label and hasattr(h, "options")), None)

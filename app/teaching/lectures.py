@@ -36,7 +36,7 @@ MAX_BYTES = 1_000_000
 """Largest lecture file read, bytes."""
 
 KEYS = ("scene", "preset", "choices", "values", "caption", "camera", "seconds", "state")
-QUESTION_KEYS = ("question", "answer", "unit", "range", "truth")
+QUESTION_KEYS = ("question", "answer", "unit", "range", "truth", "about")
 """A step's question (:func:`app.teaching.questions.check_ask`); its ``choices`` are then a list of texts."""
 
 __all__ = ["LECTURES", "Lecture", "Step", "find_lecture", "read_lecture"]

@@ -54,7 +54,7 @@ class Classroom:
 
     def __init__(self, app: Any, pin: str, copy: Callable[[viser.ClientHandle], Any]) -> None:
         self.app = app
-        self.gate = PinGate(pin, "The presenter PIN is shown where the server was started.")
+        self.gate = PinGate(pin, "The presenter PIN is shown where the server was started.", identify=app.who)
         self.pin = self.gate.pin
         self._copy = copy
         self.presenters: set[Any] = set()

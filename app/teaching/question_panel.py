@@ -8,12 +8,12 @@ More in docs/app-notes.md (``app.teaching.question_panel``).
 
 from __future__ import annotations
 
-import html
 from collections.abc import Callable
 from typing import Any
 
 import viser
 
+from app.guards.text import html_text, markdown_text
 from app.teaching.questions import BINS, LETTERS, Question
 
 __all__ = ["QuestionPanel", "results_html"]
@@ -76,7 +76,7 @@ class QuestionPanel:
             if presenter:
                 self._presenter(question, count)
             elif question is None:
-                gui.add_markdown("*No question yet: when the lecturer asks one, answer it here.*")
+                gui.add_markdown("*No question now: when the lecturer asks one, answer it here.*")
             else:
                 self._follower(question, mine)
             if question is not None and question.revealed_at is not None:
@@ -147,22 +147,22 @@ def _said(question: Question) -> str:
     if ask.range is None:
         parts = [f"{LETTERS[k]}: {n}" for k, n in enumerate(counts)]
         right = "" if ask.answer is None else f"; the right answer is {LETTERS[int(ask.answer) - 1]}"
-        return html.escape(f"{_answers(len(question.votes))}: " + ", ".join(parts) + right)
+        return html_text(f"{_answers(len(question.votes))}: " + ", ".join(parts) + right)
     low, high = ask.range
     width = (high - low) / BINS
     parts = [f"{low + k * width:.3g} to {low + (k + 1) * width:.3g}: {n}" for k, n in enumerate(counts) if n]
     true = "" if question.true is None else f"; the true value is {question.true:.4g} {ask.unit}"
-    return html.escape(f"{_answers(len(question.votes))} ({ask.unit}) " + ", ".join(parts) + true)
+    return html_text(f"{_answers(len(question.votes))} ({ask.unit}) " + ", ".join(parts) + true)
 
 
 def _question_markdown(question: Question) -> str:
     ask = question.ask
-    lines = [f"**{html.escape(ask.text)}**"]
+    lines = [f"**{markdown_text(ask.text)}**"]
     if ask.range is not None:
         low, high = ask.range
-        lines.append(f"A number from {low:g} to {high:g} {ask.unit}".rstrip() + ".")
+        lines.append(f"A number from {low:g} to {high:g} {markdown_text(ask.unit)}".rstrip() + ".")
     else:
-        lines += [f"**{LETTERS[k]}.** {html.escape(choice)}" for k, choice in enumerate(ask.choices)]
+        lines += [f"**{LETTERS[k]}.** {markdown_text(choice)}" for k, choice in enumerate(ask.choices)]
     return "\n\n".join(lines)
 
 
@@ -177,9 +177,9 @@ def mine_text(question: Question, mine: Any) -> str:
     if mine is None:
         said = "You have not answered yet."
     elif isinstance(mine, float):
-        said = f"Your answer: **{mine:g} {question.ask.unit}**".rstrip() + "."
+        said = f"Your answer: **{mine:g} {markdown_text(question.ask.unit)}**".rstrip() + "."
     else:
-        said = f"Your answer: **{mine}**."
+        said = f"Your answer: **{markdown_text(mine)}**."
     more = " You may change it until the vote closes." if question.open else " The vote is closed."
     return said + more
 
@@ -198,7 +198,7 @@ def results_html(question: Question) -> str:
             colour = "#2a9d4b" if right else "#5b7fb8"
             mark = " ✓" if right else ""
             rows.append(
-                f'<div style="{style}"><b>{LETTERS[k]}</b>{mark} {html.escape(choice)}'
+                f'<div style="{style}"><b>{LETTERS[k]}</b>{mark} {html_text(choice)}'
                 f'<div style="display:flex;align-items:center;gap:6px"><div style="background:{colour};'
                 f'height:14px;width:{100 * n / top:.1f}%"></div><span>{n}</span></div></div>'
             )
@@ -218,10 +218,10 @@ def results_html(question: Question) -> str:
         x = 100 * (question.true - low) / (high - low)
         marker = f'<div style="position:absolute;left:{x:.1f}%;top:0;bottom:0;border-left:2px solid #d1495b"></div>'
     # The text keeps the page's colour (legible on the light and the dark look); the red is the line's.
-    true = "" if question.true is None else f" True value (red line): <b>{question.true:.4g} {ask.unit}</b>."
+    true = "" if question.true is None else f" True value (red line): <b>{question.true:.4g} {html_text(ask.unit)}</b>."
     return (
         f'<div role="img" aria-label="{_said(question)}" style="{style}">'
         f'<div style="position:relative;display:flex;height:80px;border-bottom:1px solid #888">{bars}{marker}</div>'
-        f'<div style="display:flex;justify-content:space-between"><span>{low:g}</span><span>{high:g} {ask.unit}</span>'
+        f'<div style="display:flex;justify-content:space-between"><span>{low:g}</span><span>{high:g} {html_text(ask.unit)}</span>'
         f"</div><small>{_answers(total)} in {BINS} bars.{true}</small></div>"
     )

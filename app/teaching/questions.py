@@ -13,9 +13,11 @@ import math
 import threading
 import time
 from collections.abc import Callable, Hashable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import UTC, datetime
 from typing import Any
+
+from app.guards.text import csv_row
 
 __all__ = [
     "BINS",
@@ -28,6 +30,7 @@ __all__ = [
     "Question",
     "VoteRefused",
     "check_ask",
+    "held_back",
     "histogram",
     "show_spoilers",
     "true_value",
@@ -63,7 +66,8 @@ TRUTHS: dict[str, tuple[str, str, Callable[[Any], float]]] = {
 """A number question's true value from the physics API: name -> (scene, unit, value of the scene shown)."""
 
 SPOILERS: dict[str, tuple[str, ...]] = {"centre_of_percussion": ("cop_marker", "cop_label")}
-"""The scene's nodes (attributes) that show a quantity's true value: hidden while the class answers."""
+"""The pendulum's nodes that show the centre of percussion (kept for scripts that read it): what a scene
+holds back while the class answers is its own declaration, :attr:`app.scenes.base.Scene.answers`."""
 
 
 class VoteRefused(ValueError):
@@ -88,6 +92,9 @@ class Ask:
         A number question's accepted answers ``(low, high)``, in ``unit``.
     truth : str or None
         A number question's true value from the physics API (a key of :data:`TRUTHS`).
+    about : tuple of str
+        The quantities of the step's scene the question asks about (its ``Answer`` declarations): held
+        back on every screen while the question is open. A ``truth`` is always among them.
     """
 
     text: str
@@ -96,10 +103,17 @@ class Ask:
     unit: str = ""
     range: tuple[float, float] | None = None
     truth: str | None = None
+    about: tuple[str, ...] = ()
 
     @property
     def numeric(self) -> bool:
         return self.range is not None
+
+    @property
+    def holds(self) -> tuple[str, ...]:
+        """The quantities held back while the question is open: ``about``, and the ``truth`` asked for."""
+        extra = (self.truth,) if self.truth is not None and self.truth not in self.about else ()
+        return self.about + extra
 
 
 def _finite(value: Any) -> bool:
@@ -108,7 +122,7 @@ def _finite(value: Any) -> bool:
 
 def check_ask(raw: dict[str, Any], scene: str | None = None) -> Ask:
     """The :class:`Ask` of a lecture step's question keys (``question``, ``choices``, ``answer``, ``unit``,
-    ``range``, ``truth``), checked.
+    ``range``, ``truth``, ``about``), checked.
 
     Parameters
     ----------
@@ -126,11 +140,12 @@ def check_ask(raw: dict[str, Any], scene: str | None = None) -> Ask:
     if not isinstance(text, str) or not text.strip() or len(text) > MAX_QUESTION:
         raise ValueError(f"question: a text of 1 to {MAX_QUESTION} characters, got {str(text)[:40]!r}")
     choices = raw.get("choices")
+    about = _about(raw.get("about", []))
     numeric = "range" in raw or "unit" in raw or "truth" in raw
     if numeric:
         if isinstance(choices, list):
             raise ValueError("choices: a number question (range, unit, truth) has no list of choices")
-        return _number_ask(text.strip(), raw, scene)
+        return replace(_number_ask(text.strip(), raw, scene), about=about)
     if not isinstance(choices, list) or not 2 <= len(choices) <= len(LETTERS):
         raise ValueError(f"choices: a list of 2 to {len(LETTERS)} texts for a question, got {choices!r}")
     for k, choice in enumerate(choices, start=1):
@@ -141,7 +156,17 @@ def check_ask(raw: dict[str, Any], scene: str | None = None) -> Ask:
         isinstance(answer, bool) or not isinstance(answer, int) or not 1 <= answer <= len(choices)
     ):
         raise ValueError(f"answer: the number of the right choice, 1 to {len(choices)}, got {answer!r}")
-    return Ask(text.strip(), tuple(c.strip() for c in choices), answer)
+    return Ask(text.strip(), tuple(c.strip() for c in choices), answer, about=about)
+
+
+def _about(raw: Any) -> tuple[str, ...]:
+    """A step's ``about``: one quantity's name or a list of them (the scene checks them when it is built)."""
+    names = [raw] if isinstance(raw, str) else raw
+    if not isinstance(names, list) or len(names) > 8 or not all(isinstance(n, str) and 0 < len(n) <= 40 for n in names):
+        raise ValueError(
+            f"about: a quantity of the scene, or a list of them (names of 1 to 40 characters), got {raw!r}"
+        )
+    return tuple(names)
 
 
 def _number_ask(text: str, raw: dict[str, Any], scene: str | None) -> Ask:
@@ -179,14 +204,19 @@ def true_value(ask: Ask, scene: Any) -> float | None:
     return value(scene)
 
 
+def held_back(ask: Ask | None, scene: Any) -> tuple[str, ...]:
+    """The quantities of ``scene`` that ``ask`` asks about (empty for another scene's or no question)."""
+    if ask is None or scene is None:
+        return ()
+    declared = {a.quantity for a in getattr(scene, "answers", ())}
+    return tuple(q for q in ask.holds if q in declared)
+
+
 def show_spoilers(ask: Ask | None, scene: Any, visible: bool) -> None:
-    """Hide (or show again) the nodes of ``scene`` that would give a number question's answer away."""
-    if ask is None or ask.truth is None or scene is None or getattr(scene, "name", None) != TRUTHS[ask.truth][0]:
-        return
-    for name in SPOILERS.get(ask.truth, ()):
-        node = getattr(scene, name, None)
-        if node is not None:
-            node.visible = visible
+    """Hold back (``visible`` False) or show again what of ``scene`` states the answer to ``ask``
+    (:meth:`app.scenes.base.Scene.hold`)."""
+    if scene is not None and hasattr(scene, "hold"):
+        scene.hold(() if visible else held_back(ask, scene))
 
 
 def histogram(values: list[float], low: float, high: float, bins: int = BINS) -> list[int]:
@@ -340,7 +370,7 @@ class Poll:
         writer.writerow(CSV_HEADER)
         with self.lock:
             for number, question in enumerate(self.questions, start=1):
-                writer.writerows(question.rows(number))
+                writer.writerows(csv_row(row) for row in question.rows(number))
         return out.getvalue()
 
 

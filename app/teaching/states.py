@@ -90,13 +90,20 @@ def parse_state(text: Any, scenes: list[str] | None = None) -> dict[str, Any]:
         if not inflater.eof:
             raise ValueError("this state text is cut short (copy all of it)")
         state = json.loads(raw.decode())
-    except ValueError as exc:
+    except binascii.Error:  # (a ValueError: first)
+        raise ValueError(DAMAGED.format(what="it has a character a state text never has, or one too few")) from None
+    except zlib.error:
+        raise ValueError(DAMAGED.format(what="some of its characters were changed or lost")) from None
+    except ValueError as exc:  # the JSON's, or a UnicodeDecodeError
         if "state text" in str(exc):
             raise
-        raise ValueError(f"this state text is damaged (copy it again): {exc}") from None
-    except (binascii.Error, zlib.error, UnicodeDecodeError) as exc:
-        raise ValueError(f"this state text is damaged (copy it again): {exc}") from None
+        raise ValueError(DAMAGED.format(what="it does not unpack to a state")) from None
     return _checked(state, scenes)
+
+
+DAMAGED = "this state text is damaged ({what}): copy it again, all of it, from “Copy state”"
+"""The message for a state text that does not unpack (never the decoder's own words: they mean nothing to a
+lecturer)."""
 
 
 def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:

@@ -178,7 +178,7 @@ class TeacherDesk:
 
     def __init__(self, app: Any, pin: str) -> None:
         self.app = app
-        self.gate = PinGate(pin, WHERE)
+        self.gate = PinGate(pin, WHERE, identify=app.who)
         self.teachers: set[Any] = set()
         self._seats: dict[Any, _Seat] = {}
         self._next = 1

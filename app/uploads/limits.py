@@ -21,6 +21,8 @@ __all__ = [
     "MAX_ELEMENTS",
     "MAX_TRANSFERS",
     "PER_CLIENT",
+    "PER_ADDRESS",
+    "IDLE_SECONDS",
     "MAX_PARTS",
     "MAX_NAME",
     "STALL_SECONDS",
@@ -47,10 +49,16 @@ MAX_ELEMENTS = 3 * MAX_FACES * 3
 """Most numbers a GLB's accessors may hold together (vertices and indices, components counted)."""
 
 # In flight, on the wire (app.guards.uploads).
-MAX_TRANSFERS = 4
+MAX_TRANSFERS = 8
 """Uploads in flight at once from all browsers together (each holds at most MAX_BYTES until complete)."""
 PER_CLIENT = 1
 """Uploads in flight at once from one browser (its page sends one file at a time)."""
+PER_ADDRESS = 1
+"""Uploads in flight at once from one address, however many browsers or connections it opens (a script
+cannot hold every place of :data:`MAX_TRANSFERS`)."""
+IDLE_SECONDS = 30.0
+"""A transfer that has sent no part for this long, s, is dropped when another starts (a page sends its
+parts back to back: a silent one has stalled, or is holding its place on purpose)."""
 MAX_PARTS = 1024
 """Most parts a transfer may declare (a page sends 512 kB parts: 40 for 20 MB)."""
 MAX_NAME = 255

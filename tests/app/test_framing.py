@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from app.serving.framing import FILL, REFERENCE_ASPECT, SHEET_MARGIN_PX, framed, free_region
+from app.serving.framing import FILL, REFERENCE_ASPECT, SHEET_MARGIN_PX, framed, free_region, is_mobile, phone_layout
+from tests.harness import project
 
 FOV = math.radians(50.0)
 SCENE = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
@@ -16,14 +17,8 @@ SCENE = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
 
 def _pixel(point, eye, target, width, height):
     """Where a perspective camera (up +z, vertical field FOV) at ``eye`` looking at ``target`` draws ``point``."""
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(forward, (0.0, 0.0, 1.0))
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    d = np.asarray(point) - eye
-    depth = d @ forward
-    scale = 0.5 * height / (math.tan(0.5 * FOV) * depth)
-    return 0.5 * width + scale * (d @ right), 0.5 * height - scale * (d @ up)
+    x, y = project([point], eye, target, width, height, FOV)[0]
+    return x, y
 
 
 @pytest.mark.parametrize(("width", "height"), [(1280, 800), (1024, 768), (390, 844), (1920, 1080)])
@@ -139,3 +134,25 @@ def test_a_page_put_back_on_the_first_view_is_framed_again_for_its_size(monkeypa
     client.camera.position = moved
     client.report(390, 844, position=moved)  # an orbit by the viewer: theirs
     np.testing.assert_allclose(client.camera.position, moved, rtol=0)
+
+
+def test_a_phone_is_laid_out_as_one_whatever_its_device_pixels():
+    """viser reports device pixels: an iPhone's 390 CSS px arrive as 780; its user agent says it is a phone."""
+    iphone = "Mozilla/5.0 (iPhone; CPU iPhone OS 15_0 like Mac OS X) AppleWebKit/605.1.15 Mobile/15E148 Safari/604.1"
+    assert is_mobile(iphone) and is_mobile("Mozilla/5.0 (Linux; Android 13) Chrome/120") and not is_mobile("X11; Linux")
+    assert phone_layout(780, 1328, mobile=True) and not phone_layout(780, 1328) and phone_layout(390, 664)
+    assert not phone_layout(1688, 780, mobile=True)  # a phone held sideways: viser's desktop layout
+    assert free_region(780, 1328, mobile=True) == (0.0, 0.0, 780.0, pytest.approx(0.4 * 1328 - SHEET_MARGIN_PX))
+
+
+@pytest.mark.parametrize(("width", "height"), [(1280, 800), (390, 844), (1920, 1080)])
+def test_a_scene_view_just_fills_the_free_region(width, height):
+    view = (2.4, 2.1)
+    eye, target = framed(*SCENE, width, height, FOV, view)
+    left, top, right, bottom = free_region(width, height)
+    metres_per_px = 2.0 * math.tan(0.5 * FOV) * np.linalg.norm(eye - target) / height
+    shown = ((right - left) * metres_per_px, (bottom - top) * metres_per_px)
+    assert shown[0] >= view[0] * (1 - 1e-12) and shown[1] >= view[1] * (1 - 1e-12)
+    assert min(shown[0] / view[0], shown[1] / view[1]) == pytest.approx(1.0, rel=1e-12)  # one side exactly
+    x, y = _pixel(np.array(SCENE[1]), eye, target, width, height)
+    assert x == pytest.approx(0.5 * (left + right), abs=1e-6) and y == pytest.approx(0.5 * (top + bottom), abs=1e-6)

@@ -381,11 +381,12 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
             assert len(app.server.get_clients()) >= len(browsers)
             # Every simulation still draws. A fuzzed button may have paused a clock, and callbacks still
             # queued from the fuzz may pause it again: keep asking it to run until the loop draws (a flood
-            # is limited to 60 changes a second per browser, so the queue is short).
+            # is limited to 60 changes a second per browser, so the queue is short). A still scene (the
+            # explorer) has no clock: it draws when asked to.
             for simulation in app.simulations():
                 frames = simulation.frames
                 wait_for(
-                    lambda s=simulation, f=frames: (s.set_playing(True), s.frames > f + 10)[1],
+                    lambda s=simulation, f=frames: (s.set_playing(True), s.request_redraw(), s.frames > f + 10)[2],
                     timeout=60,
                     what=f"the loop to go on drawing {describe(simulation)}",
                 )

@@ -120,11 +120,13 @@ def test_the_pin_gate_limits_one_browser_and_the_room():
     assert gate.refusal("a", "4321", now=104.0 + presenter.LOCKOUT + 0.5) is None
     assert gate.refusal("b", 4321, now=200.0) == ("Wrong PIN", "where")  # not text: wrong, never an error
     assert gate.refusal("b", " 4321 ", now=201.0) is None  # spaces around it are forgiven, as the presenter's
-    room = PinGate("4321", "where")
+    # The room's budget stops the addresses that guessed, never the right PIN from one that did not.
+    room = PinGate("4321", "where", identify=lambda cid: (cid, cid.split("/")[0]))
     for i in range(presenter.CLASS_ATTEMPTS):
-        assert room.refusal(f"c{i}", "0000", now=300.0)[0] == "Wrong PIN"
-    assert room.refusal("fresh", "4321", now=330.0) == ("Too many wrong PINs", "Try again in 30 s.")
-    assert room.refusal("fresh", "4321", now=360.5) is None
+        assert room.refusal(f"10.0.0.{i % 10}/c{i}", "0000", now=300.0)[0] == "Wrong PIN"
+    assert room.refusal("10.0.0.1/fresh", "4321", now=330.0) == ("Too many wrong PINs", "Try again in 30 s.")
+    assert room.refusal("10.0.0.1/fresh", "4321", now=360.5) is None
+    assert room.refusal("10.0.0.99/lecturer", "4321", now=330.0) is None
 
 
 # ---------------------------------------------------------------------------------------------- the table

@@ -147,7 +147,8 @@ def test_a_shared_panels_upload_is_acknowledged_to_its_browser_only(explorer, re
 def test_uploads_in_flight_are_limited_per_browser_and_for_the_server(explorer, readers):
     app = explorer
     with contextlib.ExitStack() as stack:
-        clients = [stack.enter_context(raw_client(app)) for _ in range(limits.MAX_TRANSFERS + 1)]
+        # Each from a machine of its own (one address sends one file at a time: the next test).
+        clients = [stack.enter_context(raw_client(app, source=f"127.0.1.{k}")) for k in range(limits.MAX_TRANSFERS + 1)]
         first = clients[0]
         before = len(app.messages)
         held = start_upload(first, _button(app), "slow.stl", 2000, 2)
@@ -170,6 +171,32 @@ def test_uploads_in_flight_are_limited_per_browser_and_for_the_server(explorer, 
         before = len(readers)
         send_upload(ws, _button(app), "after.stl", b"solid x\nendsolid x\n")
         wait_for(lambda: len(readers) > before, what="the next upload to reach the reader")
+
+
+def test_one_address_sends_one_file_at_a_time_however_many_connections(explorer, readers):
+    app = explorer
+    with raw_client(app, source="127.0.2.1") as one, raw_client(app, source="127.0.2.1") as two:
+        held = start_upload(one, _button(app), "slow.stl", 2000, 2)
+        wait_for(lambda: held in _stored(app), what="the first transfer")
+        before = len(app.messages)
+        start_upload(two, _button(app), "second.stl", 10, 1)
+        wait_for(lambda: _refusals(app, before), what="the second connection's file refused")
+        assert "another file from your address is arriving" in _refusals(app, before)[0]
+        with raw_client(app, source="127.0.2.2") as elsewhere:  # another machine may
+            send_upload(elsewhere, _button(app), "other.stl", b"solid x\nendsolid x\n")
+            wait_for(lambda: "other.stl" in readers, what="another address's upload")
+
+
+def test_a_transfer_silent_too_long_gives_its_place_to_the_next(explorer, readers, monkeypatch):
+    app = explorer
+    with raw_client(app, source="127.0.2.3") as stalled, raw_client(app, source="127.0.2.4") as next_one:
+        held = start_upload(stalled, _button(app), "silent.stl", 2000, 2)
+        wait_for(lambda: held in _stored(app), what="the silent transfer")
+        monkeypatch.setattr(limits, "IDLE_SECONDS", 0.0)  # no part for longer than that
+        monkeypatch.setattr(limits, "MAX_TRANSFERS", 1)
+        send_upload(next_one, _button(app), "next.stl", b"solid x\nendsolid x\n")
+        wait_for(lambda: "next.stl" in readers, what="the next upload to take the place")
+        assert held not in _stored(app)
 
 
 def test_a_stalled_transfer_gives_its_place_to_the_next(explorer, readers, monkeypatch):

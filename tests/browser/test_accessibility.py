@@ -35,7 +35,8 @@ def show(page: Any, sim: Any, name: str) -> None:
     if sim.scene is None or sim.scene.name != name:
         sim.switch_scene(name)
     title, frames = REGISTRY[name].title, sim.frames
-    wait_for(lambda: sim.frames > frames + 1, what=f"{name}'s first frames")  # its words are said
+    # Its words are said. A still scene (the explorer) has no clock: it draws when asked to.
+    wait_for(lambda: (sim.request_redraw(), sim.frames > frames + 1)[1], what=f"{name}'s first frames")
     page.wait_for_function(SHOWN, arg=sim.panel.said, timeout=30_000)
     page.get_by_text(title, exact=True).first.wait_for(state="visible", timeout=30_000)
 

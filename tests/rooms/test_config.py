@@ -14,7 +14,7 @@ import app.serving.app
 from app.__main__ import main as app_main
 from app.rooms.cli import check_ports
 from app.rooms.cli import main as rooms_main
-from app.rooms.config import Backend, RoomsError, app_arguments, parse_rooms, read_rooms
+from app.rooms.config import PIN_VARIABLE, Backend, RoomsError, app_arguments, parse_rooms, pin_environment, read_rooms
 from app.rooms.nginx import NginxMissing, find_nginx
 from tests.harness import free_port
 
@@ -66,8 +66,10 @@ def test_each_mode_is_the_apps_command_line() -> None:
     )
     lecture, lab, demo, nopin = d.rooms
     assert app_arguments(lecture, lecture.backends[0]) == [
-        "--host", "127.0.0.1", "--port", "8001", "--scene", "pendulum", "--presenter", "--pin", "1234",
+        "--host", "127.0.0.1", "--port", "8001", "--scene", "pendulum", "--presenter",
     ]  # fmt: skip
+    assert pin_environment(lecture) == {PIN_VARIABLE: "1234"}  # the PIN: in the environment, never in argv
+    assert pin_environment(lab) == {} and pin_environment(demo) == {}
     assert app_arguments(lab, lab.backends[1]) == ["--host", "127.0.0.1", "--port", "8003", "--private", "--dark"]
     # A shared room on another machine's address: --shared, or the app would default to presenter mode there.
     assert app_arguments(demo, demo.backends[0]) == ["--host", "10.0.0.7", "--port", "9000", "--shared"]

@@ -231,6 +231,24 @@ def test_a_killed_nginx_is_restarted_with_its_workers_gone(department: RunningDe
         assert ws.recv(timeout=20)
 
 
+def test_no_pin_is_on_a_command_line_and_each_lecture_has_its_own(department: RunningDepartment) -> None:
+    """``ps`` shows every user each process's command line: no PIN is on one; each presenter room's process
+    has its PIN in its environment (readable by its own user alone)."""
+    pins = {b"111111": b"--port", b"222222": b"--port"}
+    lectures = []
+    for proc in Path("/proc").iterdir():
+        try:
+            argv = (proc / "cmdline").read_bytes() if proc.name.isdigit() else b""
+            environ = (proc / "environ").read_bytes() if b"--presenter" in argv else b""
+        except OSError:  # a process that just ended
+            continue
+        assert not any(pin in argv for pin in pins), argv
+        if environ:
+            lectures.append(environ.split(b"\0"))
+    found = sorted(v for env in lectures for v in env if v.startswith(b"RBL_PIN="))
+    assert found == [b"RBL_PIN=111111", b"RBL_PIN=222222"], found
+
+
 def test_sigint_stops_nginx_and_every_process(department: RunningDepartment) -> None:
     pids = department.pids()
     assert set(pids) == {"mech101", "phys202", "homework 1", "homework 2", "nginx"}

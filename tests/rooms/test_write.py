@@ -5,16 +5,21 @@ from __future__ import annotations
 
 import configparser
 import html
+import re
 import shlex
+import stat
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from app.rooms.cli import main as rooms_main
-from app.rooms.config import parse_rooms
+from app.rooms.cli import write_private
+from app.rooms.config import PIN_VARIABLE, parse_rooms
 from app.rooms.landing import landing_html
 from app.rooms.nginx import find_nginx, nginx_command, rooms_conf
+from app.rooms.units import MEMORY_MAX
 
 ROOMS = """
 listen = "0.0.0.0:8080"
@@ -92,9 +97,8 @@ def test_one_unit_per_process_running_the_rooms_command_line(written: Path) -> N
     ]
     lecture = shlex.split(_service(units / "rigid-body-lab-mech101.service")["Service"]["ExecStart"])
     assert lecture[1:] == [
-        "-m", "app", "--host", "127.0.0.1", "--port", "8081", "--scene", "heavy_top", "--presenter", "--pin", "111111",
+        "-m", "app", "--host", "127.0.0.1", "--port", "8081", "--scene", "heavy_top", "--presenter",
     ]  # fmt: skip
-    assert (units / "rigid-body-lab-mech101.service").stat().st_mode & 0o007 == 0  # the PIN: not for others
     demo = shlex.split(_service(units / "rigid-body-lab-demo-room.service")["Service"]["ExecStart"])
     assert demo[3:] == ["--host", "127.0.0.1", "--port", "9100", "--scene", "pendulum", "--shared"]
     remote = _service(units / "rigid-body-lab-homework-2.service")
@@ -134,3 +138,78 @@ def test_the_landing_page_lists_every_room_with_its_link() -> None:
     assert not {"'", "$", "\\"} & set(page)
     assert html.unescape(page).count("Mechanics: it's $5 \\ free") == 2  # title and heading
     assert page in rooms_conf(department)
+
+
+APP_UNITS = (
+    "rigid-body-lab-demo-room.service",
+    "rigid-body-lab-homework-1.service",
+    "rigid-body-lab-homework-2.service",
+    "rigid-body-lab-homework-3.service",
+    "rigid-body-lab-mech101.service",
+)
+
+
+def test_every_app_unit_runs_sandboxed(written: Path) -> None:
+    """No root, a read-only system, hidden homes, a private /tmp, no new privileges, a memory ceiling."""
+    for name in APP_UNITS:
+        service = _service(written / "systemd" / name)["Service"]
+        for key, value in [
+            ("DynamicUser", "yes"),
+            ("NoNewPrivileges", "yes"),
+            ("ProtectSystem", "strict"),
+            ("PrivateTmp", "yes"),
+            ("MemoryMax", MEMORY_MAX),
+        ]:
+            assert service[key] == value, (name, key)
+        assert "User" not in service  # DynamicUser= makes a user of its own
+        if service["ProtectHome"] == "tmpfs":  # Python or the app under a home: only they are seen there
+            bound = service["BindReadOnlyPaths"].split()
+            assert bound and all(p.startswith(("/home/", "/root", "/run/user/")) for p in bound), bound
+            assert sys.prefix in bound or not sys.prefix.startswith(("/home/", "/root"))
+        else:
+            assert service["ProtectHome"] == "yes"
+
+
+def test_no_pin_is_on_a_command_line_or_in_a_file_others_can_read(written: Path) -> None:
+    for path in (written / "systemd").iterdir():
+        assert "111111" not in path.read_text(), path.name
+    secrets = written / "secrets"
+    assert stat.S_IMODE(secrets.stat().st_mode) == 0o700
+    pin_file = secrets / "rigid-body-lab-mech101.env"
+    assert pin_file.read_text() == f"{PIN_VARIABLE}=111111\n"
+    lecture = _service(written / "systemd" / "rigid-body-lab-mech101.service")["Service"]
+    assert lecture["EnvironmentFile"] == str(pin_file)
+    assert "EnvironmentFile" not in _service(written / "systemd" / "rigid-body-lab-demo-room.service")["Service"]
+    holding = [p for p in written.rglob("*") if p.is_file() and "111111" in p.read_text(errors="replace")]
+    assert sorted(p.name for p in holding) == ["README.txt", "rigid-body-lab-mech101.env"]
+    for path in holding:
+        assert stat.S_IMODE(path.stat().st_mode) == 0o600, path.name
+
+
+def test_a_pin_file_written_again_is_0600_even_if_it_was_not(tmp_path: Path) -> None:
+    path = tmp_path / "README.txt"
+    path.write_text("old")
+    path.chmod(0o644)
+    write_private(path, "PIN 1234\n")
+    assert stat.S_IMODE(path.stat().st_mode) == 0o600 and path.read_text() == "PIN 1234\n"
+
+
+def test_systemd_accepts_the_units(written: Path) -> None:
+    """``systemd-analyze verify`` and ``security`` on the app units (Debian's systemd 252 has both, and runs
+    them on unit files without a running systemd)."""
+    result = subprocess.run(
+        ["systemd-analyze", "verify", *(str(written / "systemd" / name) for name in APP_UNITS)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0 and result.stderr.strip() == "", result.stderr  # a bad directive is a warning
+    for name in APP_UNITS:  # systemd's own rating of the sandbox: 9.6 "UNSAFE" for a unit with none
+        rating = subprocess.run(
+            ["systemd-analyze", "security", "--offline=yes", str(written / "systemd" / name)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        ).stdout
+        exposure = float(re.search(r"Overall exposure level for \S+: ([0-9.]+)", rating).group(1))  # type: ignore[union-attr]
+        assert exposure < 5.0, (name, rating[-300:])
