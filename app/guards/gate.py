@@ -44,6 +44,13 @@ ALLOWED: dict[str, int] = {
 LARGEST = max(ALLOWED.values())
 """The largest message a connection may send, bytes: a bigger frame is refused by websockets as it comes."""
 
+RENDER = "GetRenderResponseMessage"
+"""The page's answer to the server's ``client.get_render`` (a PNG or JPEG of the view): allowed only while
+the server waits for one from that connection, when that connection's largest frame is :data:`RENDER_CAP`."""
+
+RENDER_CAP = 32 * 1024 * 1024
+"""Bytes of one rendered view: a 4K PNG with its alpha channel is under half of this."""
+
 OFFENCES = 20
 """Messages dropped from one connection before it is closed (a page of this app never has one dropped)."""
 
@@ -89,18 +96,19 @@ class Gate:
         self.closed = 0
         self._lock = threading.Lock()
 
-    def verdict(self, raw: Any) -> tuple[str | None, str | None]:
+    def verdict(self, raw: Any, rendering: bool = False) -> tuple[str | None, str | None]:
         """``(type, None)`` if ``raw`` (one websocket message as received) may reach viser, otherwise
-        ``(type or None, why it may not)``."""
+        ``(type or None, why it may not)``. ``rendering``: the server waits for a rendered view from this
+        connection, so :data:`RENDER` is allowed too."""
         if not isinstance(raw, bytes):
             return None, "not a message"
-        if len(raw) > LARGEST:
+        if len(raw) > (RENDER_CAP if rendering else LARGEST):
             return None, "too large"
         try:
             kind = _kind_of(raw).type
         except (msgspec.DecodeError, msgspec.ValidationError):
             return None, "not a message"
-        cap = ALLOWED.get(kind)
+        cap = RENDER_CAP if rendering and kind == RENDER else ALLOWED.get(kind)
         if cap is None:
             return kind, kind[:60]
         if len(raw) > cap:
@@ -132,17 +140,40 @@ def install_gate(server: viser.ViserServer, gate: Gate | None = None) -> Gate:
         # Runs on the event loop when a websocket opens, before viser starts reading from it.
         connection = websock._live_connections.get(client_connection.client_id)
         if connection is not None:
-            _guard(connection, gate)
+            _guard(connection, client_connection, gate)
 
     websock._client_connect_cb.insert(0, on_connection)
     return gate
 
 
-def _guard(connection: Any, gate: Gate) -> None:
+def _guard(connection: Any, client_connection: Any, gate: Gate) -> None:
     protocol = getattr(connection, "protocol", None)
     if protocol is not None and hasattr(protocol, "max_message_size"):
         protocol.max_message_size = LARGEST + 1024
     original = connection.recv
+
+    def rendering() -> bool:
+        # viser's get_render registers a handler for the page's answer on this connection until it has it.
+        handlers = getattr(client_connection, "_incoming_handlers", {})
+        return bool(handlers.get(_messages.GetRenderResponseMessage))
+
+    register, unregister = client_connection.register_handler, client_connection.unregister_handler
+
+    def frame_cap() -> None:
+        # websockets reads the largest frame size anew for each frame: wide only while a render is awaited.
+        if protocol is not None and hasattr(protocol, "max_message_size"):
+            protocol.max_message_size = (RENDER_CAP if rendering() else LARGEST) + 1024
+
+    def register_handler(message_cls: Any, callback: Any) -> None:
+        register(message_cls, callback)
+        frame_cap()
+
+    def unregister_handler(message_cls: Any, callback: Any = None) -> None:
+        unregister(message_cls, callback)
+        frame_cap()
+
+    client_connection.register_handler = register_handler
+    client_connection.unregister_handler = unregister_handler
     offences = 0
     tokens, then = BURST, time.monotonic()
 
@@ -150,7 +181,7 @@ def _guard(connection: Any, gate: Gate) -> None:
         nonlocal offences, tokens, then
         while True:
             raw = await original(decode)
-            kind, reason = gate.verdict(raw)
+            kind, reason = gate.verdict(raw, rendering())
             if reason is None and kind not in _PACED_ELSEWHERE:
                 now = time.monotonic()
                 tokens, then = min(BURST, tokens + RATE * (now - then)), now

@@ -110,13 +110,15 @@ def _free_body_columns(header, table, moments, omega0, body_omega: bool) -> None
 
 @pytest.mark.parametrize("name", ["wobble", "free_fall"])
 def test_wobble_and_free_fall_exports_match_the_physics_api(tmp_path: Path, name: str) -> None:
-    from app.scenes.free_fall import START, VELOCITY
+    from app.scenes.free_fall import START, VELOCITY, FreeFall
+    from app.scenes.wobble import Wobble
 
     written = export(name, tmp_path, 2.0)
     header, table = read_csv(written.csv)
     # The defaults: a solid cylinder of 1 kg with I₃/I₁ = 1.6 (h² = a² (6/1.6 − 3)), its larger dimension 1 m
-    # (0.45 m in free fall), |ω| = 3 rad/s at 20° from the axis.
-    size = 0.45 if name == "free_fall" else 1.0
+    # (the scene's own size in free fall), |ω| = 3 rad/s at 20° from the axis.
+    size = FreeFall.size if name == "free_fall" else Wobble.size
+    assert Wobble.size == 1.0
     h_over_a = math.sqrt(6.0 / 1.6 - 3.0)
     a = size / max(2.0, h_over_a)
     moments, _ = solid_cylinder(1.0, a, a * h_over_a).principal()

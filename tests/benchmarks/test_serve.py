@@ -44,9 +44,9 @@ def test_the_heavy_cases_open_as_described_in_every_simulation_that_starts_from_
 
 
 def test_a_message_without_the_bodys_pose_is_no_frame():
-    # The explorer's body stands still: it sends its 10 Hz readouts, and no frame.
+    # The explorer's body stands still and its clock does not run (a static scene): whatever it sends, no frame.
     still = measure(Case("inertia_explorer", "inertia_explorer"), "shared", 1, 1.0)
-    assert still["messages_median"] > 0.0 and still["frames_median"] == still["frames_min"] == 0.0
+    assert still["frames_median"] == still["frames_min"] == 0.0
     moving = measure(Case("heavy_top", "heavy_top"), "private", 2, 1.0)
     assert moving["body"] == "/scene/top"
     assert 0.0 < moving["frames_min"] <= moving["frames_median"] <= moving["messages_median"]
