@@ -8,15 +8,19 @@ unchanged. Then: oversized allowed messages, garbage, floods, and the close afte
 from __future__ import annotations
 
 import dataclasses
+import io
+import threading
 import time
 import typing
 
+import matplotlib.image
 import msgspec
+import numpy as np
 import pytest
 from viser import _messages
 from websockets.exceptions import ConnectionClosed
 
-from app.guards.gate import ALLOWED, LARGEST, OFFENCES, REFUSED_CODE, Gate
+from app.guards.gate import ALLOWED, LARGEST, OFFENCES, REFUSED_CODE, RENDER, RENDER_CAP, Gate
 from tests.app.reading import received_until
 from tests.harness import CAMERA_MESSAGE, drain, raw_client, received, running_app, send_value
 
@@ -173,3 +177,43 @@ def test_a_frame_over_the_largest_cap_is_refused_by_websockets_as_it_comes() -> 
         with raw_client(app) as other:
             send_value(other, app.time_text._impl.uuid, "x")
             assert received_until(other, lambda got: any(m["type"] == "GuiUpdateMessage" for m in got))
+
+
+def test_a_rendered_view_passes_only_while_the_server_waits_for_it() -> None:
+    """The page's answer to ``client.get_render`` (a PNG, larger than any cap) passes whole while the server
+    waits for one from that connection, and is dropped as an unasked type at any other time."""
+    gate = Gate()
+    unasked = msgspec.msgpack.encode({"type": RENDER, "payload": b"x", "render_uuid": "r"})
+    assert gate.verdict(unasked) == (RENDER, RENDER)
+    assert gate.verdict(unasked, rendering=True) == (RENDER, None)
+    assert gate.verdict(b"\x00" * (RENDER_CAP + 1), rendering=True) == (None, "too large")
+    # Noise does not compress: this PNG is about 1 MB, twice the largest cap of a message the page sends unasked.
+    view = np.random.default_rng(0).integers(0, 256, (512, 512, 4), dtype=np.uint8)
+    encoded = io.BytesIO()
+    matplotlib.image.imsave(encoded, view, format="png")
+    png = encoded.getvalue()
+    assert len(png) > LARGEST
+    with running_app(presenter=True, start_loop=False) as app:
+        before = set(app.server.get_clients())
+        with raw_client(app) as ws:
+            (client,) = [c for i, c in app.server.get_clients().items() if i not in before]
+            ws.send(unasked)
+            rendered: dict[str, np.ndarray] = {}
+
+            def render() -> None:
+                rendered["view"] = client.get_render(512, 512, transport_format="png", timeout=30)
+
+            asking = threading.Thread(target=render)
+            asking.start()
+            got = received_until(ws, lambda got: any(m["type"] == "GetRenderRequestMessage" for m in got))
+            uuid = next(m["render_uuid"] for m in got if m["type"] == "GetRenderRequestMessage")
+            ws.send(msgspec.msgpack.encode({"type": RENDER, "payload": png, "render_uuid": uuid}))
+            asking.join(timeout=40)
+            np.testing.assert_array_equal(rendered["view"], view)
+            assert app.gate.dropped[RENDER] == 1  # the unasked one
+            # The wait is over: a second, unasked, large answer is refused by websockets as it comes (close 1009).
+            with pytest.raises(ConnectionClosed):
+                ws.send(msgspec.msgpack.encode({"type": RENDER, "payload": png, "render_uuid": uuid}))
+                for _ in range(10_000):
+                    ws.recv(timeout=10)
+            assert ws.close_code == 1009
