@@ -28,16 +28,33 @@ UNMEASURED_SECONDS = 5.0
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Across workers, the longest files first: each worker takes the next whole file when it is free, so
-    longest-first leaves no long file alone at the end while the other worker idles. One process keeps
-    the collection's order."""
+    """Across workers, the longest files first, with the files that drive Chromium or start processes of their
+    own (tests/browser, tests/rooms) interleaved with the rest by their seconds: each worker takes the next
+    whole file when it is free, so longest-first leaves no long file alone at the end while the other worker
+    idles, and the interleaving keeps the two workers from both being in Chromium most of the run (on two
+    cores, two Chromiums and their apps starved each other's pages). One process keeps the collection's
+    order."""
     if not hasattr(config, "workerinput"):
         return
     seconds = json.loads(FILE_SECONDS.read_text(encoding="utf-8")) if FILE_SECONDS.is_file() else {}
     first: dict[str, int] = {}
     for index, item in enumerate(items):
         first.setdefault(item.nodeid.split("::")[0], index)
-    items.sort(key=lambda item: (-seconds.get(path := item.nodeid.split("::")[0], UNMEASURED_SECONDS), first[path]))
+
+    def longest_first(paths: list[str]) -> list[str]:
+        return sorted(paths, key=lambda path: (-seconds.get(path, UNMEASURED_SECONDS), first[path]))
+
+    heavy = longest_first([p for p in first if p.startswith(("tests/browser/", "tests/rooms/"))])
+    light = longest_first([p for p in first if not p.startswith(("tests/browser/", "tests/rooms/"))])
+    order: list[str] = []
+    spent = {"heavy": 0.0, "light": 0.0}
+    while heavy or light:
+        group = "heavy" if heavy and (not light or spent["heavy"] <= spent["light"]) else "light"
+        path = (heavy if group == "heavy" else light).pop(0)
+        spent[group] += seconds.get(path, UNMEASURED_SECONDS)
+        order.append(path)
+    rank = {path: k for k, path in enumerate(order)}
+    items.sort(key=lambda item: rank[item.nodeid.split("::")[0]])
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:
