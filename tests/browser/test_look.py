@@ -16,7 +16,7 @@ from scipy.ndimage import binary_erosion
 
 from app.panel.look import MIN_TEXT_PX
 from app.scenes import scene_names
-from app.serving.framing import PHONE_PX, free_region
+from app.serving.framing import free_region
 from tests.harness import click, control_id, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser
