@@ -9,9 +9,11 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import settings
+from xdist.scheduler import LoadFileScheduling
 
 # Property tests draw the same examples on every run (a fixed seed): CI is reproducible, and a failure
 # seen once is seen again. Widen the search locally with `--hypothesis-seed=N` or HYPOTHESIS_PROFILE=explore.
@@ -27,34 +29,41 @@ UNMEASURED_SECONDS = 5.0
 """What a file not in FILE_SECONDS is taken to last, s."""
 
 
+HEAVY = ("tests/browser/", "tests/rooms/")
+"""Test files that drive Chromium or start processes of their own: one worker runs them all, one after another."""
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Across workers, the longest files first, with the files that drive Chromium or start processes of their
-    own (tests/browser, tests/rooms) interleaved with the rest by their seconds: each worker takes the next
-    whole file when it is free, so longest-first leaves no long file alone at the end while the other worker
-    idles, and the interleaving keeps the two workers from both being in Chromium most of the run (on two
-    cores, two Chromiums and their apps starved each other's pages). One process keeps the collection's
-    order."""
+    """Across workers: the heavy files (:data:`HEAVY`) first, as the one unit of work that lasts longest, then
+    the others longest first; each worker takes the next unit when it is free, so no long file is left alone
+    at the end while the other worker idles. One process keeps the collection's order."""
     if not hasattr(config, "workerinput"):
         return
     seconds = json.loads(FILE_SECONDS.read_text(encoding="utf-8")) if FILE_SECONDS.is_file() else {}
     first: dict[str, int] = {}
     for index, item in enumerate(items):
         first.setdefault(item.nodeid.split("::")[0], index)
-
-    def longest_first(paths: list[str]) -> list[str]:
-        return sorted(paths, key=lambda path: (-seconds.get(path, UNMEASURED_SECONDS), first[path]))
-
-    heavy = longest_first([p for p in first if p.startswith(("tests/browser/", "tests/rooms/"))])
-    light = longest_first([p for p in first if not p.startswith(("tests/browser/", "tests/rooms/"))])
-    order: list[str] = []
-    spent = {"heavy": 0.0, "light": 0.0}
-    while heavy or light:
-        group = "heavy" if heavy and (not light or spent["heavy"] <= spent["light"]) else "light"
-        path = (heavy if group == "heavy" else light).pop(0)
-        spent[group] += seconds.get(path, UNMEASURED_SECONDS)
-        order.append(path)
+    order = sorted(
+        first, key=lambda path: (not path.startswith(HEAVY), -seconds.get(path, UNMEASURED_SECONDS), first[path])
+    )
     rank = {path: k for k, path in enumerate(order)}
     items.sort(key=lambda item: rank[item.nodeid.split("::")[0]])
+
+
+class OneHeavyWorker(LoadFileScheduling):
+    """``--dist loadfile`` with every heavy file (:data:`HEAVY`) in one unit of work, so one worker runs them."""
+
+    def _split_scope(self, nodeid: str) -> str:
+        return "heavy" if nodeid.startswith(HEAVY) else super()._split_scope(nodeid)
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> LoadFileScheduling | None:
+    """On two cores, two Chromiums (each with its software-rendering GPU process and an app to serve it)
+    starved each other's pages into timeouts; one of them beside the quick tests does not. Other modes than
+    ``--dist loadfile``: xdist's own scheduler."""
+    if config.getoption("dist") != "loadfile":
+        return None
+    return OneHeavyWorker(config, log)
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:
