@@ -182,7 +182,7 @@ class HeavyTopScene(Scene):
         "top stands on the table: the spin decays, it falls and comes to rest on its rim."
     )
     camera = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
-    view = (2.4, 2.1)  # the axis tip's sphere across, L and ω above the top
+    view = (2.0, 2.1)  # the axis tip's sphere across (its diameter), L and ω above the top
     # The precession's rate and sense: its readout, the φ̇₀ slider a steady preset sets to it, the words.
     answers = (Answer("precession_rate", readouts=("precession_readout",), hidden=("params.sliders.phidot0",)),)
 

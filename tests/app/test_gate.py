@@ -22,7 +22,7 @@ from websockets.exceptions import ConnectionClosed
 
 from app.guards.gate import ALLOWED, LARGEST, OFFENCES, REFUSED_CODE, RENDER, RENDER_CAP, Gate
 from tests.app.reading import received_until
-from tests.harness import CAMERA_MESSAGE, drain, raw_client, received, running_app, send_value
+from tests.harness import CAMERA_MESSAGE, drain, raw_client, received, running_app, send_value, wait_for
 
 MARK = "rbl-hostile-"
 """Every string a hostile message carries starts with this: nothing another browser receives may hold it."""
@@ -198,6 +198,7 @@ def test_a_rendered_view_passes_only_while_the_server_waits_for_it() -> None:
         with raw_client(app) as ws:
             (client,) = [c for i, c in app.server.get_clients().items() if i not in before]
             ws.send(unasked)
+            wait_for(lambda: app.gate.dropped[RENDER] == 1, what="the unasked view to be dropped")
             rendered: dict[str, np.ndarray] = {}
 
             def render() -> None:
