@@ -17,6 +17,8 @@ from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 
 __all__ = ["LAST_ORDER", "SimulationPanel"]
 
+PROJECTOR_HINT = "Projector mode: the panel a slim bar, the caption and the key plot large over the view"
+
 LAST_ORDER = 1e6
 """viser's panel order of what comes after the scene's folder (legend, state, export)."""
 
@@ -69,6 +71,8 @@ class SimulationPanel:
                 speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
             )
             self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
+            # The lecture hall's switch (app.panel.projector): a slim panel, the caption and the key plot large.
+            self.projector_button = gui.add_button("Projector", icon=viser.Icon.PRESENTATION, hint=PROJECTOR_HINT)
         self.play_button.on_click(sim.guarded(lambda _: sim.set_playing(not sim.playing)))
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
@@ -93,6 +97,11 @@ class SimulationPanel:
         """The play button says what a click does."""
         self.play_button.label = "Pause" if playing else "Play"
         self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
+
+    def show_projector(self, on: bool) -> None:
+        """The projector button says what a click does."""
+        self.projector_button.label = "Leave projector mode" if on else "Projector"
+        self.projector_button.icon = viser.Icon.PRESENTATION_OFF if on else viser.Icon.PRESENTATION
 
     def show_clock(self, running: bool) -> None:
         """The clock's buttons and speed work, or (a still scene, nothing moves) are disabled."""
