@@ -160,6 +160,7 @@ class Projector:
                 axes=_large_axes(plot.axes),
                 legend=plot.legend,
                 height=int(PLOT_HEIGHT_PX - 100.0),  # the panel's drag bar, the plot's title and legend
+                padding=(22, 22, 4, 4),  # room above for the top tick's number, which uPlot centres on it
             )
         self._plot_panel.float(x=-MARGIN_PX, y=-MARGIN_PX, width=PLOT_WIDTH_PX, height=PLOT_HEIGHT_PX)
         self._source = plot
