@@ -121,9 +121,15 @@ class Projector:
         elif not on and self.on:
             self._drop_plot()
             self._drop_caption()
-            main.set_width(PANEL_WIDTH_PX)
-            main.expand()
+            self.give_panel_back()
         self.on = on
+
+    def give_panel_back(self) -> None:
+        """The control panel at its width and open, whatever this GUI's projector mode (an explorer's own
+        copy starts so while the lecture it leaves is in projector mode)."""
+        main = self.gui.main_panel
+        main.set_width(PANEL_WIDTH_PX)
+        main.expand()
 
     def sync(self, caption: str, plot: Any) -> None:
         """Show ``caption`` (the lecturer's Markdown, sanitised here) and a large copy of ``plot`` (the

@@ -3,7 +3,8 @@ presenter pressed the panel's Projector button: the control panel a slim bar (it
 caption at 28 px or more and on top of the 3D view (what the page draws at its centre), the key plot's canvas
 at least 40 % of the view's width, the body (a screenshot with it and one without) spanning a third of the
 view's height and clear of the bar, the caption and the plot; with the racket's question open the caption
-holds the question, not its answer, until the reveal; the button again gives the panel back."""
+holds the question, not its answer, until the reveal; a follower exploring on their own leaves it and comes
+back to it; the button again gives the panel back."""
 
 from __future__ import annotations
 
@@ -109,6 +110,16 @@ def test_the_presenters_switch_puts_every_follower_in_projector_mode_with_the_an
             30,
             what="the caption at the reveal",
         )
+
+        # A follower who explores on their own gets the panel back and leaves the lecture's projector panels;
+        # following again brings them back.
+        click(follower.locator('[data-testid="floating-panel-handle"]'))
+        click(follower.get_by_role("button", name="Explore on my own"))
+        wait_for(lambda: follower.evaluate(CAPTION) is None, 60, what="the explorer's caption to go")
+        wait_for(lambda: follower.evaluate(PLOT) is None, 30, what="the explorer's plot to go")
+        wait_for(lambda: np.ptp(follower.evaluate(MAIN_PANEL)[::2]) >= 350, 30, what="the explorer's panel")
+        click(follower.get_by_role("button", name="Follow the lecturer"))
+        wait_for(lambda: (follower.evaluate(CAPTION) or {}).get("shown"), 60, what="the caption back")
 
         # Switched off from the bar: a click on it opens the panel (viser's header toggles it), then the
         # button gives the panel back its width and takes the projector's panels away.
