@@ -23,7 +23,7 @@ from app.serving.framing import PANEL_PX, framed, free_region
 from tests.harness import project, raw_client, running_app, wait_for
 
 FOV = math.radians(50.0)
-RACKET_QUESTION = 6  # the shipped lecture's racket question (0-based)
+PENDULUM_QUESTION, RACKET_QUESTION = 2, 6  # the shipped lecture's pendulum and racket questions (0-based)
 
 
 def _frame(app, n: int = 3) -> None:
@@ -140,3 +140,25 @@ def test_the_command_line_starts_in_projector_mode(monkeypatch):
     with pytest.raises(Stop):
         cli_main(["--projector", "--dark", "--scene", "tennis_racket"])
     assert made["projector"] is True and made["dark"] is True and made["scene"] == "tennis_racket"
+
+
+def test_the_pendulums_swing_is_its_key_plot_and_is_held_back_with_the_centre_of_percussion():
+    with running_app(presenter=True, pin="8642", lecture="rigid-body-motion", projector=True, start_loop=False) as app:
+        app.go_to_step(PENDULUM_QUESTION)
+        _frame(app)
+        scene, projector = app.scene, app.shared.projector
+        assert scene.name == "pendulum" and scene.key_plot_handle() is scene.swing_plot
+        # The swing's period states ℓ: held back while the question is open, on the projector too.
+        assert not scene.swing_plot.visible and projector.plot is None
+        app.questions.reveal(None)
+        with app.lock:
+            app.set_playing(True)
+        _frame(app, 120)
+        assert scene.swing_plot.visible and projector.plot is not None
+        times, angles = scene.swing_plot.data
+        assert len(times) >= 10 and np.all(np.diff(times) > 0)
+        # Each sample is the swing's own angle at its time (the closed-form motion the scene draws), in degrees.
+        for t, shown in zip(times[::5], angles[::5], strict=False):
+            assert shown == pytest.approx(math.degrees(scene.state_at(float(t))[0]), abs=1e-9)
+        for big, own in zip(projector.plot.data, scene.swing_plot.data, strict=True):
+            np.testing.assert_array_equal(big, own)
