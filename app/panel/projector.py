@@ -173,11 +173,7 @@ class Projector:
         self._sent = {name: getattr(plot, name) for name in ("data", "scales", "title", "series")}
 
     def _drop_plot(self) -> None:
-        if self._plot_panel is not None:
-            try:
-                self._plot_panel.remove()
-            except Exception:  # noqa: BLE001 - its browser may have gone already
-                pass
+        _remove(self._plot_panel)
         self._plot_panel = self.plot = self._source = None
         self._sent = {}
 
@@ -191,9 +187,14 @@ class Projector:
             self.on = False
 
     def _drop_caption(self) -> None:
-        if self._caption_panel is not None:
-            try:
-                self._caption_panel.remove()
-            except Exception:  # noqa: BLE001 - its browser may have gone already
-                pass
+        _remove(self._caption_panel)
         self._caption_panel = self.caption = self._caption_text = None
+
+
+def _remove(panel: Any) -> None:
+    """Remove a floating panel if there is one (its browser may have gone already)."""
+    if panel is not None:
+        try:
+            panel.remove()
+        except Exception:  # noqa: BLE001 - its browser may have gone already
+            pass
