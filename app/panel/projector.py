@@ -9,6 +9,7 @@ sees the presenter's switch), a browser's own in a private session.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from app.guards.text import lecturer_markdown
@@ -16,6 +17,7 @@ from app.panel.look import MIN_TEXT_PX
 
 __all__ = [
     "CAPTION_FONT_PX",
+    "LEAVE",
     "CAPTION_HEIGHT_PX",
     "MARGIN_PX",
     "PANEL_WIDTH_PX",
@@ -26,17 +28,19 @@ __all__ = [
     "projector_region",
 ]
 
+LEAVE = "Leave projector mode"
+"""The last button of the caption's row (and the panel's projector button while on)."""
 SLIM_PX = 200.0
 """Width of the control panel as a slim bar (minimised to its title bar at the top right), CSS px."""
 PANEL_WIDTH_PX = 384.0
 """The control panel's width when not a bar: viser's "large" control width (24 em of 16 px)."""
 MARGIN_PX = 12.0
 """Gap between the projector's panels and the view's edges, CSS px."""
-CAPTION_FONT_PX = 30
+CAPTION_FONT_PX = 28
 """The caption's text size, CSS px: read from the back of a lecture hall (at least 28)."""
-CAPTION_HEIGHT_PX = 232.0
+CAPTION_HEIGHT_PX = 262.0
 """Height of the caption's panel: a lecture step's caption (200 to 400 characters) at
-:data:`CAPTION_FONT_PX` is five or six lines across the view."""
+:data:`CAPTION_FONT_PX` is five or six lines across the view, and the row of buttons under it."""
 PLOT_WIDTH_PX = 560.0
 """Width of the key plot's panel, CSS px (44 % of a 1280 px view)."""
 PLOT_HEIGHT_PX = 400.0
@@ -47,7 +51,7 @@ PLOT_FONT = f"{MIN_TEXT_PX + 6}px system-ui, -apple-system, 'Segoe UI', sans-ser
 STYLE = f"""<style>
 div.mantine-Paper-root:has(.rbl-projector-caption) [role=tablist],
 div.mantine-Paper-root:has(.rbl-projector-plot) [role=tablist] {{ display: none !important; }}
-div.mantine-Paper-root:has(.rbl-projector-caption) * {{
+div.mantine-Paper-root:has(.rbl-projector-caption) :is(p, li, strong, em, code, a) {{
   font-size: {CAPTION_FONT_PX}px !important; line-height: 1.25 !important; }}
 div.mantine-Paper-root:has(.rbl-projector-plot) .u-title {{ font-size: {CAPTION_FONT_PX - 6}px !important; }}
 div.mantine-Paper-root:has(.rbl-projector-plot) .u-legend, div.mantine-Paper-root:has(.rbl-projector-plot) .u-legend * {{
@@ -87,10 +91,18 @@ class Projector:
     ----------
     gui : viser GuiApi
         The simulation's GUI (``server.gui`` or a browser's ``client.gui``).
+    press : callable(event)
+        Runs a click on the caption's row of buttons (the event's ``target.value`` is the button's name:
+        "Previous", "Next", "Play", "Pause", "Reset" or :data:`LEAVE`). The minimised panel's own buttons
+        are not on the page, so the row is where the clicker's and the keyboard's keys find theirs
+        (:data:`app.panel.access.KEYS`) and where projector mode is left.
     """
 
-    def __init__(self, gui: Any) -> None:
+    def __init__(self, gui: Any, press: Callable[[Any], None]) -> None:
         self.gui = gui
+        self._press = press
+        self.row: Any = None  # the caption's row of buttons, while on
+        self._options: tuple[str, ...] = ()
         self.on = False
         self._caption_panel: Any = None
         self.caption: Any = None  # the caption's Markdown element, while on
@@ -111,6 +123,9 @@ class Projector:
             with self._caption_panel.add_tab("Caption"):
                 self.gui.add_html(STYLE + '<span class="rbl-projector-caption"></span>')
                 self.caption = self.gui.add_markdown("")
+                self._options = (LEAVE,)
+                self.row = self.gui.add_button_group("Lecture", options=self._options)
+            self.row.on_click(self._press)
             self._caption_panel.float(
                 x=MARGIN_PX,
                 y=MARGIN_PX,
@@ -131,11 +146,16 @@ class Projector:
         main.set_width(PANEL_WIDTH_PX)
         main.expand()
 
-    def sync(self, caption: str, plot: Any) -> None:
-        """Show ``caption`` (the lecturer's Markdown, sanitised here) and a large copy of ``plot`` (the
-        scene's key plot, a viser uPlot handle; None or hidden: none shown), sending only what changed."""
+    def sync(self, caption: str, plot: Any, buttons: tuple[str, ...] = ()) -> None:
+        """Show ``caption`` (the lecturer's Markdown, sanitised here), the row's ``buttons`` (then
+        :data:`LEAVE`) and a large copy of ``plot`` (the scene's key plot, a viser uPlot handle; None or
+        hidden: none shown), sending only what changed."""
         if not self.on:
             return
+        options = (*buttons, LEAVE)
+        if options != self._options and self.row is not None:
+            self._options = options
+            self.row.options = options
         if caption != self._caption_text and self.caption is not None:
             self._caption_text = caption
             self.caption.content = lecturer_markdown(caption)
@@ -188,7 +208,8 @@ class Projector:
 
     def _drop_caption(self) -> None:
         _remove(self._caption_panel)
-        self._caption_panel = self.caption = self._caption_text = None
+        self._caption_panel = self.caption = self._caption_text = self.row = None
+        self._options = ()
 
 
 def _remove(panel: Any) -> None:

@@ -13,6 +13,7 @@ import viser
 from app.panel import look
 from app.panel.access import keys_markdown
 from app.panel.export_folder import ExportFolder, ExportRun
+from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 
 __all__ = ["LAST_ORDER", "SimulationPanel"]
@@ -100,7 +101,7 @@ class SimulationPanel:
 
     def show_projector(self, on: bool) -> None:
         """The projector button says what a click does."""
-        self.projector_button.label = "Leave projector mode" if on else "Projector"
+        self.projector_button.label = LEAVE if on else "Projector"
         self.projector_button.icon = viser.Icon.PRESENTATION_OFF if on else viser.Icon.PRESENTATION
 
     def show_clock(self, running: bool) -> None:

@@ -137,7 +137,7 @@ class Simulation:
             self.speed_slider, self.time_text = self.panel.speed_slider, self.panel.time_text
             self.state_box, self.status, self.legend = self.panel.state_box, self.panel.status, self.panel.legend
             self.export_folder = self.panel.export_folder
-            self.projector = Projector(self.server.gui)
+            self.projector = Projector(self.server.gui, self.guarded(self._projector_press))
             self.panel.projector_button.on_click(self.guarded(lambda _: self.set_projector(not self.projector.on)))
             own = not isinstance(self.server, viser.ViserServer)
             self.notices = Notices(self.clients, self.status, own_browser=own)
@@ -205,8 +205,23 @@ class Simulation:
 
     def _sync_projector(self) -> None:
         if self.projector.on:
-            plot = self.scene.key_plot_handle() if self.scene is not None else None
-            self.projector.sync(self.projector_caption(), plot)
+            scene = self.scene
+            plot = scene.key_plot_handle() if scene is not None else None
+            clock = () if scene is None or scene.static else ("Pause" if self.playing else "Play", "Reset")
+            steps = ("Previous", "Next") if self.following.lecture is not None else ()
+            self.projector.sync(self.projector_caption(), plot, (*steps[:1], *clock, *steps[1:]))
+
+    def _projector_press(self, event: Any) -> None:
+        """A button of projector mode's row: what the panel's button of that name does."""
+        name = event.target.value
+        if name in ("Previous", "Next"):
+            self.following.go_to(self.step_index + (1 if name == "Next" else -1))
+        elif name in ("Play", "Pause"):
+            self.set_playing(name == "Play")
+        elif name == "Reset":
+            self.restart()
+        else:
+            self.set_projector(False)
 
     # ------------------------------------------------------------------ lectures and states
     @property

@@ -14,6 +14,7 @@ from app.__main__ import main as cli_main
 from app.guards.text import lecturer_markdown
 from app.panel.projector import (
     CAPTION_HEIGHT_PX,
+    LEAVE,
     MARGIN_PX,
     PLOT_WIDTH_PX,
     projector_region,
@@ -162,3 +163,26 @@ def test_the_pendulums_swing_is_its_key_plot_and_is_held_back_with_the_centre_of
             assert shown == pytest.approx(math.degrees(scene.state_at(float(t))[0]), abs=1e-9)
         for big, own in zip(projector.plot.data, scene.swing_plot.data, strict=True):
             np.testing.assert_array_equal(big, own)
+
+
+def test_the_captions_row_steps_the_lecture_runs_the_clock_and_leaves_projector_mode():
+    with running_app(lecture="rigid-body-motion", projector=True, start_loop=False) as app:
+        projector = app.shared.projector
+        _frame(app, 1)
+        assert projector.row.options == ("Previous", "Next", LEAVE)  # the still explorer: no clock
+
+        def press(name: str) -> None:
+            projector.row.value = name  # viser runs the row's click callback, as for a browser's click
+
+        app.go_to_step(2)  # the pendulum's question waits, paused
+        _frame(app, 1)
+        assert projector.row.options == ("Previous", "Play", "Reset", "Next", LEAVE)
+        press("Play")
+        _frame(app, 1)
+        assert app.playing and projector.row.options[1] == "Pause"
+        press("Next")
+        assert app.step_index == 3
+        press("Previous")
+        assert app.step_index == 2
+        press(LEAVE)
+        assert not projector.on and projector.row is None

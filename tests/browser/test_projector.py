@@ -4,7 +4,7 @@ caption at 28 px or more and on top of the 3D view (what the page draws at its c
 at least 40 % of the view's width, the body (a screenshot with it and one without) spanning a third of the
 view's height and clear of the bar, the caption and the plot; with the racket's question open the caption
 holds the question, not its answer, until the reveal; a follower exploring on their own leaves it and comes
-back to it; the button again gives the panel back."""
+back to it; the clicker's Page Down steps the lecture; the caption's Leave button gives the panel back."""
 
 from __future__ import annotations
 
@@ -121,9 +121,12 @@ def test_the_presenters_switch_puts_every_follower_in_projector_mode_with_the_an
         click(follower.get_by_role("button", name="Follow the lecturer"))
         wait_for(lambda: (follower.evaluate(CAPTION) or {}).get("shown"), 60, what="the caption back")
 
-        # Switched off from the bar: a click on it opens the panel (viser's header toggles it), then the
-        # button gives the panel back its width and takes the projector's panels away.
-        click(lecturer.locator('[data-testid="floating-panel-handle"]'))
+        # The clicker's key steps the lecture with the panel a bar (the caption's row has the Next button).
+        lecturer.mouse.click(0.3 * WIDTH, 0.6 * HEIGHT)  # the focus on the page, not on a control
+        lecturer.keyboard.press("PageDown")
+        wait_for(lambda: app.step_index == RACKET + 1, 30, what="the clicker's next step")
+
+        # Switched off from the caption's row: the panel back at its width, the projector's panels gone.
         click(lecturer.get_by_role("button", name="Leave projector mode"))
         wait_for(lambda: not app.shared.projector.on, 30, what="projector mode off")
         wait_for(lambda: follower.evaluate(CAPTION) is None, 30, what="the caption to go")
