@@ -53,6 +53,8 @@ div.mantine-Paper-root:has(.rbl-projector-caption) [role=tablist],
 div.mantine-Paper-root:has(.rbl-projector-plot) [role=tablist] {{ display: none !important; }}
 div.mantine-Paper-root:has(.rbl-projector-caption) :is(p, li, strong, em, code, a) {{
   font-size: {CAPTION_FONT_PX}px !important; line-height: 1.25 !important; }}
+div.mantine-Paper-root:has(.rbl-projector-caption) :is(label, button, button *) {{
+  font-size: {MIN_TEXT_PX + 4}px !important; }}
 div.mantine-Paper-root:has(.rbl-projector-plot) .u-title {{ font-size: {CAPTION_FONT_PX - 6}px !important; }}
 div.mantine-Paper-root:has(.rbl-projector-plot) .u-legend, div.mantine-Paper-root:has(.rbl-projector-plot) .u-legend * {{
   font-size: {MIN_TEXT_PX + 6}px !important; }}
@@ -124,7 +126,7 @@ class Projector:
                 self.gui.add_html(STYLE + '<span class="rbl-projector-caption"></span>')
                 self.caption = self.gui.add_markdown("")
                 self._options = (LEAVE,)
-                self.row = self.gui.add_button_group("Lecture", options=self._options)
+                self.row = self.gui.add_button_group("Projector", options=self._options)
             self.row.on_click(self._press)
             self._caption_panel.float(
                 x=MARGIN_PX,

@@ -62,6 +62,11 @@ class SimulationPanel:
         self.scene_picker.on_update(sim.guarded(self._on_pick))
         # The motion in words (show_words): after the scene's folder, so its controls stay above the fold.
         self.words = gui.add_html(look.motion_html(""), order=LAST_ORDER - 1)
+        # The lecture hall's switch (app.panel.projector), under the scene's folder: the scene's own controls
+        # and the clock stay above the fold at 1280×800.
+        self.projector_button = gui.add_button(
+            "Projector", icon=viser.Icon.PRESENTATION, hint=PROJECTOR_HINT, order=LAST_ORDER - 2
+        )
         self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
@@ -72,8 +77,6 @@ class SimulationPanel:
                 speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
             )
             self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
-            # The lecture hall's switch (app.panel.projector): a slim panel, the caption and the key plot large.
-            self.projector_button = gui.add_button("Projector", icon=viser.Icon.PRESENTATION, hint=PROJECTOR_HINT)
         self.play_button.on_click(sim.guarded(lambda _: sim.set_playing(not sim.playing)))
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
@@ -90,7 +93,7 @@ class SimulationPanel:
             gui.add_markdown(keys_markdown())
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
-        self.handles: list[Any] = [style, title, self.scene_picker, self.words, clock, state]
+        self.handles: list[Any] = [style, title, self.scene_picker, self.words, self.projector_button, clock, state]
         self.handles += [self.export_folder.folder, keyboard]
         self.handles += [self.status, self.legend]
 
