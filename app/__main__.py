@@ -88,6 +88,12 @@ def main(argv: list[str] | None = None) -> None:
     )
     parser.add_argument("--dark", action="store_true", help="a dark look, for a dark lecture room")
     parser.add_argument(
+        "--projector",
+        action="store_true",
+        help="start in projector mode: the panel a slim bar, the step's caption and the scene's key plot large "
+        "(the panel's Projector button switches it)",
+    )
+    parser.add_argument(
         "--private",
         action="store_true",
         help="every browser gets its own simulation (a lab session or a homework server)",
@@ -199,6 +205,7 @@ def main(argv: list[str] | None = None) -> None:
             scene=args.scene,
             share=args.share,
             dark=args.dark,
+            projector=args.projector,
             private=args.private,
             presenter=presenter,
             pin=args.pin,

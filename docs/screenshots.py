@@ -28,10 +28,15 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--teaching", action="store_true", help="only the README's 'Teaching with it' shot")
     parser.add_argument("--readme", action="store_true", help="the README's screenshots (into --out, e.g. docs)")
     parser.add_argument("--gallery", action="store_true", help="the README's gallery: every scene and a phone")
+    parser.add_argument("--projector", action="store_true", help="projector mode in the lecture (into --out)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     if args.gallery:
         gallery(args.out)
+        projector(args.out / "projector.png")
+        return
+    if args.projector:
+        projector(args.out / "projector.png")
         return
     if args.teaching:
         teaching(args.out / "teaching.png")
@@ -134,6 +139,24 @@ def gallery(out: Path, seconds: float = 5.0) -> None:
         time.sleep(0.5)
         phone.screenshot(path=str(out / "phone.png"), scale="css")
         print(f"phone: {out / 'phone.png'}", flush=True)
+
+
+def projector(path: Path, seconds: float = 9.0) -> None:
+    """Projector mode (``--projector --out docs/gallery``) at 1280×800: the shipped lecture's tennis racket
+    after its question's reveal, run for ``seconds`` so that its ω₁ω₂ω₃ plot shows the flips."""
+    with running_app(presenter=True, lecture="rigid-body-motion", projector=True) as app, launch_chromium() as browser:
+        app.go_to_step(6)  # the racket's question
+        page, _client = open_page(browser, app, timeout=120.0, viewport={"width": 1280, "height": 800})
+        app.questions.reveal(None)  # the caption and the answer back
+        with app.lock:
+            app.set_playing(True)
+        time.sleep(seconds)
+        with app.lock:
+            app.set_playing(False)  # paused: the labels (drawn apart from the 3D picture) catch up with it
+        page.evaluate(_CLOSE_NOTIFICATIONS)
+        time.sleep(2.0)
+        page.screenshot(path=str(path))
+        print(f"projector: {path}", flush=True)
 
 
 def teaching(path: Path) -> None:

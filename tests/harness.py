@@ -85,14 +85,15 @@ def running_app(
     pin: str | None = None,
     state: str | None = None,
     dark: bool = False,
+    projector: bool = False,
     share: bool = False,
     lecture: str | None = None,
     answers: str | None = None,
     caps: Any = None,
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
-    127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``share``: viser's share
-    button shown; ``lecture``: a lecture file or name to follow; ``answers``: the class questions' CSV;
+    127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``projector``: projector
+    mode; ``share``: viser's share button shown; ``lecture``: a lecture file or name to follow; ``answers``: the class questions' CSV;
     ``caps``: an ``app.guards.admission.Caps``);
     stopped on exit."""
     from app.server import App
@@ -107,6 +108,7 @@ def running_app(
         pin=pin,
         state=state,
         dark=dark,
+        projector=projector,
         share=share,
         lecture=lecture,
         answers=answers,

@@ -13,9 +13,12 @@ import viser
 from app.panel import look
 from app.panel.access import keys_markdown
 from app.panel.export_folder import ExportFolder, ExportRun
+from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 
 __all__ = ["LAST_ORDER", "SimulationPanel"]
+
+PROJECTOR_HINT = "Projector mode: the panel a slim bar, the caption and the key plot large over the view"
 
 LAST_ORDER = 1e6
 """viser's panel order of what comes after the scene's folder (legend, state, export)."""
@@ -59,6 +62,11 @@ class SimulationPanel:
         self.scene_picker.on_update(sim.guarded(self._on_pick))
         # The motion in words (show_words): after the scene's folder, so its controls stay above the fold.
         self.words = gui.add_html(look.motion_html(""), order=LAST_ORDER - 1)
+        # The lecture hall's switch (app.panel.projector), under the scene's folder: the scene's own controls
+        # and the clock stay above the fold at 1280×800.
+        self.projector_button = gui.add_button(
+            "Projector", icon=viser.Icon.PRESENTATION, hint=PROJECTOR_HINT, order=LAST_ORDER - 2
+        )
         self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
@@ -85,7 +93,7 @@ class SimulationPanel:
             gui.add_markdown(keys_markdown())
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
-        self.handles: list[Any] = [style, title, self.scene_picker, self.words, clock, state]
+        self.handles: list[Any] = [style, title, self.scene_picker, self.words, self.projector_button, clock, state]
         self.handles += [self.export_folder.folder, keyboard]
         self.handles += [self.status, self.legend]
 
@@ -93,6 +101,11 @@ class SimulationPanel:
         """The play button says what a click does."""
         self.play_button.label = "Pause" if playing else "Play"
         self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
+
+    def show_projector(self, on: bool) -> None:
+        """The projector button says what a click does."""
+        self.projector_button.label = LEAVE if on else "Projector"
+        self.projector_button.icon = viser.Icon.PRESENTATION_OFF if on else viser.Icon.PRESENTATION
 
     def show_clock(self, running: bool) -> None:
         """The clock's buttons and speed work, or (a still scene, nothing moves) are disabled."""

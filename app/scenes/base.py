@@ -108,6 +108,9 @@ class Scene:
     """A still picture with nothing that moves in time (the inertia explorer): its clock stays paused at 0."""
     answers: ClassVar[tuple[Answer, ...]] = ()
     """The quantities a class question may ask about, and what of the scene states each (:class:`Answer`)."""
+    key_plot: ClassVar[str] = ""
+    """Attribute path of the scene's key plot (a viser uPlot handle; ``""``: none), shown large in projector
+    mode (:mod:`app.panel.projector`): the evidence the class reads, e.g. the racket's ω₁ω₂ω₃."""
 
     def __init__(self, ctx: SceneContext) -> None:
         self.ctx = ctx
@@ -115,6 +118,10 @@ class Scene:
         self.held: frozenset[str] = frozenset()  # quantities held back while a question about them is open
         self.caption_markdown: Any = None  # the caption in the panel (the simulation sets it)
         self._shown_before: dict[str, bool] = {}  # what a hidden element's visibility was before
+
+    def key_plot_handle(self) -> Any:
+        """The scene's key plot (:attr:`key_plot`), or None."""
+        return _resolve(self, self.key_plot) if self.key_plot else None
 
     def hold(self, quantities: Iterable[str]) -> None:
         """Hold back what states ``quantities`` (names of :attr:`answers`) and show again what states the

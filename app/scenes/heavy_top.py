@@ -183,6 +183,7 @@ class HeavyTopScene(Scene):
     )
     camera = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
     view = (2.0, 2.1)  # the axis tip's sphere across (its diameter), L and ω above the top
+    key_plot = "plot"  # U(θ) with the energy and θ now: where the axis nutates between its turning points
     # The precession's rate and sense: its readout, the φ̇₀ slider a steady preset sets to it, the words.
     answers = (Answer("precession_rate", readouts=("precession_readout",), hidden=("params.sliders.phidot0",)),)
 

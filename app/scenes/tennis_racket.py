@@ -108,6 +108,7 @@ class TennisRacket(Scene):
     # From above, so the racket spinning flat is seen across its face; the L-sphere beside it on screen.
     camera = ((2.4, -2.6, 2.4), (-0.45, -0.25, 1.0))
     view = (2.4, 1.8)  # the racket, its arrows and the L-sphere
+    key_plot = "plot"  # ω₁ω₂ω₃: the flips, one component changing sign, the others dipping
     # Whether (and how often) it flips: the readouts of the linear stability and the measured period, the
     # polhode on the L-sphere, the caption that states the theorem.
     answers = (

@@ -70,6 +70,9 @@ class App:
         Show viser's share button, which can publish the server on a public tunnel (off by default).
     dark : bool
         The dark look (``--dark``), for a dark lecture room.
+    projector : bool
+        Start in projector mode (``--projector``; :meth:`Simulation.set_projector`): the lecture's (every
+        follower sees it) or, in private mode, every browser's own at first.
     private : bool
         One simulation per browser instead of one for all.
     presenter : bool, optional
@@ -104,6 +107,7 @@ class App:
         fps: float = FPS,
         share: bool = False,
         dark: bool = False,
+        projector: bool = False,
         private: bool = False,
         presenter: bool | None = None,
         pin: str | None = None,
@@ -125,6 +129,7 @@ class App:
             raise ValueError("class questions are asked in presenter mode: --export-answers needs --presenter")
         self.pin = check_pin(pin) if pin is not None else new_pin()
         self.fps, self.share, self.dark, self.private = float(fps), bool(share), bool(dark), bool(private)
+        self.projector = bool(projector)
         server = viser.ViserServer(host=host, port=port, verbose=verbose)
         confine_events(server)
         self.gate = install_gate(server)  # only the message types a page sends reach viser
@@ -167,6 +172,8 @@ class App:
                     self.questions = ClassQuestions(self, answers)
                 if self._lecture is not None:
                     self.shared.load_lecture(self._lecture)
+                if self.projector:
+                    self.shared.set_projector(True)
         except ValueError:
             server.stop()
             raise
@@ -249,6 +256,8 @@ class App:
         snapshot = self.shared.snapshot()
         copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
         copy.restore(snapshot)
+        if self.shared.projector.on:  # the lecture's bar and panels leave with it (app.teaching.broadcast)
+            copy.projector.give_panel_back()
         if self.questions is not None:  # a question open on the lecture keeps its answer in the copy too
             copy.hold_back(self.questions.holding())
         return copy
@@ -261,6 +270,8 @@ class App:
                 session.open_state(self._state_text)
             if self._lecture is not None:
                 session.load_lecture(self._lecture, check=False)
+            if self.projector:
+                session.set_projector(True)
         except Exception:
             if departed(client):
                 return  # it left while its session was being built

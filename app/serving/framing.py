@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from app.guards.responses import user_agent
+from app.panel.projector import projector_region
 
 __all__ = [
     "FOV",
@@ -71,12 +72,18 @@ def is_mobile(agent: str) -> bool:
     return "Mobile" in agent or "Android" in agent
 
 
-def free_region(width: float, height: float, mobile: bool = False) -> tuple[float, float, float, float]:
+def free_region(
+    width: float, height: float, mobile: bool = False, *, projector: bool = False, plot: bool = False
+) -> tuple[float, float, float, float]:
     """The part of a ``width`` × ``height`` px view the panel leaves free: (left, top, right, bottom), px
-    (``mobile``: see :func:`phone_layout`)."""
+    (``mobile``: see :func:`phone_layout`). In projector mode (``projector``) the panel is a slim bar and the
+    whole width is free but for the caption above and the key plot at the right (``plot``: the scene has
+    one; :func:`app.panel.projector.projector_region`); a phone keeps its bottom sheet."""
     if phone_layout(width, height, mobile):
         # A few pixels above the sheet's edge: a swinging body framed to the edge itself can reach under it.
         return (0.0, 0.0, width, (1.0 - SHEET_FRACTION) * height - SHEET_MARGIN_PX)
+    if projector:
+        return projector_region(width, height, plot)
     return (0.0, 0.0, max(width - PANEL_PX, 0.5 * width), height)
 
 
@@ -88,6 +95,9 @@ def framed(
     fov: float,
     view: tuple[float, float] | None = None,
     mobile: bool = False,
+    *,
+    projector: bool = False,
+    plot: bool = False,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """A scene's camera moved so that what it frames is seen clear of the panel.
 
@@ -105,6 +115,8 @@ def framed(
         (its body then as large as it can be). Default: the camera's own distance, backed off to fit.
     mobile : bool
         The browser is a phone's (:func:`phone_layout`).
+    projector, plot : bool
+        Projector mode, and whether the scene's key plot is shown in it (:func:`free_region`).
 
     Returns
     -------
@@ -123,7 +135,7 @@ def framed(
         right = np.array([1.0, 0.0, 0.0])
     right /= np.linalg.norm(right)
     up = np.cross(right, forward)
-    left, top, right_px, bottom = free_region(width, height, mobile)
+    left, top, right_px, bottom = free_region(width, height, mobile, projector=projector, plot=plot)
     free_w, free_h = right_px - left, bottom - top
     if view is not None:
         # The distance at which the free region just holds view[0] × view[1] metres at the look-at point.
@@ -147,8 +159,17 @@ def first_view(
     return framed(position, look_at, *FIRST_VIEW_PX, FOV, view)
 
 
-def show_scene_to(client: Any, position: Any, look_at: Any, view: tuple[float, float] | None = None) -> None:
-    """Point a browser's camera at a scene (its camera ``position``, ``look_at``), framed clear of the panel.
+def show_scene_to(
+    client: Any,
+    position: Any,
+    look_at: Any,
+    view: tuple[float, float] | None = None,
+    *,
+    projector: bool = False,
+    plot: bool = False,
+) -> None:
+    """Point a browser's camera at a scene (its camera ``position``, ``look_at``), framed clear of the panel
+    (in projector mode, ``projector``, clear of the caption and of the key plot if shown, ``plot``).
 
     A page reports its real size only after its layout settles (and again when the window or a phone's
     orientation changes): until the viewer moves the camera, a new size re-frames it, and always within
@@ -161,11 +182,12 @@ def show_scene_to(client: Any, position: Any, look_at: Any, view: tuple[float, f
     mobile = getattr(client, "_rbl_mobile", None)
     if mobile is None:
         mobile = client._rbl_mobile = is_mobile(user_agent(client))
-    eye, target = framed(position, look_at, size[0], size[1], FOV, view, mobile)
+    eye, target = framed(position, look_at, size[0], size[1], FOV, view, mobile, projector=projector, plot=plot)
     first = getattr(client, "_rbl_framing", None) is None
     start = first_view(position, look_at, view)[0]  # where viser's client resets to: kept, echoes compare to it
     client._rbl_framing = (size, eye, position, look_at, time.monotonic(), start)
     client._rbl_view = view
+    client._rbl_projector = (projector, plot)
     with client.atomic():
         client.camera.fov = FOV
         client.camera.position = eye
@@ -178,13 +200,15 @@ def _reframe(camera: Any) -> None:
     client = camera.client
     size, eye, position, look_at, when, start = client._rbl_framing
     view = getattr(client, "_rbl_view", None)
+    projector, plot = getattr(client, "_rbl_projector", (False, False))
     if (camera.image_width, camera.image_height) == size:
         if _near(camera.position, start) and not _near(eye, start):
-            show_scene_to(client, position, look_at, view)  # reset to the first view: framed for this page again
+            # Reset to the first view: framed for this page again.
+            show_scene_to(client, position, look_at, view, projector=projector, plot=plot)
         return
     if not _near(camera.position, eye) and time.monotonic() - when > FRAMING_GRACE:
         return  # the viewer has moved the camera: theirs now
-    show_scene_to(client, position, look_at, view)
+    show_scene_to(client, position, look_at, view, projector=projector, plot=plot)
 
 
 def _near(echo: Any, eye: Any) -> bool:

@@ -21,6 +21,7 @@ from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
 from app.panel.export_folder import ExportRun
+from app.panel.projector import Projector
 from app.panel.simulation_panel import SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
 from app.scenes import REGISTRY, Scene, load_all, scene_names
@@ -136,6 +137,8 @@ class Simulation:
             self.speed_slider, self.time_text = self.panel.speed_slider, self.panel.time_text
             self.state_box, self.status, self.legend = self.panel.state_box, self.panel.status, self.panel.legend
             self.export_folder = self.panel.export_folder
+            self.projector = Projector(self.server.gui, self.guarded(self._projector_press))
+            self.panel.projector_button.on_click(self.guarded(lambda _: self.set_projector(not self.projector.on)))
             own = not isinstance(self.server, viser.ViserServer)
             self.notices = Notices(self.clients, self.status, own_browser=own)
             guard_inputs(self.server.gui, self._refuse_input, self.refusal)
@@ -170,7 +173,55 @@ class Simulation:
 
     def _on_connect(self, client: viser.ClientHandle) -> None:
         if self.scene is not None:
-            show_scene_to(client, *self.scene.camera, self.scene.view)
+            self._frame_for(client, self.scene)
+
+    def _frame_for(self, client: Any, scene: Scene) -> None:
+        """Frame ``client``'s camera on ``scene``, clear of the panel or of projector mode's caption and plot."""
+        on = self.projector.on
+        show_scene_to(client, *scene.camera, scene.view, projector=on, plot=on and bool(scene.key_plot))
+
+    # ------------------------------------------------------------------ projector mode
+    def set_projector(self, on: bool) -> None:
+        """Projector mode on or off for every browser this simulation is drawn for (:mod:`app.panel.projector`):
+        the panel a slim bar, the step's caption and the scene's key plot large, the body framed anew."""
+        with self.lock, self.server.atomic():
+            self.projector.show(bool(on))
+            self.panel.show_projector(self.projector.on)
+            self._sync_projector()
+            if self.scene is not None:
+                for client in self.clients():
+                    self._frame_for(client, self.scene)
+            self._dirty = True
+
+    def projector_caption(self) -> str:
+        """What projector mode shows as the caption (the lecturer's Markdown): the lecture step's text as
+        the class may see it now, or outside a lecture the scene's caption unless a question holds it back."""
+        if self.following.lecture is not None:
+            return self.following.step_text()
+        scene = self.scene
+        if scene is None or scene.caption_markdown is None or not scene.caption_markdown.visible:
+            return ""
+        return scene.caption
+
+    def _sync_projector(self) -> None:
+        if self.projector.on:
+            scene = self.scene
+            plot = scene.key_plot_handle() if scene is not None else None
+            clock = () if scene is None or scene.static else ("Pause" if self.playing else "Play", "Reset")
+            steps = ("Previous", "Next") if self.following.lecture is not None else ()
+            self.projector.sync(self.projector_caption(), plot, (*steps[:1], *clock, *steps[1:]))
+
+    def _projector_press(self, event: Any) -> None:
+        """A button of projector mode's row: what the panel's button of that name does."""
+        name = event.target.value
+        if name in ("Previous", "Next"):
+            self.following.go_to(self.step_index + (1 if name == "Next" else -1))
+        elif name in ("Play", "Pause"):
+            self.set_playing(name == "Play")
+        elif name == "Reset":
+            self.restart()
+        else:
+            self.set_projector(False)
 
     # ------------------------------------------------------------------ lectures and states
     @property
@@ -381,7 +432,7 @@ class Simulation:
             self.clear_status()  # the status line belongs to the scene
             self.view = cls.camera
             for c in self.clients():
-                show_scene_to(c, *cls.camera, cls.view)
+                self._frame_for(c, scene)
             if isinstance(self.server, viser.ViserServer):  # a browser's first view, before it reports its size
                 position, look_at = first_view(*cls.camera, cls.view)
                 self.server.initial_camera.fov = FOV
@@ -439,6 +490,7 @@ class Simulation:
         with self.lock:
             self.closed = True
             self._teardown()
+            self.projector.remove()
             self.panel.remove()
             try:
                 self._grid.remove()
@@ -479,6 +531,7 @@ class Simulation:
             try:
                 with self.server.atomic():
                     scene.draw(state)
+                    self._sync_projector()
                     now = time.monotonic()
                     if now - self._last_time_text > 0.1 or not self.clock.playing:
                         self._last_time_text = now

@@ -140,6 +140,8 @@ class BroadcastView:
                 out.append(_messages.RemoveSceneNodeMessage(message.name))
             elif isinstance(message, _messages._CreateGuiComponentMessage):
                 out.append(_messages.GuiRemoveMessage(message.uuid))
+            elif isinstance(message, _messages.GuiPanelMessage):  # projector mode's caption and plot
+                out.append(_messages.GuiPanelRemoveMessage(message.uuid))
         out.reverse()  # children before their parents
         return out
 

@@ -92,15 +92,23 @@ class Following:
             return
         if caption is not None:
             self.caption_shown = caption
-        step = lecture.steps[self.step_index]
         head = f"**{lecture.title}** — step {self.step_index + 1} of {len(lecture.steps)}"
-        body = step.caption
+        self.text.content = lecturer_markdown(f"{head}\n\n{self.step_text()}".rstrip())
+        self.sim.request_redraw()  # projector mode shows the step's text too (the next frame)
+
+    def step_text(self) -> str:
+        """The step's text as the class may see it now (the lecturer's Markdown, not yet sanitised): its
+        caption, or while a question waits for the class its question alone; "" without a lecture."""
+        lecture = self.lecture
+        if lecture is None:
+            return ""
+        step = lecture.steps[self.step_index]
         if step.ask is not None and not self.caption_shown:
-            body = f"**Question.** {step.ask.text}\n\n*Answer in your panel; the demonstration follows.*"
-        elif step.ask is not None and not self.listeners:  # nobody collects answers: ask it aloud
+            return f"**Question.** {step.ask.text}\n\n*Answer in your panel; the demonstration follows.*"
+        if step.ask is not None and not self.listeners:  # nobody collects answers: ask it aloud
             choices = "\n".join(f"{chr(65 + k)}. {c}" for k, c in enumerate(step.ask.choices))
-            body = f"**Question.** {step.ask.text}\n\n{choices}\n\n{step.caption}".replace("\n\n\n\n", "\n\n")
-        self.text.content = lecturer_markdown(f"{head}\n\n{body}".rstrip())
+            return f"**Question.** {step.ask.text}\n\n{choices}\n\n{step.caption}".replace("\n\n\n\n", "\n\n")
+        return step.caption
 
     def advance_if_due(self) -> None:
         """Go to the next step when the current one has ``seconds`` and they have passed (the last stays)."""
