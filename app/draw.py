@@ -36,6 +36,7 @@ from app.drawing.pieces import (
     Trace,
     add_label,
     faint_sphere,
+    screen_axes,
 )
 
 __all__ = [
@@ -60,6 +61,7 @@ __all__ = [
     "add_label",
     "BodyMesh",
     "Arrow",
+    "screen_axes",
     "PrincipalFrame",
     "Trace",
     "Cone",

@@ -30,6 +30,7 @@ __all__ = [
     "Cone",
     "faint_sphere",
     "InertiaEllipsoid",
+    "screen_axes",
 ]
 
 
@@ -89,6 +90,19 @@ LABEL_ANCHOR_APART: Anchor = "top-right"
 """The same for the second of two arrows whose tips meet: its text below and left, clear of the first's."""
 
 
+def screen_axes(camera: tuple[ArrayLike, ArrayLike]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The unit vectors (3,) that point right and up on the screen of a camera ``(position, look_at)`` (m)
+    with +z up: what a scene's labels are composed for (framing moves the camera along its line of sight
+    and pans it, never turns it)."""
+    eye, target = np.asarray(camera[0], dtype=float), np.asarray(camera[1], dtype=float)
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, (0.0, 0.0, 1.0))
+    if np.linalg.norm(right) < 1e-9:  # looking straight down or up: any horizontal right will do
+        right = np.array([1.0, 0.0, 0.0])
+    right /= np.linalg.norm(right)
+    return right, np.cross(right, forward)
+
+
 LABEL_SCALE = 1.6
 """Every label in the 3D scene at this multiple of viser's size: readable on a projector from the back."""
 
@@ -134,14 +148,26 @@ class Arrow:
         self._head = -1.0
         self._visible = True
         self._label_visible = True
+        self.text = label or quantity  # the label's own text
+        self._title = self.text  # what it says now: both arrows' names while another's label joins it
 
-    def set(self, vector: ArrayLike, origin: ArrayLike = (0.0, 0.0, 0.0), *, apart_from: Arrow | None = None) -> None:
+    def set(
+        self,
+        vector: ArrayLike,
+        origin: ArrayLike = (0.0, 0.0, 0.0),
+        *,
+        apart_from: Arrow | None = None,
+        screen: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    ) -> None:
         """Draw ``vector`` (the quantity, its own units) from ``origin`` (m).
 
         With ``apart_from`` (an arrow drawn before this one), this arrow's label hangs below and left of its
         tip (above and right is every label's place) while the two tips are within :data:`LABEL_GAP` of the
         longer arrow's length of each other (L and ω lined up): the two labels then sit in opposite corners of
-        one point, at any zoom, and neither moves onto the body.
+        one point, at any zoom, and neither moves onto the body. With ``screen`` too (the right and up
+        vectors of the view the scene is composed for, :func:`screen_axes`), "within" is measured on that
+        screen, where two tips far apart in depth can meet, and the first arrow's label then names both
+        ("L, ω") while this one's is hidden: two texts at one place on the screen cannot cross.
         """
         # Python floats, not numpy: three arrows a frame in every session, where numpy's per-call cost
         # on 3-vectors was most of the work.
@@ -150,6 +176,7 @@ class Arrow:
         length = math.sqrt(vx * vx + vy * vy + vz * vz)
         visible = math.isfinite(length) and length > 1e-6
         anchor: Anchor = LABEL_ANCHOR
+        joined = False  # this arrow's name is on the other's label (their tips one place on the screen)
         if visible:
             tip = (ox + vx, oy + vy, oz + vz)
             self.tip = np.array(tip)
@@ -157,8 +184,14 @@ class Arrow:
             if apart_from is not None and apart_from._visible:
                 near = LABEL_GAP * max(length, apart_from.length)
                 ax, ay, az = apart_from.tip.tolist()
-                if math.sqrt((tip[0] - ax) ** 2 + (tip[1] - ay) ** 2 + (tip[2] - az) ** 2) < near:
-                    anchor = LABEL_ANCHOR_APART
+                offset = (tip[0] - ax, tip[1] - ay, tip[2] - az)
+                if screen is None:
+                    if math.sqrt(offset[0] ** 2 + offset[1] ** 2 + offset[2] ** 2) < near:
+                        anchor = LABEL_ANCHOR_APART
+                else:
+                    dx = sum(o * r for o, r in zip(offset, screen[0].tolist(), strict=True))
+                    dy = sum(o * u for o, u in zip(offset, screen[1].tolist(), strict=True))
+                    joined = math.hypot(dx, dy) < near
             # The arrow's geometry starts at its node's origin; the node is moved to ``origin``
             # (the web client does not follow a change of the start point alone). A constant vector
             # (L of a free body) is not resent.
@@ -172,13 +205,25 @@ class Arrow:
                 self._head = self.handle.head_length = head
         if visible != self._visible:
             self._visible = self.handle.visible = visible
+        if apart_from is not None and screen is not None:
+            apart_from._name(f"{apart_from.text}, {self.text}" if joined else apart_from.text)
         if self.label is not None:
-            if self._label_visible != visible:
-                self._label_visible = self.label.visible = visible
-            if visible:
+            shown = visible and not joined
+            if self._label_visible != shown:
+                self._label_visible = self.label.visible = shown
+            if shown:
                 send_position(self.label, tip)
-                if anchor != self._anchor:  # sent only when it changes
-                    self._anchor = self.label.anchor = anchor
+                self._hang(anchor)
+
+    def _hang(self, anchor: Anchor) -> None:
+        """Hang the label by ``anchor`` (sent only when it changes)."""
+        if self.label is not None and anchor != self._anchor:
+            self._anchor = self.label.anchor = anchor
+
+    def _name(self, title: str) -> None:
+        """Let the label say ``title`` (sent only when it changes)."""
+        if self.label is not None and title != self._title:
+            self._title = self.label.text = title
 
 
 class PrincipalFrame(_Posed):

@@ -50,14 +50,14 @@ class FreeFall(Wobble):
             thickness_units="screen",
         )
         # Two parabolas: the centre of mass's (grey, fixed) and the axis tip's trace (the trace's colour);
-        # the fixed one is named outside its rising leg, left of it: the body passes there only at launch.
-        rising = path[len(path) // 5]
+        # the fixed one is named right of its launch point, under its rising leg: L and ω (L along +z, ω
+        # within its cone about L) carry their labels above the body, and the body passes there only at launch.
         self.path_label = draw.add_label(
             self.ctx.server,
             self.ctx.root + "/path_label",
             "centre of mass",
-            position=rising + [-LABEL_GAP - self.size / 2, 0.0, 0.0],
-            anchor="center-right",
+            position=path[0] + [LABEL_GAP + self.size / 2, 0.0, 0.0],
+            anchor="center-left",
         )
         super().build()
 

@@ -188,6 +188,7 @@ class HeavyTopScene(Scene):
     answers = (Answer("precession_rate", readouts=("precession_readout",), hidden=("params.sliders.phidot0",)),)
 
     def build(self) -> None:
+        self.screen = draw.screen_axes(type(self).camera)  # the view L's and ω's labels are kept apart in
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         draw.faint_sphere(server, root + "/sphere", LENGTH)
         # First in the folder, under the caption: what the scene did to the sliders' start, and why.
@@ -373,7 +374,7 @@ class HeavyTopScene(Scene):
         self.landed = state["landed"]
         self.body.set_pose(state["R"])
         self.L_arrow.set(state["L"] * self.L_scale)
-        self.omega_arrow.set(state["omega"] * self.omega_scale, apart_from=self.L_arrow)
+        self.omega_arrow.set(state["omega"] * self.omega_scale, apart_from=self.L_arrow, screen=self.screen)
         # τ from the stem's end: drawn inside the body (its middle) it was a blob with its label on the body.
         self.torque_arrow.set(state["torque"] * self.torque_scale, LENGTH * state["axis"])
         self.trace.append(LENGTH * state["axis"])

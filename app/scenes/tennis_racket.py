@@ -124,6 +124,7 @@ class TennisRacket(Scene):
     size = 1.4  # largest dimension the body is drawn at (m)
 
     def build(self) -> None:
+        self.screen = draw.screen_axes(type(self).camera)  # the view L's and ω's labels are kept apart in
         server, root, gui = self.ctx.server, self.ctx.root, self.ctx.server.gui
         self.handed: dict[str, Any] | None = None  # a body from the inertia explorer
         self._last_source = ""
@@ -160,7 +161,7 @@ class TennisRacket(Scene):
             thickness_units="screen",
         )
         self.L_dot = server.scene.add_icosphere(root + "/L_dot", radius=0.03, color=draw.COLOURS["L"])
-        draw.add_label(
+        self.lsphere_label = draw.add_label(
             server,
             root + "/lsphere_label",
             "L seen from the body",
@@ -392,7 +393,7 @@ class TennisRacket(Scene):
         R, w, c = state["R"], state["omega_body"], self.centre
         self.body.set_pose(R, c)
         self.L_arrow.set(self.L_space * self.L_scale, c)
-        self.omega_arrow.set(R @ w * self.omega_scale, c, apart_from=self.L_arrow)
+        self.omega_arrow.set(R @ w * self.omega_scale, c, apart_from=self.L_arrow, screen=self.screen)
         l_hat = self.moments * w / self.L_norm
         send_position(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
         # The tip of the spin axis traces its flips in space.

@@ -59,6 +59,7 @@ class Wobble(Scene):
     size = 1.0  # largest dimension of the body (m); arrows and cones scale with it
 
     def build(self) -> None:
+        self.screen = draw.screen_axes(type(self).camera)  # the view L's and ω's labels are kept apart in
         server, root = self.ctx.server, self.ctx.root
         self.body = draw.BodyMesh(server, root + "/body", draw.cylinder_mesh(0.5, 0.5))
         # A child of the body: it turns with it without a message of its own each frame.
@@ -154,7 +155,7 @@ class Wobble(Scene):
         axis, L = V @ R[:, 2], V @ self.L_space
         self.body.set_pose(V @ R, c)
         self.L_arrow.set(L * self.L_scale, c)
-        self.omega_arrow.set(V @ w * self.omega_scale, c, apart_from=self.L_arrow)
+        self.omega_arrow.set(V @ w * self.omega_scale, c, apart_from=self.L_arrow, screen=self.screen)
         slant = float(np.linalg.norm(w)) * self.omega_scale
         self.body_cone.set(axis, _angle(w, R[:, 2]), slant, c)
         self.space_cone.set(L, _angle(w, self.L_space), slant, c)

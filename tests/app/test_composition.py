@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import viser
 from scipy.spatial.transform import Rotation
 
+from app import draw
 from app.scenes import scene_names
 from app.serving.framing import FOV, framed, free_region
 from tests import harness
@@ -120,3 +122,33 @@ def test_the_pendulum_labels_neither_overlap_nor_sit_on_the_bat(strike):
             for label, b in zip(labels, boxes, strict=True):
                 inside = (bat[:, 0] > b[0]) & (bat[:, 0] < b[2]) & (bat[:, 1] > b[1]) & (bat[:, 1] < b[3])
                 assert not inside.any(), f"t = {t:.2f}: {label.text!r} is drawn on the bat"
+
+
+def shown_labels(scene) -> list:
+    """Every label the scene shows now: its own (kept as attributes, alone or in a list) and its arrows'."""
+    found = []
+    for value in vars(scene).values():
+        for item in value if isinstance(value, list) else [value]:
+            if isinstance(item, draw.Arrow) and item.label is not None:
+                found.append(item.label)
+            elif isinstance(item, viser.LabelHandle):
+                found.append(item)
+    return [label for label in found if label.visible]
+
+
+@pytest.mark.parametrize("name", scene_names())
+def test_no_two_labels_overlap_in_any_scene(name):
+    """At 1280×800 with the panel open, through the first 4 s: no two shown labels' boxes intersect."""
+    with running_app(start_loop=False) as app:
+        scene = open_scene(app, name)
+        width, height = 1280, 800
+        eye, target = framed(*scene.camera, width, height, FOV, type(scene).view)
+        for t in np.linspace(0.0, 4.0, 17) if not scene.static else (0.0,):
+            app.set_time(float(t))
+            app.request_redraw()
+            app.frame(0.0)
+            labels = shown_labels(scene)
+            boxes = [label_box(label, eye, target, width, height) for label in labels]
+            for i in range(len(boxes)):
+                for j in range(i):
+                    assert not _overlap(boxes[i], boxes[j]), (name, float(t), labels[i].text, labels[j].text)

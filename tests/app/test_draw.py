@@ -124,4 +124,25 @@ def test_lined_up_arrows_keep_their_labels_apart(app):
     assert omega.label.anchor == "bottom-left"
     for arrow in (L, omega):
         arrow.handle.remove()
+
+
+def test_arrows_whose_tips_meet_on_the_screen_share_one_label(app):
+    """Composed for a screen (its right and up vectors), two tips far apart in depth but one place on that
+    screen get one label naming both, at the first's tip; apart on the screen, each its own again."""
+    right, up = draw.screen_axes(((0.0, -3.0, 0.0), (0.0, 0.0, 0.0)))  # looking along +y, z up
+    np.testing.assert_allclose(right, [1.0, 0.0, 0.0], atol=1e-15)
+    np.testing.assert_allclose(up, [0.0, 0.0, 1.0], atol=1e-15)
+    L = draw.Arrow(app.server, "/test_L2", "L", label="L")
+    omega = draw.Arrow(app.server, "/test_omega2", "omega", label="ω")
+    origin = np.zeros(3)
+    L.set([0.0, 0.0, 1.0], origin)
+    omega.set([0.0, 0.8, 1.0], origin, apart_from=L, screen=(right, up))  # 0.8 m apart, along the line of sight
+    assert (L.label.text, L.label.visible, omega.label.visible) == ("L, ω", True, False)
+    omega.set([0.5, 0.0, 1.0], origin, apart_from=L, screen=(right, up))  # 0.5 m apart across the screen
+    assert (L.label.text, L.label.visible, omega.label.visible) == ("L", True, True)
+    omega.set([0.0, 0.8, 1.0], origin, apart_from=L, screen=(right, up))
+    omega.set([0.0, 0.0, 0.0], origin, apart_from=L, screen=(right, up))  # ω gone: L's label names L alone
+    assert (L.label.text, omega.label.visible) == ("L", False)
+    for arrow in (L, omega):
+        arrow.handle.remove()
         arrow.label.remove()

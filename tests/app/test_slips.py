@@ -54,12 +54,13 @@ def test_free_fall_names_its_centre_of_mass_parabola_apart_from_the_axis_tip_tra
         path = app.server.scene._handle_from_node_name[app.root + "/path"]
         assert tuple(np.asarray(path.colors).reshape(-1, 3)[0]) != draw.COLOURS["trace"]
         assert scene.path_label.text == "centre of mass"
-        # It hangs left of the path's rising leg, farther than the body reaches from its centre.
+        # It hangs right of the launch point, under the rising leg, farther than the body reaches from its centre.
         position = np.asarray(scene.path_label.position)
         tau = np.linspace(0.0, FLIGHT_TIME, 400)
         path = START + VELOCITY * tau[:, None] - 0.5 * G * tau[:, None] ** 2 * np.array([0.0, 0.0, 1.0])
         assert np.min(np.linalg.norm(path - position, axis=1)) > scene.size / 2
-        assert scene.path_label.anchor == "center-right"  # its text reaches away from the path
+        assert position[0] > START[0] and position[2] == START[2]
+        assert scene.path_label.anchor == "center-left"  # its text reaches away from the path, under its rise
 
 
 def test_the_still_explorer_has_no_running_clock():
