@@ -247,8 +247,12 @@ def wait_for(
         pause = min(2 * pause, interval)
 
 
-def open_page(browser: Any, app: Any, timeout: float = 30.0, viewport: dict | None = None) -> tuple[Any, Any]:
-    """Open the app in a new page; returns (page, client) once connected and the canvas exists."""
+def open_page(browser: Any, app: Any, timeout: float = 90.0, viewport: dict | None = None) -> tuple[Any, Any]:
+    """Open the app in a new page; returns (page, client) once connected and the canvas exists.
+
+    A page with a moving body drawn in software (SwiftShader) takes all the CPU it can get, about one and a
+    half cores of two whatever its frame rate or size: a second page, loading beside it while the other
+    test worker runs, has taken more than 30 s to show its canvas in CI. Hence the long ``timeout`` (s)."""
     before = set(app.server.get_clients())
     page = browser.new_page(viewport=viewport or VIEWPORT)
     page.goto(app.url, wait_until="domcontentloaded")

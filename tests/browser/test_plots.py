@@ -107,8 +107,9 @@ def _restarted_and_drawn(page, title: str, change) -> None:
     wait_for(lambda: (c := _chart(page, title)) and c["points"] >= 8, 30, what=f"{title!r} to fill")
     page.evaluate(WATCH, title)
     change()
-    wait_for(lambda: page.evaluate("(t) => window.rblRestarts[t]", title) > 0, 30, what=f"{title!r} to restart")
-    wait_for(lambda: _drawn(page, title), 30, what=f"{title!r} drawn again")
+    # Long waits: the page's main thread is busy drawing in software (see tests.harness.open_page).
+    wait_for(lambda: page.evaluate("(t) => window.rblRestarts[t]", title) > 0, 90, what=f"{title!r} to restart")
+    wait_for(lambda: _drawn(page, title), 90, what=f"{title!r} drawn again")
 
 
 def test_the_racket_and_drift_plots_survive_reset_choices_presets_and_sliders(chromium) -> None:

@@ -41,14 +41,15 @@ def _page_of(pages: list, number: int):
 
 def _open_pages(browser, app, count: int, viewport: dict) -> tuple[list, set]:
     """``count`` pages of the app loading side by side (quicker than one after the other on a loaded
-    machine); the pages and their client ids, once all are connected."""
+    machine); the pages and their client ids, once all are connected. Each page draws in software and takes
+    what CPU it can: seven loading at once on two loaded cores took more than a minute in CI."""
     before = set(app.server.get_clients())
     pages = []
     for _ in range(count):
         page = browser.new_page(viewport=viewport)
         page.goto(app.url, wait_until="commit")
         pages.append(page)
-    wait_for(lambda: len(set(app.server.get_clients()) - before) == count, 60, what=f"{count} pages to connect")
+    wait_for(lambda: len(set(app.server.get_clients()) - before) == count, 180, what=f"{count} pages to connect")
     return pages, set(app.server.get_clients()) - before
 
 
