@@ -105,7 +105,9 @@ def test_refusals_close_by_themselves_and_identical_ones_are_not_stacked(chromiu
             assert earlier["last"] >= later["first"], shown
         # ...and each closed by itself after NOTIFY_SECONDS (the fade takes a little longer; 50 ms polls).
         for record in shown:
-            assert 1000 * NOTIFY_SECONDS - 200 <= record["last"] - record["first"] <= 1000 * NOTIFY_SECONDS + 2000, shown
+            assert 1000 * NOTIFY_SECONDS - 200 <= record["last"] - record["first"] <= 1000 * NOTIFY_SECONDS + 2000, (
+                shown
+            )
         assert "⚠" not in page.inner_text("body")
         app.pause("a numerical failure (test)")  # the scene's own failure: in the status line, for everyone
         wait_for(lambda: "⚠" in page.inner_text("body"), 10, what="the failure in the status line")
