@@ -4,7 +4,10 @@
 - no private name (one leading underscore) imported from another project module;
 - no project module imported inside a function, except in a command-line entry (``__main__``);
 - no module over 600 lines;
-- ``physics/`` never imports ``app/``, viser or anything above it.
+- ``physics/`` never imports ``app/``, viser or anything above it;
+- outside ``app/guards/``, no private part of another object or of viser reached: no ``x._name`` (nor
+  ``getattr(x, "_name")``) on anything but ``self``/``cls``, no import of viser's private modules or names
+  (``app/guards/handles.py`` and its neighbours are the one door; docs/viser-internals.md lists them).
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
 modules) for a closing note.
@@ -161,6 +164,49 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
+_ATTRIBUTE_CALLS = ("getattr", "setattr", "hasattr", "delattr")
+
+
+def private_reaches(source: str) -> list[str]:
+    """Where ``source`` reaches into a private part of another object or of viser: "line: code" each."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        reach = None
+        if isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__"):
+            if not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")):
+                reach = node
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _ATTRIBUTE_CALLS:
+            owner, name = (node.args + [None, None])[:2]
+            private = isinstance(name, ast.Constant) and isinstance(name.value, str) and name.value.startswith("_")
+            if private and not name.value.startswith("__"):  # type: ignore[union-attr]
+                if not (isinstance(owner, ast.Name) and owner.id in ("self", "cls")):
+                    reach = node
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "viser":
+            if any(p.startswith("_") for p in (node.module or "").split(".")) or any(
+                a.name.startswith("_") for a in node.names
+            ):
+                reach = node
+        elif isinstance(node, ast.Import) and any(
+            a.name.split(".")[0] == "viser" and any(p.startswith("_") for p in a.name.split(".")) for a in node.names
+        ):
+            reach = node
+        if reach is not None:
+            found.append(f"{reach.lineno}: {ast.unparse(reach)}")
+    return sorted(set(found), key=lambda line: int(line.split(":")[0]))
+
+
+def viser_reaches_outside_guards() -> dict[str, list[str]]:
+    """Every private reach (:func:`private_reaches`) in app/ outside app/guards/, by file."""
+    out = {}
+    for path in sorted((ROOT / "app").rglob("*.py")):
+        if path.relative_to(ROOT / "app").parts[0] == "guards":
+            continue
+        reaches = private_reaches(path.read_text(encoding="utf-8"))
+        if reaches:
+            out[str(path.relative_to(ROOT))] = reaches
+    return out
+
+
 @functools.cache
 def figures() -> dict[str, object]:
     modules = read_modules()
@@ -186,6 +232,7 @@ def figures() -> dict[str, object]:
         "largest": long[:6],
         "physics_up": physics_up,
         "app_top_level_files": sorted(p.name for p in (ROOT / "app").glob("*.py")),
+        "private_reaches": viser_reaches_outside_guards(),
     }
 
 
@@ -217,6 +264,26 @@ def test_app_has_at_most_8_files_at_its_top() -> None:
     assert len(figures()["app_top_level_files"]) <= 8  # type: ignore[arg-type]
 
 
+def test_no_private_part_of_viser_or_another_object_reached_outside_guards() -> None:
+    assert figures()["private_reaches"] == {}
+
+
+def test_the_checker_sees_each_kind_of_private_reach() -> None:
+    """The rule can fail: each way of reaching into viser's insides is found; our own privates are not."""
+    source = """
+from viser import _messages
+import viser._gui_api
+from viser.infra import _async_message_buffer
+handle._impl.uuid
+getattr(client, "_rbl_view", None)
+setattr(folder, "_rbl_choices", {})
+self._mine
+getattr(self, "_stepper", None)
+obj.__class__
+"""
+    assert [line.split(":")[0] for line in private_reaches(source)] == ["2", "3", "4", "5", "6", "7"]
+
+
 def test_the_checker_sees_a_loop_and_a_private_import(tmp_path: Path) -> None:
     """The rules can fail: two modules that import each other and a private name are found."""
     (tmp_path / "a.py").write_text("from physics.b import _x\n")
@@ -241,6 +308,8 @@ if __name__ == "__main__":
     print(f"largest: {f['largest']}")
     print(f"physics importing above it: {f['physics_up']}")
     print(f"files directly in app/: {len(f['app_top_level_files'])}")  # type: ignore[arg-type]
+    reaches = f["private_reaches"]
+    print(f"private reaches outside app/guards/: {sum(len(v) for v in reaches.values())}")  # type: ignore[attr-defined]
     if "-v" in sys.argv:
         for key in ("back_up", "private", "lazy"):
             print(f"--- {key}")

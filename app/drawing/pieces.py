@@ -181,7 +181,7 @@ class Arrow:
             tip = (ox + vx, oy + vy, oz + vz)
             self.tip = np.array(tip)
             self.length = length
-            if apart_from is not None and apart_from._visible:
+            if apart_from is not None and apart_from.shown:
                 near = LABEL_GAP * max(length, apart_from.length)
                 ax, ay, az = apart_from.tip.tolist()
                 offset = (tip[0] - ax, tip[1] - ay, tip[2] - az)
@@ -206,7 +206,7 @@ class Arrow:
         if visible != self._visible:
             self._visible = self.handle.visible = visible
         if apart_from is not None and screen is not None:
-            apart_from._name(f"{apart_from.text}, {self.text}" if joined else apart_from.text)
+            apart_from.name_label(f"{apart_from.text}, {self.text}" if joined else apart_from.text)
         if self.label is not None:
             shown = visible and not joined
             if self._label_visible != shown:
@@ -220,7 +220,12 @@ class Arrow:
         if self.label is not None and anchor != self._anchor:
             self._anchor = self.label.anchor = anchor
 
-    def _name(self, title: str) -> None:
+    @property
+    def shown(self) -> bool:
+        """Whether the arrow is drawn (a vector too short or not finite is hidden)."""
+        return self._visible
+
+    def name_label(self, title: str) -> None:
         """Let the label say ``title`` (sent only when it changes)."""
         if self.label is not None and title != self._title:
             self._title = self.label.text = title

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import time
+import weakref
 from collections.abc import Callable
 from typing import Any
 
@@ -117,6 +118,10 @@ def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) 
     raise InputRefused(f"{what} cannot be changed from a browser")
 
 
+_GUARDED: weakref.WeakSet[viser.GuiApi] = weakref.WeakSet()
+"""The GUIs :func:`guard_inputs` has guarded (kept here, not on viser's objects; forgotten with them)."""
+
+
 def guard_inputs(
     gui: viser.GuiApi, refuse: Callable[[Any, str], None], permit: Callable[[Any], str | None] | None = None
 ) -> None:
@@ -137,9 +142,9 @@ def guard_inputs(
     nothing.
     """
     guard_uploads(gui, refuse, permit)
-    if getattr(gui, "_rbl_guarded", False):
+    if gui in _GUARDED:
         return  # one check per GUI: a browser's panel and its own simulation share client.gui
-    gui._rbl_guarded = True  # type: ignore[attr-defined]
+    _GUARDED.add(gui)
     interface = gui._websock_interface
     handlers: list[Any] = interface._incoming_handlers[_messages.GuiUpdateMessage]
     original = gui._handle_gui_updates

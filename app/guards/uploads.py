@@ -26,15 +26,19 @@ _started: dict[str, float] = {}  # transfer uuid -> when it was accepted (time.m
 _active: dict[str, tuple[float, str]] = {}  # transfer uuid -> (when it last sent a part, its address)
 
 
+_GUARDED: weakref.WeakSet[viser.GuiApi] = weakref.WeakSet()
+"""The GUIs :func:`guard_uploads` has guarded (kept here, not on viser's objects; forgotten with them)."""
+
+
 def guard_uploads(
     gui: viser.GuiApi, refuse: Callable[[Any, str], None], permit: Callable[[Any], str | None] | None = None
 ) -> None:
     """Check every upload that reaches ``gui`` (a server's or a client's GUI) when it starts, and every
     part it sends; ``refuse`` and ``permit`` are those of :func:`app.guards.inputs.guard_inputs`, which calls this
     (``refuse`` runs on viser's event loop). A GUI is guarded once: later calls do nothing."""
-    if getattr(gui, "_rbl_uploads_guarded", False):
+    if gui in _GUARDED:
         return
-    gui._rbl_uploads_guarded = True  # type: ignore[attr-defined]
+    _GUARDED.add(gui)
     handlers = gui._websock_interface._incoming_handlers
     starts: list[Any] = handlers[_messages.FileTransferStartUpload]
     parts: list[Any] = handlers[_messages.FileTransferPart]

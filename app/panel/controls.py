@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import math
 import unicodedata
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from app.guards.handles import container_of, uuid_of
 from app.guards.wire import send_markdown
 from app.panel.rollback import Rollback
 
@@ -24,6 +26,10 @@ __all__ = [
     "refusable_dropdown",
     "folded",
 ]
+
+_CHOICES: dict[int, dict[str, dict[str, Any]]] = {}
+"""The accepted choice of every refusable dropdown, id(its folder) -> dropdown uuid -> {"value": …}: what a
+refused ParameterPanel.offer of that folder puts back (see :func:`refusable_dropdown`)."""
 
 
 @dataclass(frozen=True)
@@ -110,17 +116,14 @@ class ParameterPanel:
     def _folder(self) -> Any:
         """The container the sliders are in (the scene's folder): what a refused change restores."""
         first = next(iter(self.sliders.values()), None)
-        if first is None:
-            return None
-        gui = first._impl.gui_api
-        return gui._container_handle_from_uuid.get(first._impl.parent_container_id)
+        return None if first is None else container_of(first)
 
     def _accepted(self) -> dict[str, Any]:
         """The values in force of the controls a browser may have changed just now (uuid -> value): the
         sliders' accepted values and the accepted choices of refusable dropdowns."""
-        accepted = {h._impl.uuid: self.values[key] for key, h in self.sliders.items()}
+        accepted = {uuid_of(h): self.values[key] for key, h in self.sliders.items()}
         folder = self._folder()
-        for uuid, value in getattr(folder, "_rbl_choices", {}).items():
+        for uuid, value in _CHOICES.get(id(folder), {}).items():
             accepted[uuid] = value["value"]
         return accepted
 
@@ -359,12 +362,11 @@ def refusable_dropdown(
     accepted = {"value": initial}
     # The accepted choice, for a ParameterPanel.offer of the same folder that is refused while the
     # dropdown already shows the new one (its Rollback puts the accepted one back before re-applying).
-    gui = handle._impl.gui_api
-    folder = gui._container_handle_from_uuid.get(handle._impl.parent_container_id)
+    folder = container_of(handle)
     if folder is not None:
-        if not hasattr(folder, "_rbl_choices"):
-            folder._rbl_choices = {}
-        folder._rbl_choices[handle._impl.uuid] = accepted
+        if id(folder) not in _CHOICES:
+            weakref.finalize(folder, _CHOICES.pop, id(folder), None)  # forgotten with its folder (or the root)
+        _CHOICES.setdefault(id(folder), {})[uuid_of(handle)] = accepted
 
     def on_update(event: Any) -> None:
         value = handle.value

@@ -10,7 +10,8 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from viser import _messages
+
+from app.guards.handles import NO_VALUE, handles_in, is_removed, prop, props_of, show_value, uuid_of, value_of
 
 __all__ = ["Rollback"]
 
@@ -42,7 +43,7 @@ class Rollback:
         self.motion = _call(owner, "snapshot")
         self.clock = (getattr(ctx, "time", None), getattr(ctx, "playing", None))
         self.accepted = accepted
-        self.panel = [(h, _props(h), accepted.get(h._impl.uuid, _value(h))) for h in _handles(folder)]
+        self.panel = [(h, props_of(h), accepted.get(uuid_of(h), value_of(h))) for h in handles_in(folder)]
 
     def changed(self) -> bool:
         """Whether anything taken was changed (a control a browser set just now aside)."""
@@ -53,11 +54,11 @@ class Rollback:
         if (getattr(self.ctx, "time", None), getattr(self.ctx, "playing", None)) != self.clock:
             return True
         for handle, props, value in self.panel:
-            if handle._impl.removed:
+            if is_removed(handle):
                 continue
-            if any(_differs(getattr(handle._impl.props, k), v) for k, v in props.items()):
+            if any(_differs(prop(handle, k), v) for k, v in props.items()):
                 return True
-            if handle._impl.uuid not in self.accepted and _differs(_value(handle), value):
+            if uuid_of(handle) not in self.accepted and _differs(value_of(handle), value):
                 return True
         return False
 
@@ -93,38 +94,13 @@ class Rollback:
     def _panel(self) -> None:
         """Every control and text as taken, without running a control's callbacks."""
         for handle, props, value in self.panel:
-            if handle._impl.removed:
+            if is_removed(handle):
                 continue
             for name, old in props.items():
-                if _differs(getattr(handle._impl.props, name), old):
+                if _differs(prop(handle, name), old):
                     setattr(handle, name, old)  # viser sends the property to every browser
-            if value is not _NO_VALUE and _differs(_value(handle), value):
-                handle._impl.value = value
-                handle._impl.gui_api._websock_interface.queue_message(
-                    _messages.GuiUpdateMessage(handle._impl.uuid, {"value": value})
-                )
-
-
-_NO_VALUE = object()
-
-
-def _handles(container: Any) -> list[Any]:
-    """The GUI handles in a container and in the containers within it."""
-    found: list[Any] = []
-    for child in list(getattr(container, "_children", {}).values()):
-        if getattr(getattr(child, "_impl", None), "props", None) is not None:
-            found.append(child)
-        found.extend(_handles(child))
-    return found
-
-
-def _props(handle: Any) -> dict[str, Any]:
-    return {k: v.copy() if isinstance(v, np.ndarray) else v for k, v in vars(handle._impl.props).items()}
-
-
-def _value(handle: Any) -> Any:
-    impl = handle._impl
-    return _NO_VALUE if getattr(impl, "is_button", False) or not hasattr(impl, "value") else impl.value
+            if value is not NO_VALUE and _differs(value_of(handle), value):
+                show_value(handle, value)
 
 
 def _differs(a: Any, b: Any) -> bool:

@@ -10,6 +10,7 @@ from typing import Any
 
 import viser
 
+from app.guards.handles import uuid_of
 from app.panel import look
 from app.panel.access import keys_markdown
 from app.panel.export_folder import ExportFolder, ExportRun
@@ -81,7 +82,7 @@ class SimulationPanel:
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
-        style.content = look.STYLE + look.PATCH + look.hide_number_box(self.speed_slider._impl.uuid)
+        style.content = look.STYLE + look.PATCH + look.hide_number_box(uuid_of(self.speed_slider))
         with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
             self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from app.guards.handles import scene_nodes
 from app.guards.text import csv_row
 from app.recording.picture import render_png
 from physics.validation import finite_scalar
@@ -110,7 +111,7 @@ def record(sim: Any, out: Path, frames: int, fps: float, progress: Callable[[int
         if progress is not None and k > 0:
             progress(k, frames)
     position, look_at = sim.view  # the whole picture is the scene's: no panel to frame it clear of
-    picture = render_png(sim.server.scene._handle_from_node_name, position, look_at)
+    picture = render_png(scene_nodes(sim.server.scene), position, look_at)
     html = serializer.as_html()
     out.mkdir(parents=True, exist_ok=True)
     paths = Export(out / "index.html", out / f"{scene.name}.csv", out / f"{scene.name}.png", frames + 1)

@@ -15,6 +15,8 @@ import trimesh
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
+from app.guards.handles import is_removed, node_pose, prop, properties
+
 __all__ = ["render_png"]
 
 Floats = NDArray[np.float64]
@@ -40,8 +42,7 @@ def _world_poses(handles: dict[str, Any]) -> Iterator[tuple[Any, Floats, Floats,
     """Every visible node with its world rotation (3, 3), translation (3,) and scale (viser's parents are
     the nodes whose names are prefixes of the name, as in the browser's scene tree)."""
     for name, handle in handles.items():
-        impl = handle._impl
-        if impl.removed:
+        if is_removed(handle):
             continue
         parts = name.strip("/").split("/")
         chain = ["/" + "/".join(parts[: k + 1]) for k in range(len(parts))]
@@ -50,21 +51,22 @@ def _world_poses(handles: dict[str, Any]) -> Iterator[tuple[Any, Floats, Floats,
             node = handles.get(link)
             if node is None:
                 continue
-            if not node._impl.visible:
+            shown, wxyz, position = node_pose(node)
+            if not shown:
                 visible = False
                 break
-            Rl = _rotation(node._impl.wxyz)
-            p = p + R @ np.asarray(node._impl.position, dtype=float)
+            Rl = _rotation(wxyz)
+            p = p + R @ np.asarray(position, dtype=float)
             R = R @ Rl
         if visible:
-            scale = getattr(impl.props, "scale", 1.0)
+            scale = prop(handle, "scale", 1.0)
             yield handle, R, p, float(np.mean(scale)) if np.ndim(scale) else float(scale)
 
 
 def _primitives(handles: dict[str, Any]) -> Iterator[tuple[str, Floats, tuple[int, ...], float]]:
     """(kind, world points, colour, opacity): kind "tri" with (3, 3) points or "seg" with (2, 3) points."""
     for handle, R, p, scale in _world_poses(handles):
-        props = handle._impl.props
+        props = properties(handle)
         kind = type(props).__name__
         if kind in ("MeshProps", "IcosphereProps"):
             if kind == "MeshProps":

@@ -256,7 +256,7 @@ class App:
         snapshot = self.shared.snapshot()
         copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
         copy.restore(snapshot)
-        if self.shared.projector.on:  # the lecture's bar and panels leave with it (app.teaching.broadcast)
+        if self.shared.projector.on:  # the lecture's bar and panels leave with it (app.guards.broadcast)
             copy.projector.give_panel_back()
         if self.questions is not None:  # a question open on the lecture keeps its answer in the copy too
             copy.hold_back(self.questions.holding())

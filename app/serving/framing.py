@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 import time
+import weakref
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -26,6 +28,8 @@ __all__ = [
     "is_mobile",
     "phone_layout",
     "framed",
+    "Framing",
+    "framing_of",
     "show_scene_to",
 ]
 
@@ -179,36 +183,77 @@ def show_scene_to(
     scene's root arrives, which on a loaded machine can come after the framing (and "Reset View" does it too).
     """
     size = (client.camera.image_width, client.camera.image_height)
-    mobile = getattr(client, "_rbl_mobile", None)
-    if mobile is None:
-        mobile = client._rbl_mobile = is_mobile(user_agent(client))
+    before = _FRAMINGS.get(client)
+    mobile = before.mobile if before is not None else is_mobile(user_agent(client))
     eye, target = framed(position, look_at, size[0], size[1], FOV, view, mobile, projector=projector, plot=plot)
-    first = getattr(client, "_rbl_framing", None) is None
     start = first_view(position, look_at, view)[0]  # where viser's client resets to: kept, echoes compare to it
-    client._rbl_framing = (size, eye, position, look_at, time.monotonic(), start)
-    client._rbl_view = view
-    client._rbl_projector = (projector, plot)
+    _FRAMINGS[client] = Framing(size, eye, position, look_at, time.monotonic(), start, view, projector, plot, mobile)
     with client.atomic():
         client.camera.fov = FOV
         client.camera.position = eye
         client.camera.look_at = target
-    if first:
+    if before is None:
         client.camera.on_update(_reframe)
+
+
+@dataclass(frozen=True)
+class Framing:
+    """How a browser's camera was last framed (:func:`show_scene_to`).
+
+    Attributes
+    ----------
+    size : (int, int)
+        The page's view in pixels it was framed for.
+    eye : array (3,)
+        The camera position sent, in m.
+    position, look_at : array-like (3,)
+        The scene's camera and target it was framed from, in m.
+    when : float
+        ``time.monotonic()`` when it was sent.
+    start : array (3,)
+        Where viser's client resets its camera to (the scene's first view).
+    view : (float, float) or None
+        The scene's extent the framing keeps in view.
+    projector, plot : bool
+        Projector mode, and its key plot shown.
+    mobile : bool
+        The browser said it is a phone or a tablet.
+    """
+
+    size: tuple[int, int]
+    eye: Any
+    position: Any
+    look_at: Any
+    when: float
+    start: Any
+    view: tuple[float, float] | None
+    projector: bool
+    plot: bool
+    mobile: bool
+
+
+_FRAMINGS: weakref.WeakKeyDictionary[Any, Framing] = weakref.WeakKeyDictionary()
+"""Each browser's last framing, forgotten with its client handle (nothing of ours is stored on viser's)."""
+
+
+def framing_of(client: Any) -> Framing | None:
+    """How this browser's camera was last framed, or None before the first framing."""
+    return _FRAMINGS.get(client)
 
 
 def _reframe(camera: Any) -> None:
     client = camera.client
-    size, eye, position, look_at, when, start = client._rbl_framing
-    view = getattr(client, "_rbl_view", None)
-    projector, plot = getattr(client, "_rbl_projector", (False, False))
-    if (camera.image_width, camera.image_height) == size:
-        if _near(camera.position, start) and not _near(eye, start):
-            # Reset to the first view: framed for this page again.
-            show_scene_to(client, position, look_at, view, projector=projector, plot=plot)
+    last = _FRAMINGS.get(client)
+    if last is None:
         return
-    if not _near(camera.position, eye) and time.monotonic() - when > FRAMING_GRACE:
+    if (camera.image_width, camera.image_height) == last.size:
+        if _near(camera.position, last.start) and not _near(last.eye, last.start):
+            # Reset to the first view: framed for this page again.
+            show_scene_to(client, last.position, last.look_at, last.view, projector=last.projector, plot=last.plot)
+        return
+    if not _near(camera.position, last.eye) and time.monotonic() - last.when > FRAMING_GRACE:
         return  # the viewer has moved the camera: theirs now
-    show_scene_to(client, position, look_at, view, projector=projector, plot=plot)
+    show_scene_to(client, last.position, last.look_at, last.view, projector=last.projector, plot=last.plot)
 
 
 def _near(echo: Any, eye: Any) -> bool:

@@ -17,6 +17,7 @@ import numpy as np
 import viser
 
 from app.drawing.palette import legend_html, light
+from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
@@ -449,7 +450,7 @@ class Simulation:
         self._folder = self.server.gui.add_folder(cls.title)
         scene = cls(self)
         self._building = scene
-        inputs = self.server.gui._gui_input_handle_from_uuid
+        inputs = gui_inputs(self.server.gui)
         before = set(inputs)
         try:
             with self._folder:
@@ -465,8 +466,8 @@ class Simulation:
             for uuid, h in list(inputs.items())
             if uuid not in before
             and not isinstance(h, (viser.GuiButtonHandle, viser.GuiUploadButtonHandle))
-            and hasattr(h._impl.props, "label")  # a control, not a progress bar
-            and not getattr(h._impl.props, "disabled", False)
+            and prop(h, "label", NO_VALUE) is not NO_VALUE  # a control, not a progress bar
+            and not prop(h, "disabled", False)
         ]
         self.scene = scene
         return scene

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from app.guards.handles import is_removed, properties
 from app.guards.inputs import check_update
 from app.teaching.states import parse_state
 from app.teaching.states import state_text as write_state
@@ -26,7 +27,7 @@ def snapshot(sim: Simulation) -> dict[str, Any]:
         return {
             "scene": sim.scene.name,
             "payload": sim.payload,
-            "controls": [(str(h.label), h.value) for h in sim.scene_inputs if not h._impl.removed],
+            "controls": [(str(h.label), h.value) for h in sim.scene_inputs if not is_removed(h)],
             "motion": sim.scene.snapshot(),
             "time": sim.time,
             "speed": sim.speed,
@@ -75,14 +76,14 @@ def open_state(sim: Simulation, text: str) -> None:
         try:
             if sim.scene is None or sim.scene.name != state["scene"]:
                 sim.switch_scene(state["scene"])
-            inputs = {str(h.label): h for h in sim.scene_inputs if not h._impl.removed}
+            inputs = {str(h.label): h for h in sim.scene_inputs if not is_removed(h)}
             checked = []
             for label, value in state["controls"]:
                 handle = inputs.get(label)
                 if handle is None:
                     raise ValueError(f"this state sets “{label}”, which the scene does not have")
                 checked.append(
-                    (label, check_update(handle.value, handle._impl.props, label, {"value": value})["value"])
+                    (label, check_update(handle.value, properties(handle), label, {"value": value})["value"])
                 )
             given = dict(checked)
             restore(

@@ -12,8 +12,9 @@ from typing import Any
 
 import viser
 
+from app.guards.broadcast import BroadcastView
 from app.guards.inputs import guard_inputs
-from app.teaching.broadcast import BroadcastView
+from app.guards.wire import departed
 from app.teaching.pin_gate import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, PinGate, check_pin, new_pin
 
 __all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "Classroom", "new_pin", "check_pin"]
@@ -102,7 +103,7 @@ class Classroom:
             try:
                 fn(event)
             except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
-                if event.client._websock_connection.get_message_buffer().done:
+                if departed(event.client):
                     self._left(event.client)  # it left while we worked for it: drop what was made
                     return
                 traceback.print_exc()

@@ -18,6 +18,7 @@ from typing import Any
 
 import viser
 
+from app.guards.handles import is_removed
 from app.guards.wire import departed
 from app.panel.teacher_panel import TeacherPanel
 from app.teaching.pin_gate import PinGate
@@ -76,7 +77,7 @@ def parameters(session: Any, count: int = MAIN_PARAMETERS) -> tuple[tuple[str, s
     out: list[tuple[str, str]] = []
     for handle in list(getattr(session, "scene_inputs", ())):
         label = str(handle.label)
-        if label in SKIPPED or handle._impl.removed:
+        if label in SKIPPED or is_removed(handle):
             continue
         out.append((label, _value_text(handle.value)))
         if len(out) == count:

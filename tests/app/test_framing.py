@@ -95,18 +95,18 @@ def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_fir
     scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
     client = _Client(800, 600)
     show_scene_to(client, scene_eye, scene_target)
-    assert client._rbl_framing[0] == (800, 600)
+    assert framing.framing_of(client).size == (800, 600)
     now[0] += 1.0
     client.report(1280, 800, position=(3.0, -3.0, 2.0))  # still easing: not at the eye framed for 800x600
-    size, eye = client._rbl_framing[:2]
+    size, eye = framing.framing_of(client).size, framing.framing_of(client).eye
     assert size == (1280, 800) and np.array_equal(client.camera.position, eye)  # framed for the settled size
     np.testing.assert_allclose(eye, framing.framed(scene_eye, scene_target, 1280, 800, framing.FOV)[0])
     now[0] += FRAMING_GRACE + 1.0
     client.report(1024, 768, position=tuple(np.asarray(eye) + 0.5))  # the viewer orbited, then resized
-    assert client._rbl_framing[0] == (1280, 800)  # theirs now: left alone
+    assert framing.framing_of(client).size == (1280, 800)  # theirs now: left alone
     client.camera.position = eye
     client.report(390, 844)  # unmoved: a new size re-frames it, grace or not
-    assert client._rbl_framing[0] == (390, 844)
+    assert framing.framing_of(client).size == (390, 844)
 
 
 def test_a_page_put_back_on_the_first_view_is_framed_again_for_its_size(monkeypatch):
@@ -129,7 +129,7 @@ def test_a_page_put_back_on_the_first_view_is_framed_again_for_its_size(monkeypa
     now[0] += FRAMING_GRACE + 5.0
     client.report(390, 844, position=tuple(np.float32(start)))  # the page reset itself to the first view
     np.testing.assert_allclose(client.camera.position, phone_eye, rtol=1e-12)
-    assert client._rbl_framing[0] == (390, 844)
+    assert framing.framing_of(client).size == (390, 844)
     moved = tuple(np.asarray(phone_eye) + 0.3)
     client.camera.position = moved
     client.report(390, 844, position=moved)  # an orbit by the viewer: theirs

@@ -16,7 +16,7 @@ from scipy.ndimage import binary_erosion
 
 from app.panel.look import MIN_TEXT_PX
 from app.scenes import scene_names
-from app.serving.framing import free_region
+from app.serving.framing import framing_of, free_region
 from tests.harness import click, control_id, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser
@@ -171,9 +171,9 @@ def _framed(client) -> bool:
     position the page last echoed: the page eases to a new camera and throttles its echoes, so on a
     loaded machine the last echo can be a point on the way (a CI run waited 60 s for one that never came).
     """
-    framing = getattr(client, "_rbl_framing", None)
+    framing = framing_of(client)
     size = (client.camera.image_width, client.camera.image_height)
-    return framing is not None and size != (0, 0) and framing[0] == size
+    return framing is not None and size != (0, 0) and framing.size == size
 
 
 LOOKS = [(w, h, False) for w, h in VIEWS] + [(1280, 800, True)]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.serving.framing import SHEET_FRACTION, SHEET_MARGIN_PX
+from app.serving.framing import SHEET_FRACTION, SHEET_MARGIN_PX, framing_of
 from tests.browser.test_look import CLOSE_NOTIFICATIONS, body_pixels
 from tests.harness import DEVICES, running_app, wait_for
 
@@ -37,7 +37,7 @@ def test_an_iphone_shows_the_body_large_above_the_sheet_and_orbits_by_touch(chro
         client = app.server.get_clients()[next(iter(new))]
         wait_for(lambda: client.camera.image_width > 0, 60, what="the phone's view size")
         # viser's canvas is in device pixels: more than the 576 px of its phone layout, yet a phone's.
-        assert client.camera.image_width > 576 and client._rbl_mobile
+        assert client.camera.image_width > 576 and framing_of(client).mobile
         for name in ("tennis_racket",):  # the smallest body on a phone (16 px tall before); each costs a minute
             mask, _, _ = body_pixels(page, app, name)
             scale = mask.shape[1] / width  # screenshot pixels per CSS px (3)

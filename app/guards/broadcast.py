@@ -1,6 +1,6 @@
 """Who receives the shared simulation: each browser's view of viser's broadcast stream.
 
-More in docs/app-notes.md (``app.teaching.broadcast``).
+More in docs/app-notes.md (``app.guards.broadcast``).
 """
 
 from __future__ import annotations
