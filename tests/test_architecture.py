@@ -7,7 +7,8 @@
 - ``physics/`` never imports ``app/``, viser or anything above it;
 - outside ``app/guards/``, no private part of another object or of viser reached: no ``x._name`` (nor
   ``getattr(x, "_name")``) on anything but ``self``/``cls``, no import of viser's private modules or names
-  (``app/guards/handles.py`` and its neighbours are the one door; docs/viser-internals.md lists them).
+  (``app/guards/handles.py`` and its neighbours are the one door; docs/viser-internals.md lists them);
+- docs/architecture.md names every package of ``app/`` and every module in it, and nothing that is not there.
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
 modules) for a closing note.
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import ast
 import functools
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -282,6 +284,52 @@ getattr(self, "_stepper", None)
 obj.__class__
 """
     assert [line.split(":")[0] for line in private_reaches(source)] == ["2", "3", "4", "5", "6", "7"]
+
+
+def documented_packages(text: str) -> dict[str, set[str]]:
+    """The packages of app/ that docs/architecture.md's "app/ in sub-packages" table names, each with the
+    modules its row names (``name.py``)."""
+    section = text.split("## app/ in sub-packages", 1)[1].split("\n## ", 1)[0]
+    rows = re.findall(r"^\| `(\w+)/` \| (.*) \|$", section, re.M)
+    return {name: set(re.findall(r"`(\w+)\.py`", row)) for name, row in rows}
+
+
+def architecture_drift(text: str, app: Path) -> list[str]:
+    """Where the document ``text`` and the packages under ``app`` disagree (empty when they match): a package
+    named but missing or there but not named, a module named but missing or there but not named (a scene's
+    own module excepted: its row says "one module per scene")."""
+    from app.scenes import scene_names
+
+    named = documented_packages(text)
+    there = {p.name: p for p in app.iterdir() if (p / "__init__.py").exists()}
+    drift = [f"package {n}/ named, not there" for n in sorted(set(named) - set(there))]
+    drift += [f"package {n}/ there, not named" for n in sorted(set(there) - set(named))]
+    for name in sorted(set(named) & set(there)):
+        modules = {p.stem for p in there[name].glob("*.py")} - {"__init__"}
+        unnamed = modules - named[name] - (set(scene_names()) if name == "scenes" else set())
+        drift += [f"{name}/{m}.py named, not there" for m in sorted(named[name] - modules)]
+        drift += [f"{name}/{m}.py there, not named" for m in sorted(unnamed)]
+    return drift
+
+
+def test_the_architecture_document_names_every_package_and_module_and_only_those() -> None:
+    text = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    assert architecture_drift(text, ROOT / "app") == []
+
+
+def test_the_document_check_sees_drift(tmp_path: Path) -> None:
+    """The check can fail: a missing package, an unnamed one, a missing module and an unnamed one."""
+    for package, modules in {"serving": ("app", "clock"), "extra": ("thing",)}.items():
+        (tmp_path / package).mkdir()
+        for m in ("__init__", *modules):
+            (tmp_path / package / f"{m}.py").write_text("")
+    text = "## app/ in sub-packages\n\n| `serving/` | `app.py`, `gone.py` |\n| `ghost/` | `x.py` |\n"
+    assert architecture_drift(text, tmp_path) == [
+        "package ghost/ named, not there",
+        "package extra/ there, not named",
+        "serving/gone.py named, not there",
+        "serving/clock.py there, not named",
+    ]
 
 
 def test_the_checker_sees_a_loop_and_a_private_import(tmp_path: Path) -> None:
