@@ -1,10 +1,12 @@
 """The panel kit a scene is built from (``from app import controls, draw``): sliders, readouts, presets, rollback, drift plot.
 
-Re-exported from :mod:`app.panel` for scenes, in app/ and outside it (examples/05_custom_scene.py).
+Re-exported from :mod:`app.panel` (and :func:`markdown_text`, a user's text escaped for Markdown, from
+:mod:`app.guards.text`) for scenes, in app/ and outside it (examples/05_custom_scene.py).
 """
 
 from __future__ import annotations
 
+from app.guards.text import markdown_text
 from app.panel.controls import (
     Gauge,
     ParameterPanel,
@@ -24,6 +26,7 @@ from app.panel.rollback import (
 )
 
 __all__ = [
+    "markdown_text",
     "SliderSpec",
     "ParameterPanel",
     "Readout",

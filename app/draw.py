@@ -36,6 +36,7 @@ from app.drawing.pieces import (
     Trace,
     add_label,
     faint_sphere,
+    move,
     screen_axes,
 )
 
@@ -58,6 +59,7 @@ __all__ = [
     "cylinder_mesh",
     "LABEL_SCALE",
     "TRACE_CHUNK",
+    "move",
     "add_label",
     "BodyMesh",
     "Arrow",

@@ -8,6 +8,7 @@
 - outside ``app/guards/``, no private part of another object or of viser reached: no ``x._name`` (nor
   ``getattr(x, "_name")``) on anything but ``self``/``cls``, no import of viser's private modules or names
   (``app/guards/handles.py`` and its neighbours are the one door; docs/viser-internals.md lists them);
+- no scene imports ``app.guards`` (it is composed from the kit, ``app.draw`` and ``app.controls``);
 - docs/architecture.md names every package of ``app/`` and every module in it, and nothing that is not there.
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
@@ -235,6 +236,13 @@ def figures() -> dict[str, object]:
         "physics_up": physics_up,
         "app_top_level_files": sorted(p.name for p in (ROOT / "app").glob("*.py")),
         "private_reaches": viser_reaches_outside_guards(),
+        "scenes_on_guards": [
+            f"{m.name} -> {t}"
+            for m in modules.values()
+            if m.name.startswith("app.scenes")
+            for t in m.imports
+            if t.startswith("app.guards")
+        ],
     }
 
 
@@ -268,6 +276,12 @@ def test_app_has_at_most_8_files_at_its_top() -> None:
 
 def test_no_private_part_of_viser_or_another_object_reached_outside_guards() -> None:
     assert figures()["private_reaches"] == {}
+
+
+def test_a_scene_is_composed_from_the_kit_never_from_guards() -> None:
+    """A scene uses ``app.draw`` and ``app.controls`` (``draw.move``, ``controls.markdown_text``), not the
+    guards beneath them."""
+    assert figures()["scenes_on_guards"] == []
 
 
 def test_the_checker_sees_each_kind_of_private_reach() -> None:

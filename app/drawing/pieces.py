@@ -23,6 +23,7 @@ __all__ = [
     "LABEL_SCALE",
     "TRACE_CHUNK",
     "add_label",
+    "move",
     "BodyMesh",
     "Arrow",
     "PrincipalFrame",
@@ -105,6 +106,12 @@ def screen_axes(camera: tuple[ArrayLike, ArrayLike]) -> tuple[NDArray[np.float64
 
 LABEL_SCALE = 1.6
 """Every label in the 3D scene at this multiple of viser's size: readable on a projector from the back."""
+
+
+def move(node: Any, position: NDArray[np.float64] | tuple[float, float, float]) -> None:
+    """Put a scene node (a marker, a label) at ``position`` (3,), in m: sent to the browsers only when it
+    changed, with the frame's other updates."""
+    send_position(node, position)
 
 
 def add_label(server: Any, name: str, text: str, **kwargs: Any) -> Any:

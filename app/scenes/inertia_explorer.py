@@ -13,7 +13,6 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
-from app.guards.text import markdown_text
 from app.recording.columns import vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, listing
@@ -220,7 +219,7 @@ class InertiaExplorer(Scene):
             + tensor_markdown(props.tensor, "Tensor about the centre of mass")
         )
         self.note.content = (
-            f"**{markdown_text(label)}**, {props.mass:.4g} kg; drawn at {scale:.4g}× its size. "
+            f"**{controls.markdown_text(label)}**, {props.mass:.4g} kg; drawn at {scale:.4g}× its size. "
             f"Pivot d = {np.linalg.norm(pivot_offset):.4g} m from the CM: M d² = "
             f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m²."
         )

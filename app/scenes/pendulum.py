@@ -14,7 +14,6 @@ import trimesh
 import viser
 
 from app import controls, draw
-from app.guards.wire import send_position
 from app.panel.look import plot_axes, plot_colour
 from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle
@@ -295,15 +294,15 @@ class Pendulum(Scene):
         self.body.set_pose(R, self.pivot - R @ self.pivot)  # x ↦ pivot + R (x − pivot)
         cm = self.model.center_of_mass_at(theta)
         cop = self.model.center_of_percussion(theta)
-        send_position(self.cm_marker, cm)
-        send_position(self.cm_label, cm + LABEL_OFFSET * SCREEN_RIGHT)
-        send_position(self.cop_marker, cop)
-        send_position(self.cop_label, cop + LABEL_OFFSET * SCREEN_RIGHT)
+        draw.move(self.cm_marker, cm)
+        draw.move(self.cm_label, cm + LABEL_OFFSET * SCREEN_RIGHT)
+        draw.move(self.cop_marker, cop)
+        draw.move(self.cop_label, cop + LABEL_OFFSET * SCREEN_RIGHT)
         down = R @ np.array([0.0, 0.0, -1.0])
         hit = self.pivot + self.params.values["strike"] * down
-        send_position(self.hit_marker, hit)
+        draw.move(self.hit_marker, hit)
         # Left of the bat: on the centre of percussion (the lecture's key step) it is not drawn over its label.
-        send_position(self.hit_label, hit - LABEL_OFFSET * SCREEN_RIGHT)
+        draw.move(self.hit_label, hit - LABEL_OFFSET * SCREEN_RIGHT)
         self.trace.append(cm)  # the legend says "path of the centre of mass": it is
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))

@@ -14,7 +14,6 @@ import viser
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
-from app.guards.wire import send_position
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Answer, Scene, register
@@ -395,7 +394,7 @@ class TennisRacket(Scene):
         self.L_arrow.set(self.L_space * self.L_scale, c)
         self.omega_arrow.set(R @ w * self.omega_scale, c, apart_from=self.L_arrow, screen=self.screen)
         l_hat = self.moments * w / self.L_norm
-        send_position(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
+        draw.move(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
         # The tip of the spin axis traces its flips in space.
         self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
         # ½ ω·L and |L| in the body: constant through every flip.
