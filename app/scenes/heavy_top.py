@@ -408,7 +408,8 @@ class HeavyTopScene(Scene):
         self.gauge.set(
             abs(L3),
             threshold,
-            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: " + _sleeping_words(abs(L3) > threshold, theta),
+            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: "
+            + _sleeping_words(not top.below_sleeping_threshold(L3), theta),
         )
         now = time.monotonic()
         friction = self.values["friction"] > 0.0
