@@ -13,10 +13,8 @@ import time
 from typing import Any
 
 import numpy as np
-import trimesh
 import viser
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
@@ -25,7 +23,7 @@ from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle, threshold_words, tip_path
 from physics import G
-from physics.heavy_top import HeavyTop, friction_stepper
+from physics.heavy_top import HeavyTop, friction_stepper, on_the_table, touch_angle
 from physics.integrators import BlanesMoan6, GravityTorque, advance
 
 LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
@@ -51,48 +49,36 @@ seconds, as the lecture says. With friction a top above the threshold sleeps unt
 then topples the same way; exactly upright it would have nothing to grow from and stand for ever."""
 
 
-def _touch_angle(mesh: trimesh.Trimesh) -> float:
-    """The tilt θ (rad) at which a body standing on its tip at the origin first touches the table z = 0.
-
-    A point at height z on the axis and distance ρ from it reaches the table when ρ sin θ = z cos θ,
-    i.e. at θ = atan2(z, ρ); the body touches at the smallest such angle over its vertices.
-    """
-    v = np.asarray(mesh.vertices, dtype=float)
-    rho, z = np.hypot(v[:, 0], v[:, 1]), v[:, 2]
-    away = rho > 1e-9  # the tip itself, on the axis, is always on the table
-    return float(np.min(np.arctan2(z[away], rho[away])))
-
-
 TOP_MESH = draw.top_mesh(LENGTH)
-TOUCH = _touch_angle(TOP_MESH)
+TOUCH = touch_angle(TOP_MESH.vertices)
 """Tilt at which the drawn top's rim meets the table (61.4°): the friction top comes to rest there."""
 
 
-def _start(values: dict[str, float]) -> tuple[float, float, float, float]:
+def _start(top: HeavyTop, values: dict[str, float]) -> tuple[float, float, float, float]:
     """(θ0, θ̇0, φ̇0, ψ̇0) from the sliders: released at rest in θ with spin ω3 = ψ̇ + φ̇ cos θ; exactly
     upright below the sleeping threshold or with friction, θ0 is :data:`UPRIGHT_NUDGE` instead (see
     :func:`_nudged`)."""
-    theta0 = UPRIGHT_NUDGE if _nudged(values) else math.radians(values["theta0"])
+    theta0 = UPRIGHT_NUDGE if _nudged(top, values) else math.radians(values["theta0"])
     return theta0, 0.0, values["phidot0"], values["spin"] - values["phidot0"] * math.cos(theta0)
 
 
-def _below_threshold(values: dict[str, float]) -> bool:
-    """L₃ = I₃ ω₃ at or below the sleeping threshold 2√(M g ℓ I₁): upright is unstable."""
-    return values["I3"] * abs(values["spin"]) <= 2.0 * math.sqrt(values["mgl"] * values["I1"])
+def _below_threshold(top: HeavyTop, values: dict[str, float]) -> bool:
+    """L₃ = I₃ ω₃ from the sliders at or below the top's sleeping threshold: upright is unstable."""
+    return top.below_sleeping_threshold(values["I3"] * values["spin"])
 
 
-def _nudged(values: dict[str, float]) -> bool:
+def _nudged(top: HeavyTop, values: dict[str, float]) -> bool:
     """True when the sliders ask for the upright equilibrium where it is (or, with friction, will become)
     unstable: θ0 = 0 and L₃ at or below the sleeping threshold, or θ0 = 0 with spin friction."""
-    return values["theta0"] == 0.0 and (_below_threshold(values) or values["friction"] > 0.0)
+    return values["theta0"] == 0.0 and (_below_threshold(top, values) or values["friction"] > 0.0)
 
 
-def _nudge_words(values: dict[str, float]) -> str:
+def _nudge_words(top: HeavyTop, values: dict[str, float]) -> str:
     """The note shown at the top of the panel when the start was nudged (empty otherwise)."""
-    if not _nudged(values):
+    if not _nudged(top, values):
         return ""
     nudge = f"{math.degrees(UPRIGHT_NUDGE):.2g}°"
-    if _below_threshold(values):
+    if _below_threshold(top, values):
         return (
             f"⚠ θ₀ = 0 below the sleeping threshold is an unstable equilibrium: the top starts {nudge} off "
             "the vertical (a tiny perturbation, as any real top has) and topples."
@@ -129,20 +115,6 @@ RENAMED_PRESETS = {
     # Started at its lower turning point, 2 × steady drew small loops (φ̇ fell below 0 near the top).
     "waves (φ̇0 = 2 × steady)": "waves (φ̇0 = ½ × steady)",
 }
-
-
-def _on_the_table(R: np.ndarray, L_body: np.ndarray, landed: bool) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The friction top stands on a table (z = 0): once its rim reaches it (θ ≥ :data:`TOUCH`) it lies
-    there at rest, its axis turned back up to θ = TOUCH about the horizontal line through the tip."""
-    axis = R[:, 2]
-    theta = math.atan2(math.hypot(axis[0], axis[1]), axis[2])
-    if theta < TOUCH and not landed:
-        return R, L_body, False
-    if theta > TOUCH:
-        n = np.cross([0.0, 0.0, 1.0], axis)
-        n /= np.linalg.norm(n)
-        R = Rotation.from_rotvec(-(theta - TOUCH) * n).as_matrix() @ R
-    return R, np.zeros(3), True
 
 
 THETA_BETWEEN = "θ turns between (°)"  # the exact top: its two turning angles
@@ -265,44 +237,41 @@ class HeavyTopScene(Scene):
         self._plot_time = 0.0
         self._y_range: tuple[float, float] | None = None
         self.apply(self.params.values)
+        self.reset()  # the stepping state from the start: ctx.restart() skips reset() while the scene is built
 
     # -- parameters
     def apply(self, values: dict[str, float]) -> None:
         top = HeavyTop(values["I1"], values["I3"], values["mgl"])  # raises for an impossible body
-        start = _start(values)
+        start = _start(top, values)
         if values["friction"] < 0:
             raise ValueError("friction must be zero or positive")
         motion = top.trajectory(*start)  # solved once: a frame only evaluates it
         sol = motion.at(np.zeros(1))
         self.top, self.values, self.start, self.exact, self.motion = top, dict(values), start, sol, motion
-        L0 = sol.attitude[0] @ (np.array([top.I1, top.I1, top.I3]) * sol.omega_body[0])
+        L0 = sol.attitude[0] @ (top.moments * sol.omega_body[0])
         # L and ω reach well past the top's end (LENGTH), so they and their labels stand clear of the body.
         self.L_scale = 1.45 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
         self.omega_scale = 1.25 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = 0.6 * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
-        self.note.content = _nudge_words(values)
+        self.note.content = _nudge_words(top, values)
         self._start_ghost()
-        self.reset()
-        self.ctx.restart()
+        self.ctx.restart()  # t = 0 and reset(): once a change
 
     def _start_ghost(self) -> None:
         """The integrator ghost from the same start, under the same gravity (none with friction: no exact)."""
         top, motion = self.top, self.motion
-        moments = np.array([top.I1, top.I1, top.I3])
+        moments = top.moments
 
         def exact(t: float) -> tuple[np.ndarray, np.ndarray]:
             now = motion.at(t)
             return now.attitude, moments * now.omega_body
 
-        def energy(R: np.ndarray, L_body: np.ndarray) -> float:
-            return 0.5 * float(L_body @ (L_body / moments)) + top.mgl * float(R[2, 2])
-
-        E0 = energy(*exact(0.0))
+        E0 = top.energy(*exact(0.0))
         self.ghost.start(
             moments,
             exact if self.values["friction"] == 0.0 else None,
-            energy,
+            top.energy,
             abs(E0) + top.mgl,
             torque=GravityTorque(top.mgl / (G * ELL), [0.0, 0.0, ELL]),
         )
@@ -312,7 +281,7 @@ class HeavyTopScene(Scene):
         sol = self.exact
         # Stepping state (friction): attitude and body angular momentum about the tip.
         self.R = sol.attitude[0].copy()
-        self.L_body = np.array([self.top.I1, self.top.I1, self.top.I3]) * sol.omega_body[0]
+        self.L_body = self.top.moments * sol.omega_body[0]
         self.landed = False  # the friction top has come to rest on the table
         self._plot_time = 0.0
         self._curve_key = None
@@ -348,11 +317,11 @@ class HeavyTopScene(Scene):
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         top = self.top
-        moments = np.array([top.I1, top.I1, top.I3])
+        moments = top.moments
         landed = self.landed
         if self.values["friction"] > 0.0:
             R, L_body = (self.R, self.L_body) if landed else self._step_friction(dt)
-            R, L_body, landed = _on_the_table(R, L_body, landed)
+            R, L_body, landed = on_the_table(R, L_body, landed, TOUCH)
         else:
             now = self.motion.at(t)
             R, L_body = now.attitude, moments * now.omega_body
@@ -418,10 +387,11 @@ class HeavyTopScene(Scene):
         return f"Heavy top, {shape}: {precessing}, nutating {between} every {amount(sol.nutation_period, 's')}; {spin}."
 
     def _invariants(self, state: dict[str, Any]) -> dict[str, tuple[float, float]]:
-        """E = ½ ω·L + M g ℓ cos θ, L_z and L₃ (with their scales): constant for the exact top."""
+        """E = ½ ω·L + M g ℓ cos θ (:meth:`HeavyTop.energy`), L_z and L₃ (with their scales): constant for
+        the exact top."""
         L_body, L = state["L_body"], state["L"]
         top = self.top
-        energy = 0.5 * float(L_body @ (L_body / np.array([top.I1, top.I1, top.I3]))) + top.mgl * float(state["axis"][2])
+        energy = top.energy(state["R"], L_body)
         size = float(np.linalg.norm(L))
         return {"E": (energy, abs(energy) + top.mgl), "L_z": (float(L[2]), size), "L₃": (float(L_body[2]), size)}
 
@@ -438,7 +408,8 @@ class HeavyTopScene(Scene):
         self.gauge.set(
             abs(L3),
             threshold,
-            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: " + _sleeping_words(abs(L3) > threshold, theta),
+            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: "
+            + _sleeping_words(not top.below_sleeping_threshold(L3), theta),
         )
         now = time.monotonic()
         friction = self.values["friction"] > 0.0
@@ -463,11 +434,8 @@ class HeavyTopScene(Scene):
         if key != self._curve_key:
             self._curve_key = key
             self._U = top.effective_potential(grid, Lz, L3)
-        # Energy per I1: ℰ = θ̇²/2 + U(θ), with θ̇² from |ω⊥|² = θ̇² + sin²θ φ̇² (φ̇ from L_z).
-        w = state["L_body"] / np.array([top.I1, top.I1, top.I3])
-        s = math.sin(theta)
-        phidot_s = (Lz - L3 * math.cos(theta)) / (top.I1 * s) if s > 1e-9 else 0.0
-        thetadot2 = max(float(w[0] ** 2 + w[1] ** 2) - phidot_s**2, 0.0)
+        # Energy per I1: ℰ = θ̇²/2 + U(θ), θ̇² from |ω⊥|² = θ̇² + sin²θ φ̇² (φ̇ from L_z).
+        thetadot2 = top.nutation_rate_squared(theta, Lz, L3, state["L_body"] / top.moments)
         energy = 0.5 * thetadot2 + float(top.effective_potential(np.array([theta]), Lz, L3)[0])
         finite = self._U[np.isfinite(self._U)]
         lo = float(finite.min()) if finite.size else 0.0

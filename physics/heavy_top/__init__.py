@@ -2,7 +2,8 @@
 
 :class:`HeavyTop` is the model (:mod:`.model`); one exact motion is a :class:`HeavyTopTrajectory`
 (:mod:`.trajectory`) built from its constants (:mod:`.motion`, the roots in :mod:`.nutation_cubic`, the
-pole terms in :mod:`.pole_terms`); the stepped runs with spin friction and air drag are in :mod:`.stepped`.
+pole terms in :mod:`.pole_terms`); the stepped runs with spin friction and air drag are in :mod:`.stepped`,
+the table a top on its tip lies on in :mod:`.table`.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from physics.heavy_top.stepped import (
     run_stepper,
     simulate_heavy_body,
 )
+from physics.heavy_top.table import on_the_table, touch_angle
 from physics.heavy_top.trajectory import HeavyTopSolution, HeavyTopTrajectory
 from physics.integrators.torques import TransverseAirDrag
 from physics.validation import MAX_RATE, MAX_STEPS
@@ -39,7 +41,9 @@ __all__ = [
     "friction_stepper",
     "motion_constants",
     "omega_body_from_euler",
+    "on_the_table",
     "run_stepper",
     "simulate_heavy_body",
     "symmetry_axis",
+    "touch_angle",
 ]

@@ -151,6 +151,60 @@ class HeavyTop:
             return float(np.float64(self.I3) / c * math.log(L3 / thr))
 
     # ------------------------------------------------------------------ conserved quantities
+    @property
+    def moments(self) -> NDArray[np.float64]:
+        """The principal moments about the tip, ``[I1, I1, I3]``, kg m², shape (3,) (a new array each time:
+        the caller may scale it in place)."""
+        return np.array([self.I1, self.I1, self.I3])
+
+    def energy(self, R: ArrayLike, L_body: ArrayLike) -> float:
+        """Total energy at an attitude and body angular momentum, J.
+
+        ``E = ½ L·I⁻¹L + M g ℓ cos θ`` with ``cos θ = R₃₃`` (the axis ê₃ = R[:, 2] against +z): the kinetic
+        energy ½ ω·L of the lecture's Euler equations plus ``V = + M g ℓ cos θ`` (docs/conventions.md).
+        Constant along the exact motion (gravity's torque is horizontal and does no work about the tip).
+
+        Parameters
+        ----------
+        R : array_like (3, 3)
+            Body-to-space rotation.
+        L_body : array_like (3,)
+            Angular momentum about the tip in the body frame, kg m²/s.
+
+        Raises
+        ------
+        ValueError
+            If the shapes are not (3, 3) and (3,).
+        """
+        R, L_body = np.asarray(R, dtype=float), np.asarray(L_body, dtype=float)
+        if R.shape != (3, 3) or L_body.shape != (3,):
+            raise ValueError(
+                f"energy needs R of shape (3, 3) and L_body of shape (3,), got {R.shape} and {L_body.shape}"
+            )
+        return 0.5 * float(L_body @ (L_body / self.moments)) + self.mgl * float(R[2, 2])
+
+    def nutation_rate_squared(self, theta: float, Lz: float, L3: float, omega_body: ArrayLike) -> float:
+        """θ̇², 1/s², from the body angular velocity: ``|ω⊥|² = θ̇² + sin²θ φ̇²`` with ``sin θ φ̇ =
+        (Lz − L3 cos θ)/(I1 sin θ)`` (the lecture's Lz), clipped at 0 against round-off. On the vertical
+        (sin θ ≤ 1e-9) the precession term is taken as 0. With :meth:`effective_potential` it gives the energy
+        per I1, ``ℰ = θ̇²/2 + U(θ)``.
+
+        Parameters
+        ----------
+        theta : float
+            Angle of the axis from +z, rad.
+        Lz, L3 : float
+            Angular momentum about +z and about the axis, kg m²/s.
+        omega_body : array_like (3,)
+            Angular velocity in the body frame, rad/s.
+        """
+        w = np.asarray(omega_body, dtype=float)
+        if w.shape != (3,):
+            raise ValueError(f"omega_body must have shape (3,), got {w.shape}")
+        s = math.sin(theta)
+        phidot_s = (Lz - L3 * math.cos(theta)) / (self.I1 * s) if s > 1e-9 else 0.0
+        return max(float(w[0] ** 2 + w[1] ** 2) - phidot_s**2, 0.0)
+
     def angular_momenta(
         self, theta: ArrayLike, phidot: ArrayLike, psidot: ArrayLike
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -246,6 +300,17 @@ class HeavyTop:
         if math.isfinite(product):
             return 2.0 * math.sqrt(product)
         return 2.0 * math.sqrt(self.mgl) * math.sqrt(self.I1)  # mgl I1 overflows where its root does not
+
+    def below_sleeping_threshold(self, L3: float) -> bool:
+        """True when ``|L3|`` is at or below :meth:`sleeping_threshold`: the vertical spin is unstable
+        (U''(0) ≤ 0), a top set upright topples from any small tilt.
+
+        Parameters
+        ----------
+        L3 : float
+            Angular momentum about the symmetry axis, kg m²/s.
+        """
+        return abs(finite_scalar(L3, "L3")) <= self.sleeping_threshold()
 
     def vertical_curvature(self, L3: float) -> float:
         """``U''(0) = L3²/(4 I1²) − M g ℓ / I1`` for a top spinning about the vertical (Lz = L3), 1/s²."""

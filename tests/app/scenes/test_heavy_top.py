@@ -66,6 +66,24 @@ def test_heavy_top_sliders_change_the_model_and_restart(app):
     assert 0.0 < scene.exact.precession_rate < 2.0 / (0.2 * 25.0) * 1.2
 
 
+def test_one_change_resets_the_heavy_top_once(app, monkeypatch):
+    scene = open_scene(app, "heavy_top")
+    for _ in range(5):
+        app.frame(FRAME)
+    resets = []
+    reset = scene.reset
+    monkeypatch.setattr(scene, "reset", lambda: (resets.append(app.time), reset())[1])
+    scene.params.sliders["spin"].value = 12.0  # one slider, as a browser moves it
+    assert resets == [0.0] and scene.exact.L3 == pytest.approx(scene.top.I3 * 12.0, rel=1e-14)
+    assert scene.presets.choose("sleeping top with friction: falls")  # a preset: several sliders, one change
+    assert len(resets) == 2 and scene.values["friction"] == 0.02
+    app.restart()  # the Reset button: one reset too
+    assert len(resets) == 3
+    # And the reset it does is the whole one: the stepping state is the new start's.
+    np.testing.assert_array_equal(scene.L_body, scene.top.moments * scene.exact.omega_body[0])
+    assert not scene.landed
+
+
 def test_heavy_top_presets_reach_cusps_loops_and_waves(app):
     scene = open_scene(app, "heavy_top")
     expected = {"cusps": 0.0, "loops": -1.0, "waves": 0.5}
