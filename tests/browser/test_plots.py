@@ -89,7 +89,10 @@ WATCH = """(title) => {
   window.rblWatch = window.rblWatch || {};
   clearInterval(window.rblWatch[title]);
   window.rblRestarts[title] = 0;
-  let last = null;
+  // The plot as it is now, before the change is made: a loaded page may run the first interval only after
+  // the restarted data has come, which would then be the baseline and the restart never seen.
+  const now = find();
+  let last = now && now.chart.data[0] ? [now.chart.data[0].length, now.chart.data[0].length ? now.chart.data[0][now.chart.data[0].length - 1] : null] : null;
   window.rblWatch[title] = setInterval(() => {
     const v = find();
     if (!v || !v.chart.data[0]) return;
