@@ -9,9 +9,8 @@ import msgspec
 import numpy as np
 from viser import _messages
 
-from app.guards import serialize
+from app.guards import broadcast, serialize
 from app.guards.serialize import serialize_once
-from app.teaching import broadcast
 
 
 def _viser(message, buffers):

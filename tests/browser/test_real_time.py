@@ -70,5 +70,10 @@ def test_the_free_fall_clock_runs_at_one_second_per_second(chromium) -> None:
         assert abs(advanced - (elapsed - stalled)) <= 2 * MAX_FRAME_DT, (advanced, elapsed, stalled)
         # And the page shows that clock: its readout is the simulation's time, behind it only by what the page
         # has not drawn yet (on a loaded machine a few frames; a clock of its own would drift off by seconds).
-        assert shown is not None and 0.0 <= clock.t - shown <= 1.0, (clock.t, shown)
+        # The clock is read just before and just after the page (a busy page answers in up to a second or so,
+        # and the clock read after a slow answer had run on by that long: CI saw 1.16 s).
+        before = clock.t
+        shown = _time_shown(page)
+        after = clock.t
+        assert shown is not None and shown <= after and before - shown <= 1.0, (before, shown, after)
         page.close()
