@@ -109,7 +109,7 @@ def render_png(
     Parameters
     ----------
     handles : dict of str to viser scene-node handle
-        The scene's nodes by name (``server.scene._handle_from_node_name``).
+        The scene's nodes by name (``app.guards.handles.scene_nodes``).
     position, look_at : array_like, shape (3,)
         The camera's position and the point it looks at (m).
     size : (int, int)
