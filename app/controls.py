@@ -1,4 +1,5 @@
-"""The panel kit a scene is built from (``from app import controls, draw``): sliders, readouts, presets, rollback, drift plot.
+"""The panel kit a scene is built from (``from app import controls, draw``): sliders, readouts, presets, rollback,
+drift plot, time plot.
 
 Re-exported from :mod:`app.panel` (and :func:`markdown_text`, a user's text escaped for Markdown, from
 :mod:`app.guards.text`) for scenes, in app/ and outside it (examples/05_custom_scene.py).
@@ -24,6 +25,11 @@ from app.panel.drift import (
 from app.panel.rollback import (
     Rollback,
 )
+from app.panel.time_plot import (
+    TIME_PLOT_EVERY,
+    TIME_PLOT_POINTS,
+    TimePlot,
+)
 
 __all__ = [
     "markdown_text",
@@ -38,4 +44,7 @@ __all__ = [
     "DRIFT_POINTS",
     "DRIFT_FLOOR",
     "InvariantDrift",
+    "TIME_PLOT_EVERY",
+    "TIME_PLOT_POINTS",
+    "TimePlot",
 ]

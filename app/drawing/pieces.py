@@ -157,6 +157,7 @@ class Arrow:
         self._label_visible = True
         self.text = label or quantity  # the label's own text
         self._title = self.text  # what it says now: both arrows' names while another's label joins it
+        self._joined: dict[str, bool] = {}  # the arrows drawn apart from this one: whether each names itself here
 
     def set(
         self,
@@ -213,7 +214,7 @@ class Arrow:
         if visible != self._visible:
             self._visible = self.handle.visible = visible
         if apart_from is not None and screen is not None:
-            apart_from.name_label(f"{apart_from.text}, {self.text}" if joined else apart_from.text)
+            apart_from.join(self.text, joined)
         if self.label is not None:
             shown = visible and not joined
             if self._label_visible != shown:
@@ -231,6 +232,11 @@ class Arrow:
     def shown(self) -> bool:
         """Whether the arrow is drawn (a vector too short or not finite is hidden)."""
         return self._visible
+
+    def join(self, name: str, joined: bool) -> None:
+        """Let this arrow's label name the arrow ``name`` too (``joined``) or not: "L, ω", "L, ω, τ"."""
+        self._joined[name] = joined
+        self.name_label(", ".join([self.text, *(other for other, on in self._joined.items() if on)]))
 
     def name_label(self, title: str) -> None:
         """Let the label say ``title`` (sent only when it changes)."""

@@ -153,9 +153,10 @@ class HeavyTopScene(Scene):
         "Exact solution without friction (the tip is a pivot: the top may swing below it). With friction the "
         "top stands on the table: the spin decays, it falls and comes to rest on its rim."
     )
-    camera = ((1.9, -1.9, 1.45), (0.0, 0.0, 0.45))
-    view = (2.0, 2.1)  # the axis tip's sphere across (its diameter), L and ω above the top
-    key_plot = "plot"  # U(θ) with the energy and θ now: where the axis nutates between its turning points
+    camera = ((1.35, -2.33, 1.45), (0.0, 0.0, 0.45))
+    view = (2.4, 2.1)  # the axis tip's sphere across (its diameter), L and ω above the top
+    reach = (1.1, 0.95, 0.45)  # L's, ω's and τ's drawn lengths at the start (top lengths): in view as they precess
+    key_plot = "nutation.handle"  # θ(t): the nutation between its turning points (U(θ) in the panel shows why)
     # The precession's rate and sense: its readout, the φ̇₀ slider a steady preset sets to it, the words.
     answers = (Answer("precession_rate", readouts=("precession_readout",), hidden=("params.sliders.phidot0",)),)
 
@@ -195,6 +196,8 @@ class HeavyTopScene(Scene):
         self.presets = controls.Presets(self.ctx, self.params, PRESETS, renamed=RENAMED_PRESETS)
         self.trace_length = gui.add_slider("trace length (points)", min=100, max=5000, step=100, initial_value=1500)
         self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
+        self.nutation = controls.TimePlot(self.ctx, "Nutation: θ (°)", [("θ (°)", draw.hex_colour("blue"))])
+        # U(θ) with the energy and θ now: where the axis nutates between its turning points.
         self.plot = gui.add_uplot(
             data=(
                 np.degrees(_theta_grid()),
@@ -250,9 +253,10 @@ class HeavyTopScene(Scene):
         self.top, self.values, self.start, self.exact, self.motion = top, dict(values), start, sol, motion
         L0 = sol.attitude[0] @ (top.moments * sol.omega_body[0])
         # L and ω reach well past the top's end (LENGTH), so they and their labels stand clear of the body.
-        self.L_scale = 1.45 * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
-        self.omega_scale = 1.25 * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
-        self.torque_scale = 0.6 * LENGTH / top.mgl
+        reach_L, reach_omega, reach_torque = type(self).reach
+        self.L_scale = reach_L * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
+        self.omega_scale = reach_omega * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
+        self.torque_scale = reach_torque * LENGTH / top.mgl
         self._curve_key: tuple[float, ...] | None = None
         self.note.content = _nudge_words(top, values)
         self._start_ghost()
@@ -286,6 +290,7 @@ class HeavyTopScene(Scene):
         self._plot_time = 0.0
         self._curve_key = None
         self._y_range = None
+        self.nutation.clear()
 
     def snapshot(self) -> dict[str, Any]:
         # The friction top's stepped state.
@@ -345,8 +350,12 @@ class HeavyTopScene(Scene):
         self.L_arrow.set(state["L"] * self.L_scale)
         self.omega_arrow.set(state["omega"] * self.omega_scale, apart_from=self.L_arrow, screen=self.screen)
         # τ from the stem's end: drawn inside the body (its middle) it was a blob with its label on the body.
-        self.torque_arrow.set(state["torque"] * self.torque_scale, LENGTH * state["axis"])
+        # Where it points at the camera, its tip meets L's on the screen: L's label then names it too.
+        self.torque_arrow.set(
+            state["torque"] * self.torque_scale, LENGTH * state["axis"], apart_from=self.L_arrow, screen=self.screen
+        )
         self.trace.append(LENGTH * state["axis"])
+        self.nutation.sample(self.ctx.time, math.degrees(state["theta"]))
         self._readouts(state)
         self.drift.add(self.ctx.time, lambda: self._invariants(state))
         self.ghost.follow(self.ctx.time, lambda R: (R, (0.0, 0.0, 0.0)))

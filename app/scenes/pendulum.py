@@ -11,10 +11,8 @@ from typing import Any
 
 import numpy as np
 import trimesh
-import viser
 
 from app import controls, draw
-from app.panel.look import plot_axes, plot_colour
 from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle
 from assets import load_mesh, mass_properties
@@ -28,8 +26,6 @@ HANG_HEIGHT = 1.9  # m: where the knob end is when the pivot slider is 0
 AXIS = np.array([1.0, 0.0, 0.0])  # the fixed axis: horizontal, along x
 ARROW_SHOW = 1.5  # s of simulation time the strike's arrows stay after the blow...
 ARROW_SECONDS = 1.2  # ...and at least this long in wall time, however fast the clock runs
-SWING_EVERY = 6  # frames between samples of the swing plot: 10 a second at 60 frames/s
-SWING_POINTS = 240  # samples it keeps: the last 24 s of the swing at 1×
 wall_clock = time.monotonic  # (a test replaces it)
 _FLIP = np.diag([1.0, -1.0, -1.0])  # half turn about x: the body's +z (knob to tip) now points down
 
@@ -166,19 +162,8 @@ class Pendulum(Scene):
         self.drift = controls.InvariantDrift(self.ctx, ("E",), (draw.hex_colour("black"),))
         self.traces.append(self.drift)
         # The swing in time: its period states ℓ (held back with the centre of percussion, as the period is).
-        self.swing_plot = gui.add_uplot(
-            data=(np.zeros(1), np.zeros(1)),
-            series=(
-                viser.uplot.Series(label="t (s)"),
-                viser.uplot.Series(label="θ (°)", stroke=plot_colour(draw.hex_colour("blue"), self.ctx.dark), width=2),
-            ),
-            title="The swing: θ (°)",
-            axes=plot_axes(),
-            scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
-            aspect=1.6,
-        )
-        self._swing_samples: tuple[list[float], list[float]] = ([], [])
-        self._swing_frames = 0
+        self.swing = controls.TimePlot(self.ctx, "The swing: θ (°)", [("θ (°)", draw.hex_colour("blue"))])
+        self.swing_plot = self.swing.handle
         self.last_strike: dict[str, Any] | None = None
         self.apply(self.params.values)
 
@@ -219,8 +204,7 @@ class Pendulum(Scene):
         super().reset()
         self.start = (*self.release, 0.0)  # θ, θ̇ and the time they hold at
         self.last_strike = None
-        self._swing_samples = ([], [])
-        self._swing_frames = 0
+        self.swing.clear()
 
     # -- the strike --------------------------------------------------------------------------------
     def state_at(self, t: float) -> tuple[float, float]:
@@ -274,20 +258,6 @@ class Pendulum(Scene):
             f"percussion is {amount(model.effective_length, 'm')} below the pivot, {strike}."
         )
 
-    def _sample_swing(self, t: float, theta: float) -> None:
-        """Every :data:`SWING_EVERY`-th frame: θ(t) into the swing plot (the last :data:`SWING_POINTS`)."""
-        self._swing_frames += 1
-        if (self._swing_frames - 1) % SWING_EVERY:
-            return
-        times, angles = self._swing_samples
-        if times and t <= times[-1]:
-            return  # a paused frame redrawn: the same sample
-        times.append(float(t))
-        angles.append(math.degrees(theta))
-        del times[:-SWING_POINTS], angles[:-SWING_POINTS]
-        if len(times) >= 2:
-            self.swing_plot.data = (np.array(times), np.array(angles))
-
     def draw(self, state: dict[str, Any]) -> None:
         theta = state["theta"]
         R = self.model.attitude(theta)
@@ -306,7 +276,7 @@ class Pendulum(Scene):
         self.trace.append(cm)  # the legend says "path of the centre of mass": it is
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))
-        self._sample_swing(state["t"], theta)
+        self.swing.sample(state["t"], math.degrees(theta))
         s = self.last_strike
         if (
             s is not None

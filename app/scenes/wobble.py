@@ -57,6 +57,7 @@ class Wobble(Scene):
     view: ClassVar[tuple[float, float] | None] = (2.4, 2.4)  # the body, its cones and L and ω
     centre = np.array([0.0, 0.0, 1.0])  # where the centre of mass sits (m)
     size = 1.0  # largest dimension of the body (m); arrows and cones scale with it
+    reach = 1.1  # L's and ω's drawn lengths, in sizes: they leave the body
 
     def build(self) -> None:
         self.screen = draw.screen_axes(type(self).camera)  # the view L's and ω's labels are kept apart in
@@ -121,10 +122,10 @@ class Wobble(Scene):
         self.model, self.omega0, self.moments = model, omega0, moments
         self.motion = model.trajectory(omega0, self.attitude0)  # solved once: a frame only evaluates it
         self.L_space = self.attitude0 @ L_body
-        self.L_scale = 1.1 * self.size / float(np.linalg.norm(L_body))
+        self.L_scale = self.reach * self.size / float(np.linalg.norm(L_body))
         self._energy_scale = 0.5 * float(omega0 @ L_body)
         self._L_size = float(np.linalg.norm(L_body))
-        self.omega_scale = 1.1 * self.size / float(np.linalg.norm(omega0))
+        self.omega_scale = self.reach * self.size / float(np.linalg.norm(omega0))
         mesh = draw.cylinder_mesh(a, max(h, 0.01 * self.size))
         self.body.set_mesh(mesh)
         self.ghost.start_free(moments, self.motion, mesh)

@@ -152,3 +152,38 @@ def test_no_two_labels_overlap_in_any_scene(name):
             for i in range(len(boxes)):
                 for j in range(i):
                     assert not _overlap(boxes[i], boxes[j]), (name, float(t), labels[i].text, labels[j].text)
+
+
+def shown_arrows(scene) -> list:
+    """Every arrow the scene draws now (kept as attributes, alone or in a list), longer than a hair."""
+    found = []
+    for value in vars(scene).values():
+        for item in value if isinstance(value, list) else [value]:
+            if isinstance(item, draw.Arrow) and item.handle.visible and item.length > 1e-6:
+                found.append(item)
+    return found
+
+
+@pytest.mark.parametrize("name", scene_names())
+def test_every_arrow_and_its_label_stay_in_the_free_view(name):
+    """At 1280×800 with the panel open, through the first 4 s: no vector runs under the panel or off the view."""
+    with running_app(start_loop=False) as app:
+        scene = open_scene(app, name)
+        width, height = 1280, 800
+        eye, target = framed(*scene.camera, width, height, FOV, type(scene).view)
+        left, top, right, bottom = free_region(width, height)
+        for t in np.linspace(0.0, 4.0, 17) if not scene.static else (0.0,):
+            app.set_time(float(t))
+            app.request_redraw()
+            app.frame(0.0)
+            for arrow in shown_arrows(scene):
+                ((x, y),) = project(np.asarray([arrow.tip], dtype=float), eye, target, width, height)
+                assert left - 1 <= x <= right + 1 and top - 1 <= y <= bottom + 1, (
+                    f"{name}, t = {t:.2f}: {arrow.text}'s tip at ({x:.0f}, {y:.0f}) px, free view "
+                    f"{left:.0f}-{right:.0f} × {top:.0f}-{bottom:.0f}"
+                )
+                if arrow.label is not None and arrow.label.visible:
+                    x0, y0, x1, y1 = label_box(arrow.label, eye, target, width, height)
+                    assert x0 >= left - 1 and x1 <= right + 1 and y0 >= top - 1 and y1 <= bottom + 1, (
+                        f"{name}, t = {t:.2f}: {arrow.label.text!r} at {x0:.0f}-{x1:.0f} × {y0:.0f}-{y1:.0f} px"
+                    )

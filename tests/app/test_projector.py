@@ -186,3 +186,26 @@ def test_the_captions_row_steps_the_lecture_runs_the_clock_and_leaves_projector_
         assert app.step_index == 2
         press(LEAVE)
         assert not projector.on and projector.row is None
+
+
+def test_the_heavy_tops_key_plot_is_theta_of_t_between_its_turning_points():
+    """The top's key plot is its nutation θ(t): each sample the exact solution's θ at its time, in degrees, and
+    the samples sweep from one turning point to the other (θ_min, θ_max of the elliptic solution)."""
+    with running_app("heavy_top", projector=True, start_loop=False) as app:
+        scene, projector = app.scene, app.shared.projector
+        assert scene.key_plot_handle() is scene.nutation.handle
+        with app.lock:
+            app.set_playing(True)
+        _frame(app, 240)  # 4 s at 1×: more than one nutation period of the default top
+        times, thetas = scene.nutation.handle.data
+        assert len(times) >= 30 and np.all(np.diff(times) > 0)
+        exact = scene.motion.at(np.asarray(times))
+        np.testing.assert_allclose(thetas, np.degrees(exact.theta), rtol=0, atol=1e-9)
+        period = exact.nutation_period
+        assert times[-1] - times[0] > period, "the plot should span a whole nutation"
+        # Sampled every 0.1 s, the extremes come within a sample's swing of the turning points.
+        step = float(np.max(np.abs(np.diff(thetas))))
+        assert max(thetas) == pytest.approx(math.degrees(exact.theta_max), abs=step)
+        assert min(thetas) == pytest.approx(math.degrees(exact.theta_min), abs=step)
+        for big, own in zip(projector.plot.data, scene.nutation.handle.data, strict=True):
+            np.testing.assert_array_equal(big, own)
