@@ -8,7 +8,10 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+
+if TYPE_CHECKING:
+    from app.panel.controls import ParameterPanel, Presets
 
 __all__ = ["Answer", "Scene", "SceneContext", "register", "REGISTRY"]
 
@@ -111,6 +114,11 @@ class Scene:
     key_plot: ClassVar[str] = ""
     """Attribute path of the scene's key plot (a viser uPlot handle; ``""``: none), shown large in projector
     mode (:mod:`app.panel.projector`): the evidence the class reads, e.g. the racket's ω₁ω₂ω₃."""
+    params: ParameterPanel | None = None
+    """The scene's parameter sliders, each under its stable key (``params.sliders["spin"]``), or None: what
+    a lecture step's ``values`` set, and what names a slider in a state text."""
+    presets: Presets | None = None
+    """Its named presets of those sliders (a lecture step's ``preset``), or None."""
 
     def __init__(self, ctx: SceneContext) -> None:
         self.ctx = ctx
@@ -118,6 +126,15 @@ class Scene:
         self.held: frozenset[str] = frozenset()  # quantities held back while a question about them is open
         self.caption_markdown: Any = None  # the caption in the panel (the simulation sets it)
         self._shown_before: dict[str, bool] = {}  # what a hidden element's visibility was before
+
+    def control_key(self, control: object) -> str:
+        """The name a state text gives one of the scene's controls: a parameter slider's stable key
+        (``"spin"``), which rewording its label does not change; any other control's label."""
+        if self.params is not None:
+            for key, slider in self.params.sliders.items():
+                if slider is control:
+                    return key
+        return str(getattr(control, "label", ""))
 
     def key_plot_handle(self) -> Any:
         """The scene's key plot (:attr:`key_plot`), or None."""

@@ -93,6 +93,7 @@ class InertiaExplorer(Scene):
     title = "Inertia explorer"
     order = 50  # after the frame's scenes: the heavy top stays the first thing a user sees
     quantities = ("body", "axes", "ellipsoid", "pivot")
+    params: controls.ParameterPanel  # made in build()
     caption = (
         "**The inertia tensor.** Pick a body (the shapes weigh 1 kg, the meshes their real mass, "
         f"{min(a.mass for a in ASSETS.values()):.2g} to {max(a.mass for a in ASSETS.values()):.2g} kg) "

@@ -85,6 +85,7 @@ class Pendulum(Scene):
     title = "Physical pendulum & centre of percussion"
     order = 55
     quantities = ("impulse", "reaction", "path", "pivot")
+    params: controls.ParameterPanel  # made in build()
     caption = (
         "**Physical pendulum.** I = I_CM + M a⊥² = M k² about the pivot: it swings like a simple pendulum of "
         "length ℓ = k²/a⊥. **Strike!** (arrow J): the pivot pushes back (arrow 'pivot') unless the blow lands "

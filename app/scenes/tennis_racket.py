@@ -96,6 +96,7 @@ class TennisRacket(Scene):
     title = "Tennis racket: the intermediate axis"
     order = 60
     quantities = ("L", "omega", "trace", "axes", "polhode", "guide", "ghost")
+    params: controls.ParameterPanel  # made in build()
     caption = (
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
         "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like exp(λt), "

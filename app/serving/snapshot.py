@@ -1,6 +1,7 @@
 """A simulation's state, to copy into another simulation or to write as a state text and open again.
 
-A snapshot holds the scene, what it was handed, the values of its controls (by label, in order), its own
+A snapshot holds the scene, what it was handed, the values of its controls (in order, each by its stable
+name: a parameter slider's key, any other control's label; :meth:`app.scenes.base.Scene.control_key`), its own
 motion state (:meth:`app.scenes.base.Scene.snapshot`), the time, the speed and whether the clock runs.
 """
 
@@ -16,7 +17,7 @@ from app.teaching.states import state_text as write_state
 if TYPE_CHECKING:
     from app.serving.simulation import Simulation
 
-__all__ = ["snapshot", "restore", "state_text", "open_state"]
+__all__ = ["snapshot", "restore", "state_text", "open_state", "named_controls"]
 
 
 def snapshot(sim: Simulation) -> dict[str, Any]:
@@ -27,7 +28,7 @@ def snapshot(sim: Simulation) -> dict[str, Any]:
         return {
             "scene": sim.scene.name,
             "payload": sim.payload,
-            "controls": [(str(h.label), h.value) for h in sim.scene_inputs if not is_removed(h)],
+            "controls": [(sim.scene.control_key(h), h.value) for h in sim.scene_inputs if not is_removed(h)],
             "motion": sim.scene.snapshot(),
             "time": sim.time,
             "speed": sim.speed,
@@ -35,8 +36,22 @@ def snapshot(sim: Simulation) -> dict[str, Any]:
         }
 
 
+def named_controls(sim: Simulation) -> dict[str, Any]:
+    """The scene's controls by the names a state text may give them: each one's stable name
+    (:meth:`app.scenes.base.Scene.control_key`) and, for the states written before sliders had keys, a
+    slider's label too."""
+    scene = sim.scene
+    if scene is None:
+        return {}
+    handles = [h for h in sim.scene_inputs if not is_removed(h)]
+    names = {scene.control_key(h): h for h in handles}
+    for h in handles:
+        names.setdefault(str(h.label), h)
+    return names
+
+
 def restore(sim: Simulation, state: dict[str, Any]) -> None:
-    """Put ``sim`` at a state :func:`snapshot` gave (a control whose label differs is left as it is)."""
+    """Put ``sim`` at a state :func:`snapshot` gave (a control the scene does not have is passed over)."""
     with sim.lock:
         if sim.scene is None or sim.scene.name != state["scene"] or state.get("payload") is not None:
             sim.switch_scene(state["scene"], payload=state.get("payload"))
@@ -44,8 +59,10 @@ def restore(sim: Simulation, state: dict[str, Any]) -> None:
         sim.scene.prepare(state["motion"])
         # Twice: a control that re-applies others (a preset) must not override what followed it.
         for _ in range(2):
-            for handle, (label, value) in zip(list(sim.scene_inputs), state["controls"], strict=False):
-                if str(handle.label) == label and handle.value != value:
+            controls = named_controls(sim)
+            for name, value in state["controls"]:
+                handle = controls.get(name)
+                if handle is not None and handle.value != value:
                     handle.value = value  # runs the control's callback: the scene adopts it
         assert sim.scene is not None
         sim.scene.restore(state["motion"])
@@ -76,18 +93,23 @@ def open_state(sim: Simulation, text: str) -> None:
         try:
             if sim.scene is None or sim.scene.name != state["scene"]:
                 sim.switch_scene(state["scene"])
-            inputs = {str(h.label): h for h in sim.scene_inputs if not is_removed(h)}
-            checked = []
-            for label, value in state["controls"]:
-                handle = inputs.get(label)
+            controls = named_controls(sim)
+            given: dict[int, Any] = {}  # by the control's id: a state may name it by key or by label
+            for name, value in state["controls"]:
+                handle = controls.get(name)
                 if handle is None:
-                    raise ValueError(f"this state sets “{label}”, which the scene does not have")
-                checked.append(
-                    (label, check_update(handle.value, properties(handle), label, {"value": value})["value"])
-                )
-            given = dict(checked)
+                    raise ValueError(f"this state sets “{name}”, which the scene does not have")
+                given[id(handle)] = check_update(handle.value, properties(handle), name, {"value": value})["value"]
+            scene = sim.scene
+            assert scene is not None
             restore(
-                sim, {**state, "controls": [(str(h.label), given.get(str(h.label), h.value)) for h in sim.scene_inputs]}
+                sim,
+                {
+                    **state,
+                    "controls": [
+                        (scene.control_key(h), given.get(id(h), h.value)) for h in sim.scene_inputs if not is_removed(h)
+                    ],
+                },
             )
         except Exception:
             if before is not None:

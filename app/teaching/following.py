@@ -150,14 +150,14 @@ def apply_step(sim: Any, step: Step) -> None:
             why = sim.messages[-1][1] if sim.messages else "the scene refused it"
             raise ValueError(f"choices.{label}: {choice!r} was refused: {why}")
     if step.preset is not None:
-        presets = getattr(scene, "presets", None)
+        presets = scene.presets
         names = list(presets.presets) if presets is not None else []
         if presets is None or presets.resolve(step.preset) is None:
             raise ValueError(f"preset: {scene.name} has no preset {step.preset!r}; its presets are {names}")
         if not presets.choose(step.preset):
             raise ValueError(f"preset {step.preset!r} was refused: {presets.panel.last_refusal}")
     if step.values:
-        params = getattr(scene, "params", None)
+        params = scene.params
         if params is None:
             raise ValueError(f"values: {scene.name} has no sliders")
         for key, value in step.values.items():

@@ -44,7 +44,7 @@ def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None =
         )
     state = {
         "scene": snapshot["scene"],
-        "controls": [[label, value] for label, value in snapshot["controls"]],
+        "controls": [[name, value] for name, value in snapshot["controls"]],
         "motion": {key: _plain(value) for key, value in (snapshot.get("motion") or {}).items()},
         "time": float(snapshot["time"]),
         "speed": float(snapshot["speed"]),
@@ -57,7 +57,7 @@ def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None =
 
 
 def parse_state(text: Any, scenes: list[str] | None = None) -> dict[str, Any]:
-    """The state a text describes, checked: keys ``scene``, ``controls`` (list of ``(label, value)``),
+    """The state a text describes, checked: keys ``scene``, ``controls`` (list of ``(name, value)``),
     ``motion`` (dict of number lists), ``time``, ``speed``, ``playing`` and optionally ``camera``.
 
     Parameters
@@ -118,14 +118,14 @@ def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:
     if not isinstance(controls, list) or not all(
         isinstance(c, list) and len(c) == 2 and isinstance(c[0], str) and _value(c[1]) for c in controls
     ):
-        raise ValueError("this state's controls are not (label, value) pairs of numbers, text or on/off")
+        raise ValueError("this state's controls are not (name, value) pairs of numbers, text or on/off")
     motion = state.get("motion", {})
     if not isinstance(motion, dict) or not all(_numbers(v) for v in motion.values()):
         raise ValueError("this state's motion is not lists of finite numbers")
     out: dict[str, Any] = {
         "scene": scene,
         "payload": None,
-        "controls": [(label, tuple(value) if isinstance(value, list) else value) for label, value in controls],
+        "controls": [(name, tuple(value) if isinstance(value, list) else value) for name, value in controls],
         "motion": motion,
     }
     for key, low, high in (("time", -1e12, 1e12), ("speed", 0.0, 1e3)):

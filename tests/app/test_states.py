@@ -125,3 +125,52 @@ def test_the_command_refuses_a_bad_state_before_starting(capsys):
         main(["--state", "not-a-state", "--port", "0"])
     assert info.value.code == 2
     assert "--state: not a Rigid Body Lab state" in capsys.readouterr().err
+
+
+OLD_STATE = (
+    "rbl1:eNptks1Kw0AUhV_lMqsIsaY_SdpuXSkq4raUMk3HZDCZCTNTtZRCbUVxrQ8irlx3LfoOeRLvJKlUMatwz8m535zJnOiICUb6JGH0ejYy"
+    "MicuiaQwSqaa9AcDonMu4OupWK3BUXRyoPeI22w1_KE7IIanBj7fi9USnM0rCh2v4VmBC244TSFXLGJac4kRDx-PpXEbUluPitUd0LGcGjAJA8Nz"
+    "cK5iyDZvpadTe9Y7HnrL9S9Ty5pOIYbi_hmcY0tYhZfwl4pHxiJE4JxBBjvLzxXTzOCRi-ULRImUGtMtNU4BZ6Q8paIRg5SJ2CTg5JILU5bge2XG"
+    "ocxyqhjccJRRY7GiRioMFRKrrerYTkEblgPG1BD-cOiSTFo80p-TC1s5srv7qNWQ1VsYBF4Hn3az2e2F3aZ1BJ1W2A0Drxd0A7_da_-Y_wr_fG_3"
+    "nozGcjLDlfUyt7xWklIxYZNqPFy4eMsZ_iEY4btYKLOSRSR5SmdcxKRv1JQtvgEMC7YG"
+)
+"""A state text the app wrote before its sliders were named by key (by label): the heavy top, spin 12.5 rad/s,
+tilt 40°, at t = 0.75 s."""
+
+
+def test_sliders_are_named_by_their_keys_and_a_state_written_by_labels_still_opens():
+    old = parse_state(OLD_STATE)
+    assert ["spin ω₃ (rad/s)", 12.5] in [list(c) for c in old["controls"]]  # the old text names sliders by label
+    with running_app("heavy_top", start_loop=False) as app:
+        app.open_state(OLD_STATE)
+        assert app.scene.params.values["spin"] == 12.5 and app.scene.params.values["theta0"] == 40.0
+        assert app.time == 0.75
+        written = parse_state(app.state_text())
+        names = [name for name, _ in written["controls"]]
+        assert names[:7] == ["spin", "theta0", "phidot0", "I1", "I3", "mgl", "friction"]
+        assert ("spin", 12.5) in written["controls"]
+
+
+def test_a_state_survives_a_slider_relabelled():
+    """A slider's label is wording; its key is its name: a state saved before the label changed still opens."""
+    with running_app("heavy_top", start_loop=False) as app:
+        assert app.scene.params.offer({"spin": 17.0})
+        text = app.state_text()
+        app.scene.params.sliders["spin"].label = "rate of spin ω₃ (rad/s)"
+        assert app.scene.params.offer({"spin": 3.0})
+        app.open_state(text)
+        assert app.scene.params.values["spin"] == 17.0
+        with pytest.raises(ValueError, match="“no such control”, which the scene does not have"):
+            app.open_state(
+                _pack(
+                    {
+                        "scene": "heavy_top",
+                        "controls": [["no such control", 1.0]],
+                        "motion": {},
+                        "time": 0.0,
+                        "speed": 1.0,
+                        "playing": False,
+                    }
+                )
+            )
+        assert app.scene.params.values["spin"] == 17.0  # refused: the last good state kept
