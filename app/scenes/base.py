@@ -127,6 +127,17 @@ class Scene:
         self.caption_markdown: Any = None  # the caption in the panel (the simulation sets it)
         self._shown_before: dict[str, bool] = {}  # what a hidden element's visibility was before
 
+    def truth(self, quantity: str) -> float:
+        """The true value, in SI units, of one of its :attr:`answers` as the scene stands (a lecture's number
+        question with ``truth = quantity``).
+
+        Raises
+        ------
+        ValueError
+            The scene gives no value for ``quantity``.
+        """
+        raise ValueError(f"{self.name} gives no true value for {quantity!r}")
+
     def control_key(self, control: object) -> str:
         """The name a state text gives one of the scene's controls: a parameter slider's stable key
         (``"spin"``), which rewording its label does not change; any other control's label."""

@@ -280,6 +280,11 @@ class HeavyTopScene(Scene):
             torque=GravityTorque(top.mgl / (G * ELL), [0.0, 0.0, ELL]),
         )
 
+    def truth(self, quantity: str) -> float:
+        if quantity == "precession_rate":  # the mean φ̇ over a nutation from the start (physics.heavy_top)
+            return float(self.top.precession_rate(*self.start))
+        return super().truth(quantity)
+
     def reset(self) -> None:
         super().reset()
         sol = self.exact

@@ -201,6 +201,11 @@ class Pendulum(Scene):
         self.last_strike = None
         self.ctx.restart()
 
+    def truth(self, quantity: str) -> float:
+        if quantity == "centre_of_percussion":  # its depth below the pivot: the effective length k²/a⊥
+            return float(self.model.effective_length)
+        return super().truth(quantity)
+
     def reset(self) -> None:
         super().reset()
         self.start = (*self.release, 0.0)  # θ, θ̇ and the time they hold at

@@ -18,6 +18,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from app.guards.text import csv_row
+from app.scenes.base import Scene
 
 __all__ = [
     "BINS",
@@ -49,19 +50,14 @@ BINS = 10
 """Bars of a number question's histogram (over its range)."""
 
 
-def _precession_rate(scene: Any) -> float:
-    """The heavy top's mean precession rate φ̇ from the step's start, rad/s (physics.heavy_top)."""
-    return float(scene.top.precession_rate(*scene.start))
+def _truth(quantity: str) -> Callable[[Scene], float]:
+    """The scene's own true value of ``quantity`` (:meth:`app.scenes.base.Scene.truth`)."""
+    return lambda scene: scene.truth(quantity)
 
 
-def _centre_of_percussion(scene: Any) -> float:
-    """The pendulum's centre of percussion below the pivot, m: its effective length (physics.pendulum)."""
-    return float(scene.model.effective_length)
-
-
-TRUTHS: dict[str, tuple[str, str, Callable[[Any], float]]] = {
-    "precession_rate": ("heavy_top", "rad/s", _precession_rate),
-    "centre_of_percussion": ("pendulum", "m", _centre_of_percussion),
+TRUTHS: dict[str, tuple[str, str, Callable[[Scene], float]]] = {
+    "precession_rate": ("heavy_top", "rad/s", _truth("precession_rate")),
+    "centre_of_percussion": ("pendulum", "m", _truth("centre_of_percussion")),
 }
 """A number question's true value from the physics API: name -> (scene, unit, value of the scene shown)."""
 
@@ -194,12 +190,12 @@ def _number_ask(text: str, raw: dict[str, Any], scene: str | None) -> Ask:
     return Ask(text, (), None if answer is None else float(answer), unit, (low, high), truth)
 
 
-def true_value(ask: Ask, scene: Any) -> float | None:
+def true_value(ask: Ask, scene: Scene | None) -> float | None:
     """A number question's true value: typed in the step, or computed by the physics API for ``scene``."""
     if ask.truth is None:
         return None if ask.answer is None else float(ask.answer)
     owner, _, value = TRUTHS[ask.truth]
-    if scene is None or getattr(scene, "name", None) != owner:
+    if scene is None or scene.name != owner:
         return None
     return value(scene)
 

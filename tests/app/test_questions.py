@@ -409,3 +409,15 @@ def test_the_chart_says_its_counts_to_a_screen_reader():
     chart = results_html(poll.current)
     assert 'aria-label="2 answers (rad/s) 0.4 to 0.6: 2; the true value is 0.5279 rad/s"' in chart
     assert "left:26.4%" in chart  # the red line at (0.52787 − 0) / 2 of the width
+
+
+def test_a_scene_states_its_own_true_values_and_refuses_a_quantity_it_has_not():
+    """The contract a truth is read through (Scene.truth): the heavy top's mean precession rate is the
+    physics API's for the scene's start, the pendulum's centre of percussion its effective length."""
+    with running_app("heavy_top", start_loop=False) as app:
+        scene = app.scene
+        assert scene.truth("precession_rate") == scene.top.precession_rate(*scene.start)
+        with pytest.raises(ValueError, match="heavy_top gives no true value for 'centre_of_percussion'"):
+            scene.truth("centre_of_percussion")
+        app.switch_scene("pendulum")
+        assert app.scene.truth("centre_of_percussion") == app.scene.model.effective_length
