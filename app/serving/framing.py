@@ -28,6 +28,7 @@ __all__ = [
     "is_mobile",
     "phone_layout",
     "framed",
+    "label_room",
     "Framing",
     "framing_of",
     "show_scene_to",
@@ -50,6 +51,22 @@ SHEET_FRACTION = 0.6
 
 SHEET_MARGIN_PX = 12.0
 """Space kept free above a phone's bottom sheet, px."""
+
+LABEL_ROOM_PX = 22.0
+"""Room kept at the top of the free region for a label's line, CSS px (viser's label text, measured on
+screenshots): the scene is framed below it, so an arrow reaching the top keeps its label on the screen."""
+
+PHONE_CSS_PX = 400.0
+"""About a phone's width in CSS px upright (375 to 430): what a phone's view size in device pixels is divided
+by to estimate its pixel ratio."""
+
+
+def label_room(width: float, height: float, mobile: bool = False) -> float:
+    """:data:`LABEL_ROOM_PX` in the pixels a browser reports its view in: a phone reports device pixels
+    (:func:`phone_layout`), about its width over :data:`PHONE_CSS_PX` to a CSS pixel."""
+    ratio = max(1.0, width / PHONE_CSS_PX) if phone_layout(width, height, mobile) else 1.0
+    return LABEL_ROOM_PX * ratio
+
 
 FILL = 0.75
 """Share of the scene's own view that must stay visible in the free region (its views have margins)."""
@@ -140,6 +157,7 @@ def framed(
     right /= np.linalg.norm(right)
     up = np.cross(right, forward)
     left, top, right_px, bottom = free_region(width, height, mobile, projector=projector, plot=plot)
+    top += label_room(width, height, mobile)  # a label hung above the view's highest tip stays on the screen
     free_w, free_h = right_px - left, bottom - top
     if view is not None:
         # The distance at which the free region just holds view[0] × view[1] metres at the look-at point.

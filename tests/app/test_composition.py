@@ -87,10 +87,11 @@ GLYPH_PX = (11.0, 22.0)
 quad with padding; measured on the browser tests' screenshots, rounded up)."""
 
 
-def label_box(label, eye, target, width, height) -> tuple[float, float, float, float]:
-    """The pixel box a label is drawn in, from its projected position, its anchor and its text's length."""
+def label_box(label, eye, target, width, height, ratio=1.0) -> tuple[float, float, float, float]:
+    """The pixel box a label is drawn in, from its projected position, its anchor and its text's length
+    (``ratio``: device pixels per CSS pixel, where the view's size is in device pixels)."""
     ((x, y),) = project(np.asarray([label.position], dtype=float), eye, target, width, height)
-    w, h = GLYPH_PX[0] * len(label.text), GLYPH_PX[1]
+    w, h = ratio * GLYPH_PX[0] * len(label.text), ratio * GLYPH_PX[1]
     vertical, horizontal = label.anchor.split("-")
     x0 = {"left": x, "center": x - w / 2, "right": x - w}[horizontal]
     y0 = {"top": y, "center": y - h / 2, "bottom": y - h}[vertical]
@@ -164,14 +165,26 @@ def shown_arrows(scene) -> list:
     return found
 
 
+ARROW_VIEWS = {
+    "1280x800": (1280, 800, 1.0),
+    "phone 390x664": (390, 664, 1.0),
+    "iPhone 13, device px": (1170, 1992, 3.0),
+}
+"""(width, height, device pixels per CSS pixel): a phone's browser reports its view in device pixels, while a
+label keeps its size in CSS pixels."""
+
+
 @pytest.mark.parametrize("name", scene_names())
-def test_every_arrow_and_its_label_stay_in_the_free_view(name):
-    """At 1280×800 with the panel open, through the first 4 s: no vector runs under the panel or off the view."""
+@pytest.mark.parametrize("view", ARROW_VIEWS)
+def test_every_arrow_and_its_label_stay_in_the_free_view(name, view):
+    """With the panel open (at 1280×800 beside it, on a phone above its sheet), through the first 4 s: no
+    vector runs under the panel or off the view."""
     with running_app(start_loop=False) as app:
         scene = open_scene(app, name)
-        width, height = 1280, 800
-        eye, target = framed(*scene.camera, width, height, FOV, type(scene).view)
-        left, top, right, bottom = free_region(width, height)
+        width, height, ratio = ARROW_VIEWS[view]
+        mobile = ratio > 1.0
+        eye, target = framed(*scene.camera, width, height, FOV, type(scene).view, mobile)
+        left, top, right, bottom = free_region(width, height, mobile)
         for t in np.linspace(0.0, 4.0, 17) if not scene.static else (0.0,):
             app.set_time(float(t))
             app.request_redraw()
@@ -183,7 +196,7 @@ def test_every_arrow_and_its_label_stay_in_the_free_view(name):
                     f"{left:.0f}-{right:.0f} × {top:.0f}-{bottom:.0f}"
                 )
                 if arrow.label is not None and arrow.label.visible:
-                    x0, y0, x1, y1 = label_box(arrow.label, eye, target, width, height)
+                    x0, y0, x1, y1 = label_box(arrow.label, eye, target, width, height, ratio)
                     assert x0 >= left - 1 and x1 <= right + 1 and y0 >= top - 1 and y1 <= bottom + 1, (
                         f"{name}, t = {t:.2f}: {arrow.label.text!r} at {x0:.0f}-{x1:.0f} × {y0:.0f}-{y1:.0f} px"
                     )

@@ -8,7 +8,16 @@ import math
 import numpy as np
 import pytest
 
-from app.serving.framing import FILL, REFERENCE_ASPECT, SHEET_MARGIN_PX, framed, free_region, is_mobile, phone_layout
+from app.serving.framing import (
+    FILL,
+    LABEL_ROOM_PX,
+    REFERENCE_ASPECT,
+    SHEET_MARGIN_PX,
+    framed,
+    free_region,
+    is_mobile,
+    phone_layout,
+)
 from tests.harness import project
 
 FOV = math.radians(50.0)
@@ -26,6 +35,7 @@ def test_the_look_at_point_is_drawn_at_the_centre_of_the_free_region(width, heig
     eye, target = framed(*SCENE, width, height, FOV)
     x, y = _pixel(np.array(SCENE[1]), eye, target, width, height)
     left, top, right, bottom = free_region(width, height)
+    top += LABEL_ROOM_PX  # the scene is framed below a label's line
     assert x == pytest.approx(0.5 * (left + right), abs=1e-6) and y == pytest.approx(0.5 * (top + bottom), abs=1e-6)
     # The camera looks along the scene's own line of sight, only backed off.
     original = np.subtract(*SCENE[::-1]) / np.linalg.norm(np.subtract(*SCENE[::-1]))
@@ -150,6 +160,7 @@ def test_a_scene_view_just_fills_the_free_region(width, height):
     view = (2.4, 2.1)
     eye, target = framed(*SCENE, width, height, FOV, view)
     left, top, right, bottom = free_region(width, height)
+    top += LABEL_ROOM_PX  # the scene is framed below a label's line
     metres_per_px = 2.0 * math.tan(0.5 * FOV) * np.linalg.norm(eye - target) / height
     shown = ((right - left) * metres_per_px, (bottom - top) * metres_per_px)
     assert shown[0] >= view[0] * (1 - 1e-12) and shown[1] >= view[1] * (1 - 1e-12)
