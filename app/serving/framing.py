@@ -157,7 +157,8 @@ def framed(
     right /= np.linalg.norm(right)
     up = np.cross(right, forward)
     left, top, right_px, bottom = free_region(width, height, mobile, projector=projector, plot=plot)
-    top += label_room(width, height, mobile)  # a label hung above the view's highest tip stays on the screen
+    if not projector or phone_layout(width, height, mobile):  # (projector mode frames below its caption's band)
+        top += label_room(width, height, mobile)  # a label hung above the view's highest tip stays on the screen
     free_w, free_h = right_px - left, bottom - top
     if view is not None:
         # The distance at which the free region just holds view[0] × view[1] metres at the look-at point.

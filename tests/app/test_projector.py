@@ -20,7 +20,7 @@ from app.panel.projector import (
     projector_region,
 )
 from app.scenes import REGISTRY, load_all
-from app.serving.framing import LABEL_ROOM_PX, PANEL_PX, framed, free_region
+from app.serving.framing import PANEL_PX, framed, free_region
 from tests.harness import project, raw_client, running_app, wait_for
 
 FOV = math.radians(50.0)
@@ -45,8 +45,7 @@ def test_the_body_is_framed_below_the_caption_and_beside_the_plot_over_the_panel
     # Without a plot the whole width, the panel's 400 px included; with one, all but the plot's column.
     assert right == (width - PLOT_WIDTH_PX - 2 * MARGIN_PX if plot else width)
     assert free_region(width, height)[2] == width - PANEL_PX  # the panel's 400 px, given back without a plot
-    # The scene's look-at point is drawn at the centre of that region (below a label's line).
-    top += LABEL_ROOM_PX
+    # The scene's look-at point is drawn at the centre of that region.
     load_all()
     scene = REGISTRY["tennis_racket"]
     eye, target = framed(*scene.camera, width, height, FOV, scene.view, projector=True, plot=plot)
