@@ -52,9 +52,9 @@ def _uuid_of(raw: bytes, kind: str, label: str) -> str | None:
     return None
 
 
-async def _one(port: int, k: int, deadline: float, tally: dict[str, int]) -> None:
+async def _one(port: int, k: int, deadline: float, tally: dict[str, int], kinds: tuple[str, ...] = KINDS) -> None:
     """Connection after connection from one hostile client until ``deadline``."""
-    kind = KINDS[k % len(KINDS)]
+    kind = kinds[k % len(kinds)]
     source = f"127.0.2.{k % ADDRESSES + 1}"
     rng = random.Random(k)
     while time.monotonic() < deadline:
@@ -108,7 +108,7 @@ async def _one(port: int, k: int, deadline: float, tally: dict[str, int]) -> Non
         await asyncio.sleep(0.05)
 
 
-def attack(port: int, n: int, seconds: float, out: Any) -> None:
+def attack(port: int, n: int, seconds: float, out: Any, kinds: tuple[str, ...] = KINDS) -> None:
     """In a child process: ``n`` hostile clients for ``seconds``; report what happened to them."""
     from collections import Counter
 
@@ -116,13 +116,13 @@ def attack(port: int, n: int, seconds: float, out: Any) -> None:
 
     async def main() -> None:
         deadline = time.monotonic() + seconds
-        await asyncio.gather(*(_one(port, k, deadline, tally) for k in range(n)))
+        await asyncio.gather(*(_one(port, k, deadline, tally, kinds) for k in range(n)))
 
     asyncio.run(main())
     out.put(dict(tally))
 
 
-def measure(n_hostile: int, n_followers: int, seconds: float) -> dict[str, Any]:
+def measure(n_hostile: int, n_followers: int, seconds: float, kinds: tuple[str, ...] = KINDS) -> dict[str, Any]:
     """One run: the followers' frame rates and the server's memory with ``n_hostile`` hostile clients."""
     with running_app("heavy_top", presenter=True, pin=PIN) as app:
         ctx = mp.get_context("spawn")
@@ -135,13 +135,16 @@ def measure(n_hostile: int, n_followers: int, seconds: float) -> dict[str, Any]:
         deadline = time.monotonic() + 60
         while len(app.server.get_clients()) < n_followers and time.monotonic() < deadline:
             time.sleep(0.05)
-        attackers = ctx.Process(target=attack, args=(app.port, n_hostile, WARMUP + seconds, attack_out), daemon=True)
+        attackers = ctx.Process(
+            target=attack, args=(app.port, n_hostile, WARMUP + seconds, attack_out, kinds), daemon=True
+        )
         attackers.start()
         rss = [resident_mb()]
-        t0 = time.monotonic()
+        t0, cpu0 = time.monotonic(), time.process_time()
         while time.monotonic() - t0 < WARMUP + seconds:
             time.sleep(0.25)
             rss.append(resident_mb())
+        cpu = (time.process_time() - cpu0) / (time.monotonic() - t0)  # the server's process: cores it used
         per_client = follow_out.get(timeout=120)
         rates = [nodes.get(BODY, 0.0) for _, _, nodes, _ in per_client]
         lost = [why for _, _, _, why in per_client]
@@ -160,6 +163,7 @@ def measure(n_hostile: int, n_followers: int, seconds: float) -> dict[str, Any]:
             "gate_closed": app.gate.closed,
             "refused": dict(app.admission.refused),
             "buffer": buffer,
+            "cpu": cpu,
         }
 
 
@@ -188,6 +192,7 @@ def report(result: dict[str, Any], n_hostile: int, n_followers: int, seconds: fl
         f"| messages the gate dropped | {result['dropped_total']} ({dropped}) | |",
         f"| connections the gate closed for offences | {result['gate_closed']} | |",
         f"| connections the caps refused | {result['refused'] or 0} | |",
+        f"| the server's process during the attack (cores of 2) | {result['cpu']:.2f} | |",
         f"| the hostile clients' side | {tally} | |",
         "",
     ]
@@ -199,10 +204,11 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--hostile", type=int, default=300)
     parser.add_argument("--followers", type=int, default=30)
     parser.add_argument("--seconds", type=float, default=20.0)
+    parser.add_argument("--kind", choices=KINDS, action="append", help="only these attacks (default: all four)")
     args = parser.parse_args(argv)
     if not (1 <= args.hostile <= 1000 and 1 <= args.followers <= 200 and 1.0 <= args.seconds <= 300.0):
         parser.error("bounded: 1-1000 hostile, 1-200 followers, 1-300 s")
-    result = measure(args.hostile, args.followers, args.seconds)
+    result = measure(args.hostile, args.followers, args.seconds, tuple(args.kind or KINDS))
     text = report(result, args.hostile, args.followers, args.seconds)
     RESULTS.write_text(text)
     print(text)

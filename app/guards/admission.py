@@ -20,9 +20,9 @@ from typing import Any
 import viser
 
 from app.guards.gate import REFUSED_CODE
-from app.guards.responses import connection_address
+from app.guards.responses import connection_address, hook_requests
 
-__all__ = ["Admission", "Caps", "install_admission"]
+__all__ = ["Admission", "Caps", "QUIET_SECONDS", "install_admission"]
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,11 @@ class Caps:
                 raise ValueError(f"caps: {name} must be a whole number from 1 to 100000, got {value!r}")
 
 
+QUIET_SECONDS = 2.0
+"""After refusing an address (its tabs or its openings over the caps), new websockets from it are answered
+429 before they open for this long: a script that reconnects in a loop costs a parsed request, not a
+connection, and a page that retries gets its refusal's reason at the next full attempt."""
+
 _THIS_MACHINE = frozenset({"127.0.0.1", "::1"})
 """Direct connections from the server's own machine: its operator's, no per-address cap."""
 
@@ -80,6 +85,7 @@ class Admission:
         self._count: Counter[str] = Counter()
         self.refused: Counter[str] = Counter()  # refusals by reason (tests and the benchmark read it)
         self._opens: dict[str, tuple[float, float]] = {}  # address -> (opens it may still make, when)
+        self._quiet: dict[str, float] = {}  # address -> until when it is turned away before its websocket opens
         self._lock = threading.Lock()
 
     def admit(self, client_id: Any, address: str) -> str | None:
@@ -90,8 +96,7 @@ class Admission:
         local = address in _THIS_MACHINE
         now = time.monotonic()
         with self._lock:
-            tokens, then = self._opens.get(address, (float(caps.per_address), now))
-            tokens = min(float(caps.per_address), tokens + caps.opens_per_minute / 60.0 * (now - then))
+            tokens = self._tokens(address, now)
             if len(self._address) >= total:
                 reason, key = f"the server is full ({total} browsers); try again later", "full"
             elif not local and self._count[address] >= mine:
@@ -108,7 +113,39 @@ class Admission:
                 self._count[address] += 1
                 return None
             self.refused[key] += 1
+            if key != "full":  # this address's own excess: turned away cheaply for a while
+                self._quiet[address] = now + QUIET_SECONDS
+                if len(self._quiet) > 10_000:
+                    for old in [a for a, until in self._quiet.items() if until <= now] or list(self._quiet)[:5_000]:
+                        del self._quiet[old]
             return reason
+
+    def _tokens(self, address: str, now: float) -> float:
+        """New connections ``address`` may open now (a bucket of ``per_address``, refilled at
+        ``opens_per_minute``); the caller holds the lock."""
+        caps = self.caps
+        tokens, then = self._opens.get(address, (float(caps.per_address), now))
+        return min(float(caps.per_address), tokens + caps.opens_per_minute / 60.0 * (now - then))
+
+    def turned_away(self, address: str) -> str | None:
+        """Why a websocket from ``address`` is refused before it opens (within :data:`QUIET_SECONDS` of
+        refusing that address, while it is still over its caps), or None: it opens, and :meth:`admit`
+        decides."""
+        if address in _THIS_MACHINE:
+            return None
+        caps = self.caps
+        mine = min(caps.per_address, caps.sessions_per_address) if self._private else caps.per_address
+        now = time.monotonic()
+        with self._lock:
+            until = self._quiet.get(address)
+            if until is None or now >= until:
+                return None
+            if (
+                self._count[address] < mine and self._tokens(address, now) >= 1.0
+            ):  # a tab closed, or time passed: admit() decides
+                return None
+            self.refused["turned away"] += 1
+        return "Refused: too many connections from your address; wait a moment and reload"
 
     def release(self, client_id: Any) -> None:
         """A connection closed (one never admitted: nothing to do)."""
@@ -166,4 +203,5 @@ def install_admission(server: viser.ViserServer, admission: Admission) -> Admiss
 
     websock._client_connect_cb.insert(0, on_connection)
     websock._client_disconnect_cb.insert(0, on_disconnect)
+    hook_requests(server, admission.turned_away)
     return admission

@@ -7,12 +7,14 @@ the request that opened a browser's websocket. Both reach into viser's private s
 from __future__ import annotations
 
 import asyncio
+import http
+import inspect
 from collections.abc import Callable
 from typing import Any
 
 import viser
 
-__all__ = ["connection_address", "hook_responses", "peer_address", "request_headers", "user_agent"]
+__all__ = ["connection_address", "hook_requests", "hook_responses", "peer_address", "request_headers", "user_agent"]
 
 
 def request_headers(server: viser.ViserServer, client_id: int) -> Any:
@@ -59,6 +61,41 @@ def connection_address(connection: Any) -> str:
 def hook_responses(server: viser.ViserServer, respond: Callable[[Any, Any, Any], Any]) -> bool:
     """Set ``respond(connection, request, response) -> response`` as the ``process_response`` of viser's
     websockets server (it sees every HTTP response, the page's included); False if it cannot be found."""
+
+    def install(serving: Any) -> None:
+        serving.process_response = respond
+
+    return _on_serving(server, install, "process_response")
+
+
+def hook_requests(server: viser.ViserServer, turn_away: Callable[[str], str | None]) -> bool:
+    """Before a websocket opens, ask ``turn_away(address)`` (the browser's address, as
+    :func:`connection_address` reads it) and answer 429 with its reason, not a websocket, when it gives one:
+    no upgrade, no handler, no close handshake (an address that keeps reconnecting costs the server a parsed
+    request each time, not a connection). Every other request goes to viser's own handler (its page and
+    files). False if viser's server cannot be found."""
+
+    def install(serving: Any) -> None:
+        original = serving.process_request
+
+        async def process_request(connection: Any, request: Any) -> Any:
+            if str(request.headers.get("Upgrade", "")).lower() == "websocket":
+                reason = turn_away(connection_address(connection))  # (the request is on the connection now)
+                if reason is not None:
+                    return connection.respond(http.HTTPStatus.TOO_MANY_REQUESTS, reason + "\n")
+            if original is None:
+                return None
+            response = original(connection, request)
+            return await response if inspect.isawaitable(response) else response
+
+        serving.process_request = process_request
+
+    return _on_serving(server, install, "process_request")
+
+
+def _on_serving(server: viser.ViserServer, install: Callable[[Any], None], attribute: str) -> bool:
+    """Run ``install(serving)`` on viser's websockets ``Server`` (found among the event loop's tasks, as
+    one with ``attribute``) in its event loop; False if it cannot be found."""
     loop = server._websock_server._background_event_loop
     if loop is None:
         return False
@@ -67,8 +104,8 @@ def hook_responses(server: viser.ViserServer, respond: Callable[[Any, Any, Any],
         for task in asyncio.all_tasks():
             frame = getattr(task.get_coro(), "cr_frame", None)
             serving = frame.f_locals.get("serve_future") if frame is not None else None  # websockets' Server
-            if serving is not None and hasattr(serving, "process_response"):
-                serving.process_response = respond
+            if serving is not None and hasattr(serving, attribute):
+                install(serving)
                 return True
         return False
 

@@ -89,3 +89,32 @@ def test_new_connections_per_address_are_paced_and_this_machine_is_not_capped() 
         with raw_client(app), raw_client(app), raw_client(app):
             assert len(app.server.get_clients()) == 3
         assert app.admission.refused == {"opening": 1}
+
+
+def test_an_address_just_refused_is_turned_away_before_its_websocket_opens_while_it_is_over(monkeypatch) -> None:
+    """A refused address reconnecting in a loop gets HTTP 429 for QUIET_SECONDS (no websocket, no handler, no
+    close handshake), and only while it is still over its caps: a tab closed, its next connection opens."""
+    from websockets.exceptions import InvalidStatus
+
+    monkeypatch.setattr("app.guards.admission.QUIET_SECONDS", 600.0)  # all of the test is within it
+    with running_app(start_loop=False, caps=Caps(per_address=1, opens_per_minute=6000)) as app:
+        with raw_client(app, source="127.0.0.21") as first:
+            assert "at most 1 browser tabs from one address" in _refused(app, "127.0.0.21")  # told why, once
+            for _ in range(3):
+                with pytest.raises(InvalidStatus) as refused:
+                    connect(
+                        f"ws://127.0.0.1:{app.port}",
+                        subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+                        source_address=("127.0.0.21", 0),
+                        open_timeout=30,
+                    )
+                assert refused.value.response.status_code == 429
+                assert b"too many connections from your address" in refused.value.response.body
+            assert app.admission.refused == {"address": 1, "turned away": 3}
+            assert still_connected(first, app=app)
+            with raw_client(app, source="127.0.0.22"):  # another machine is not affected
+                pass
+        wait_for(lambda: not app.server.get_clients(), what="the connection to be gone")
+        # Still within the quiet time, but the address is under its cap again: it is let in.
+        with raw_client(app, source="127.0.0.21"):
+            assert len(app.server.get_clients()) == 1
