@@ -28,6 +28,8 @@ from app.drawing.palette import (
 from app.drawing.pieces import (
     LABEL_SCALE,
     TRACE_CHUNK,
+    TRACE_FADE,
+    VIEW_BACKGROUND,
     Arrow,
     BodyMesh,
     Cone,
@@ -59,6 +61,8 @@ __all__ = [
     "cylinder_mesh",
     "LABEL_SCALE",
     "TRACE_CHUNK",
+    "TRACE_FADE",
+    "VIEW_BACKGROUND",
     "move",
     "add_label",
     "BodyMesh",

@@ -22,6 +22,8 @@ from app.guards.wire import send_orientation, send_points, send_position
 __all__ = [
     "LABEL_SCALE",
     "TRACE_CHUNK",
+    "TRACE_FADE",
+    "VIEW_BACKGROUND",
     "add_label",
     "move",
     "BodyMesh",
@@ -276,6 +278,13 @@ class PrincipalFrame(_Posed):
 TRACE_CHUNK = 32
 """Segments per line-segments node of a :class:`Trace`: a frame rewrites one such node, not the trace."""
 
+TRACE_FADE = (0.0, 0.25, 0.45, 0.62)
+"""How far a trace's chunks are blended toward the background, newest quarter first to oldest quarter: old
+loops recede behind new ones instead of tangling with them (recoloured only when a chunk changes quarter)."""
+
+VIEW_BACKGROUND = {False: (255, 255, 255), True: (20, 20, 20)}
+"""The 3D view's background in the light and dark looks (viser's client: white, or Mantine's dark[9])."""
+
 
 class Trace:
     """A bounded trace of a point, drawn as line segments in chunks so that a frame sends one chunk.
@@ -310,6 +319,7 @@ class Trace:
     ) -> None:
         self._server = server
         self._colour = colour(quantity, dark)  # the dark look's where the light look's would vanish
+        self._background = VIEW_BACKGROUND[dark]
         self._name = name
         self.quantity = quantity
         self._thickness = thickness
@@ -332,6 +342,7 @@ class Trace:
         self._segments = np.zeros((n_chunks, length, 2, 3), dtype=np.float32)
         self._fill = np.zeros(n_chunks, dtype=int)
         self._newest = 0
+        self._fade = [0] * n_chunks  # each chunk's quarter of TRACE_FADE, as last sent
         self._chunks = [
             self._server.scene.add_line_segments(
                 f"{self._name}/{k}",
@@ -385,6 +396,7 @@ class Trace:
         if self._fill[k] == self._segments.shape[1]:
             k = self._newest = (k + 1) % len(self._chunks)  # the oldest chunk becomes the newest
             self._fill[k] = 0
+            self._recolour()
         f = self._fill[k]
         self._segments[k, f, 0] = previous
         self._segments[k, f, 1] = p
@@ -394,6 +406,29 @@ class Trace:
         send_points(chunk, self._segments[k])
         if not chunk.visible:
             chunk.visible = True
+
+    def _recolour(self) -> None:
+        """Give each chunk the colour of its age's quarter (:data:`TRACE_FADE`): sent only where it changed."""
+        n = len(self._chunks)
+        for age in range(n):  # 0: the newest chunk
+            k = (self._newest - age) % n
+            level = min(len(TRACE_FADE) - 1, age * len(TRACE_FADE) // n)
+            if level != self._fade[k]:
+                self._fade[k] = level
+                self._chunks[k].colors = np.broadcast_to(
+                    np.asarray(self.faded(level), dtype=np.uint8), self._segments.shape[1:]
+                ).copy()
+
+    def faded(self, level: int) -> tuple[int, int, int]:
+        """The trace's colour at fade ``level`` (an index of :data:`TRACE_FADE`), RGB 0-255."""
+        f = TRACE_FADE[level]
+        (r, g, b), (br, bg, bb) = self._colour, self._background
+        return (round((1 - f) * r + f * br), round((1 - f) * g + f * bg), round((1 - f) * b + f * bb))
+
+    def chunk_colours(self) -> list[tuple[int, int, int]]:
+        """Each chunk's colour as sent, newest first."""
+        n = len(self._chunks)
+        return [self.faded(self._fade[(self._newest - age) % n]) for age in range(n)]
 
 
 class Cone:

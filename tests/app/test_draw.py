@@ -76,6 +76,32 @@ def test_trace_sends_one_chunk_a_point_not_the_whole_trace(app):
     trace.remove()
 
 
+@pytest.mark.parametrize("dark", [False, True])
+def test_a_trace_fades_toward_the_background_with_age_and_recolours_only_what_changed(app, dark):
+    """Old loops recede: the newest quarter of the chunks in the trace's own colour, each older quarter blended
+    further toward the view's background (TRACE_FADE); a chunk's colours are sent only when its quarter changes."""
+    trace = draw.Trace(app.server, "/test_trace_fade", capacity=300, dark=dark)
+    n = len(trace._chunks)
+    for i in range(40 * draw.TRACE_CHUNK):  # many turns of the ring
+        trace.append([math.cos(i / 30), math.sin(i / 30), 0.0])
+    own, background = np.array(draw.colour("trace", dark)), np.array(draw.VIEW_BACKGROUND[dark])
+    colours = np.array(trace.chunk_colours(), dtype=float)  # newest first
+    assert tuple(colours[0]) == tuple(own)
+    distance = np.linalg.norm(colours - background, axis=1)
+    assert np.all(np.diff(distance) <= 0) and distance[-1] < 0.5 * distance[0]  # older: nearer the background
+    for age, expected in enumerate(trace.chunk_colours()):  # what each node holds is what was computed
+        k = (trace._newest - age) % n
+        assert np.all(np.asarray(trace._chunks[k].colors) == expected)
+    # One more chunk's worth of points turns the ring once: only the chunks whose quarter changed are
+    # recoloured (a colour is sent exactly when a chunk's level changes), not all of them.
+    before = list(trace._fade)
+    for i in range(draw.TRACE_CHUNK):
+        trace.append([2.0 + 0.01 * i, 0.0, 0.0])
+    changed = sum(a != b for a, b in zip(before, trace._fade, strict=True))
+    assert 1 <= changed <= len(draw.TRACE_FADE) < n
+    trace.remove()
+
+
 def test_cone_points_along_its_axis_with_its_half_angle(app):
     cone = draw.Cone(app.server, "/test_cone", "body_cone")
     axis = np.array([0.3, -0.5, -0.8])
