@@ -13,6 +13,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from app.contracts import SceneContext
 from app.drawing.palette import COLOURS, GHOST_OPACITY, hex_colour
 from app.drawing.pieces import BodyMesh
 from app.panel.drift import InvariantDrift
@@ -67,7 +68,7 @@ class IntegratorGhost:
         The body's mesh, in body coordinates.
     """
 
-    def __init__(self, ctx: Any, name: str, mesh: trimesh.Trimesh) -> None:
+    def __init__(self, ctx: SceneContext, name: str, mesh: trimesh.Trimesh) -> None:
         self.ctx = ctx
         gui = ctx.server.gui
         self.body = BodyMesh(ctx.server, name, mesh, colour=COLOURS["ghost"], opacity=GHOST_OPACITY)
@@ -145,7 +146,7 @@ class IntegratorGhost:
         """The method refused the step (or diverged): the ghost goes off, the scene goes on, and the
         browsers are told why; the dropdown says "none" until someone chooses again."""
         name = str(self.choice.value)
-        self.choice.value = "none"  # its callback hides the ghost and its plot
+        self.choice.value = "none"  # type: ignore[misc]  # (viser 1.1.1 types it read-only) its callback hides the ghost
         self._changed()  # also when the callback is not run (the same value set twice)
         self.ctx.notify("Integrator ghost stopped", f"{name}, h = {float(self.step_slider.value):g} s: {exc}")
 

@@ -10,8 +10,9 @@ import unicodedata
 import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
+from app.contracts import SceneContext
 from app.guards.handles import container_of, uuid_of
 from app.guards.wire import send_markdown
 from app.panel.rollback import Rollback
@@ -56,7 +57,7 @@ class ParameterPanel:
         Adopts a candidate set of values; raises ``ValueError`` to refuse it (the message is shown).
     """
 
-    def __init__(self, ctx: Any, specs: list[SliderSpec], apply: Callable[[dict[str, float]], None]) -> None:
+    def __init__(self, ctx: SceneContext, specs: list[SliderSpec], apply: Callable[[dict[str, float]], None]) -> None:
         self.ctx = ctx
         self._apply = apply
         self.values: dict[str, float] = {s.key: float(s.initial) for s in specs}
@@ -200,7 +201,7 @@ class Readout:
     Every number in the panel has four significant digits (``fmt``'s default) and its unit in the label.
     """
 
-    def __init__(self, ctx: Any, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
+    def __init__(self, ctx: SceneContext, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
         self.fmt = fmt
         self.handle = ctx.server.gui.add_text(label, initial_value="—", disabled=True, hint=hint)
         self.value_text = "—"  # the text it states (shown unless held back)
@@ -229,7 +230,7 @@ class Readout:
     def _show(self) -> None:
         text = HELD if self.held else self.value_text
         if self.handle.value != text:
-            self.handle.value = text
+            self.handle.value = text  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
 
 
 class Presets:
@@ -245,7 +246,7 @@ class Presets:
 
     def __init__(
         self,
-        ctx: Any,
+        ctx: SceneContext,
         panel: ParameterPanel,
         presets: dict[str, dict[str, float] | Callable[[dict[str, float]], dict[str, float]]],
         label: str = "Preset",
@@ -273,7 +274,7 @@ class Presets:
         if self.handle.value != name:
             self._choosing = True
             try:
-                self.handle.value = name
+                self.handle.value = name  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
             finally:
                 self._choosing = False
 
@@ -325,18 +326,19 @@ class Gauge:
     """A value against a threshold: a bar filled to ``value / (2 threshold)`` (the threshold at half),
     blue above the threshold and orange below, with a line of text."""
 
-    def __init__(self, ctx: Any, label: str) -> None:
+    def __init__(self, ctx: SceneContext, label: str) -> None:
         self.text = ctx.server.gui.add_markdown(label)
         self.label = label
         self.bar = ctx.server.gui.add_progress_bar(0.0, color="orange")
-        self._fill, self._colour, self._text = 0.0, "orange", ""
+        self._fill, self._text = 0.0, ""
+        self._colour: Literal["blue", "orange"] = "orange"
 
     def set(self, value: float, threshold: float, text: str) -> None:
         fill = 100.0 * min(max(value / (2.0 * threshold), 0.0), 1.0) if threshold > 0 else 0.0
-        colour = "blue" if value > threshold else "orange"  # not green/red: told apart by every eye
+        colour: Literal["blue", "orange"] = "blue" if value > threshold else "orange"  # told apart by every eye
         fill = round(fill, 1)
         if fill != self._fill:  # each part only when it changes: text, bar and colour are set every frame
-            self._fill = self.bar.value = fill
+            self._fill = self.bar.value = fill  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
         if colour != self._colour:
             self._colour = self.bar.color = colour
         if text != self._text:
@@ -345,7 +347,7 @@ class Gauge:
 
 
 def refusable_dropdown(
-    ctx: Any,
+    ctx: SceneContext,
     label: str,
     options: tuple[str, ...],
     initial: str,
@@ -379,7 +381,7 @@ def refusable_dropdown(
             ctx.notify("Refused", text, client=getattr(event, "client", None), error=True)
             ok = False
         if ok is False:
-            handle.value = accepted["value"]
+            handle.value = accepted["value"]  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
         else:
             accepted["value"] = value
 

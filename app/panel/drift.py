@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 import viser
 
+from app.contracts import SceneContext
 from app.panel.look import plot_axes, plot_colour
 
 __all__ = ["DRIFT_EVERY", "DRIFT_POINTS", "DRIFT_FLOOR", "InvariantDrift"]
@@ -36,7 +36,7 @@ class InvariantDrift:
 
     def __init__(
         self,
-        ctx: Any,
+        ctx: SceneContext,
         names: tuple[str, ...],
         colours: tuple[str, ...],
         title: str = "Invariants: log₁₀ relative drift",

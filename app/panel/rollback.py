@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from app.contracts import SceneContext
 from app.guards.handles import NO_VALUE, handles_in, is_removed, prop, props_of, show_value, uuid_of, value_of
 
 __all__ = ["Rollback"]
@@ -37,7 +38,7 @@ class Rollback:
     are put back exactly. The trail drawn so far may be restarted; the state is not.
     """
 
-    def __init__(self, ctx: Any, owner: Any, folder: Any, accepted: dict[str, Any]) -> None:
+    def __init__(self, ctx: SceneContext, owner: Any, folder: Any, accepted: dict[str, Any]) -> None:
         self.ctx, self.owner = ctx, owner
         self.attributes = dict(vars(owner)) if owner is not None else {}
         self.motion = _call(owner, "snapshot")

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 import viser
 
+from app.contracts import SceneContext
 from app.panel.look import plot_axes, plot_colour
 
 __all__ = ["TIME_PLOT_EVERY", "TIME_PLOT_POINTS", "TimePlot"]
@@ -44,7 +44,7 @@ class TimePlot:
 
     def __init__(
         self,
-        ctx: Any,
+        ctx: SceneContext,
         title: str,
         series: Sequence[tuple[str, str]],
         *,

@@ -5,10 +5,11 @@ How to write a scene, with a complete example: docs/architecture.md ("Adding a s
 
 from __future__ import annotations
 
-import threading
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from app.contracts import SceneContext
 
 if TYPE_CHECKING:
     from app.panel.controls import ParameterPanel, Presets
@@ -48,43 +49,6 @@ def _resolve(scene: Any, path: str) -> Any:
         if obj is None:
             return None
     return obj
-
-
-class SceneContext(Protocol):
-    """What a scene may use from its simulation (:class:`app.serving.simulation.Simulation` implements it)."""
-
-    server: Any  # viser.ViserServer
-    root: str
-    lock: threading.RLock
-    dark: bool  # the dark look (plots draw their lines to be read on it)
-
-    @property
-    def time(self) -> float: ...
-
-    @property
-    def playing(self) -> bool: ...
-
-    def guarded(self, fn: Callable[..., Any]) -> Callable[..., Any]: ...
-
-    def notify(self, title: str, body: str, client: Any = None, error: bool = False) -> None: ...
-
-    def restart(self) -> None: ...
-
-    def clear_status(self) -> None: ...
-
-    def request_redraw(self) -> None: ...
-
-    def pause(self, reason: str | None = None) -> None: ...
-
-    def switch_to(self, name: str, payload: Any = None) -> None: ...
-
-    def refusal(self, client_id: Any) -> str | None:
-        """Why this browser may not drive the simulation (presenter mode's followers), or None."""
-        ...
-
-    def set_time(self, t: float) -> None: ...
-
-    def set_playing(self, playing: bool) -> None: ...
 
 
 class Scene:
