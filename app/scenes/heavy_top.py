@@ -154,8 +154,8 @@ class HeavyTopScene(Scene):
         "top stands on the table: the spin decays, it falls and comes to rest on its rim."
     )
     camera = ((1.35, -2.33, 1.45), (0.0, 0.0, 0.45))
-    view = (2.4, 2.1)  # the axis tip's sphere across (its diameter), L and ω above the top
-    reach = (1.1, 0.95, 0.45)  # L's, ω's and τ's drawn lengths at the start (top lengths): in view as they precess
+    view = (2.35, 2.1)  # the axis tip's sphere across (its diameter), L and ω above the top
+    reach = (1.07, 0.95, 0.45)  # L's, ω's and τ's drawn lengths at the start (top lengths): in view as they precess
     key_plot = "nutation.handle"  # θ(t): the nutation between its turning points (U(θ) in the panel shows why)
     # The precession's rate and sense: its readout, the φ̇₀ slider a steady preset sets to it, the words.
     answers = (Answer("precession_rate", readouts=("precession_readout",), hidden=("params.sliders.phidot0",)),)
