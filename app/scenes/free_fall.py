@@ -34,7 +34,7 @@ class FreeFall(Wobble):
         "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ. At 1× it runs in real time: each throw "
         f"rises {RISE:.3g} m and lasts its flight time 2 v₀z/g = {FLIGHT_TIME:.3g} s, then starts again."
     )
-    camera = ((0.4, -3.3, 1.8), (0.0, 0.0, 1.15))
+    camera = ((0.4, -3.3, 1.7), (0.0, 0.0, 1.05))
     view = (2.3, 2.4)  # the whole flight, and the arrows at its top
     size = 0.8
     reach = 0.75  # L and ω leave the body and, at the flight's top, stay in the view
