@@ -51,6 +51,11 @@ PLOT_FONT = f"{MIN_TEXT_PX + 6}px system-ui, -apple-system, 'Segoe UI', sans-ser
 STYLE = f"""<style>
 div.mantine-Paper-root:has(.rbl-projector-caption) [role=tablist],
 div.mantine-Paper-root:has(.rbl-projector-plot) [role=tablist] {{ display: none !important; }}
+div.mantine-Paper-root:has(.rbl-projector-caption) {{
+  max-width: calc(100vw - {3 * MARGIN_PX + SLIM_PX:g}px) !important; }}
+div.mantine-Paper-root:has(.rbl-projector-caption)
+  .mantine-Flex-root:has(> div > p > label[for]):has(> div > .mantine-Flex-root > button:disabled) {{
+  display: none !important; }}
 div.mantine-Paper-root:has(.rbl-projector-caption) :is(p, li, strong, em, code, a) {{
   font-size: {CAPTION_FONT_PX}px !important; line-height: 1.25 !important; }}
 div.mantine-Paper-root:has(.rbl-projector-caption) :is(label, button, button *) {{
@@ -60,17 +65,20 @@ div.mantine-Paper-root:has(.rbl-projector-plot) .u-legend, div.mantine-Paper-roo
   font-size: {MIN_TEXT_PX + 6}px !important; }}
 </style>"""
 """The caption's text and the plot's title and legend at projector size, their panels' one-tab headers
-hidden. Scoped to the floating panel that holds the marker (``:has``), so the control panel keeps its own
+hidden; the caption's panel no wider than the view left of the slim bar (it is placed for 1280 px: on a
+1024 px projector it hid the bar and its row's last button was cut off at the right edge), and its row of buttons hidden where they are disabled (a
+follower's page: the presenter drives the lecture, greyed buttons were clutter over the view). Scoped to the floating panel that holds the marker (``:has``), so the control panel keeps its own
 sizes; ``div`` makes it outrank :data:`app.panel.look.STYLE`'s 14 px rules."""
 
 
 def projector_region(width: float, height: float, plot: bool) -> tuple[float, float, float, float]:
     """The part of a ``width`` × ``height`` px view that projector mode leaves free for the body: (left, top,
     right, bottom), px. Below the caption's panel; left of the key plot's panel when the scene has one
-    (``plot``), otherwise the whole width (the slim bar sits in the caption's band)."""
+    (``plot``), otherwise the whole width (the slim bar sits in the caption's band). At least 35 % of the
+    width: a 1024 px view keeps its 440 px left of the plot (half of it put the racket's handle under it)."""
     top = min(2.0 * MARGIN_PX + CAPTION_HEIGHT_PX, 0.4 * height)
     right = width - (PLOT_WIDTH_PX + 2.0 * MARGIN_PX) if plot else width
-    return (0.0, top, max(right, 0.5 * width), height)
+    return (0.0, top, max(right, 0.35 * width), height)
 
 
 def _large_axes(axes: Any) -> tuple[Any, ...]:

@@ -4,7 +4,9 @@ caption at 28 px or more and on top of the 3D view (what the page draws at its c
 at least 40 % of the view's width, the body (a screenshot with it and one without) spanning a third of the
 view's height and clear of the bar, the caption and the plot; with the racket's question open the caption
 holds the question, not its answer, until the reveal; a follower exploring on their own leaves it and comes
-back to it; the clicker's Page Down steps the lecture; the caption's Leave button gives the panel back."""
+back to it; the clicker's Page Down steps the lecture; the caption's Leave button gives the panel back.
+The caption's row of buttons is drawn on the presenter's page only, and at a 1024×768 projector the caption
+stays clear of the bar, the presenter's row in the view and the body clear of every panel."""
 
 from __future__ import annotations
 
@@ -45,6 +47,14 @@ PLOT = """() => { const mark = document.querySelector('.rbl-projector-plot');
     const r = canvas.getBoundingClientRect();
     return {width: r.width, height: r.height, box: [box.left, box.top, box.right, box.bottom]}; }"""
 """The projector's key plot: its drawn canvas's size and its panel's box, CSS px."""
+
+ROW = """() => { const mark = document.querySelector('.rbl-projector-caption');
+    if (!mark) return null;
+    const buttons = [...mark.closest('.mantine-Paper-root').querySelectorAll('button')]
+        .filter(b => b.getClientRects().length > 0);
+    return buttons.map(b => { const r = b.getBoundingClientRect();
+        return {name: b.innerText.trim(), disabled: b.disabled, box: [r.left, r.top, r.right, r.bottom]}; }); }"""
+"""The caption's row of buttons as drawn (a button hidden by CSS has no box): name, disabled, box in CSS px."""
 
 
 def _under(xs: np.ndarray, ys: np.ndarray, box: list[float]) -> int:
@@ -106,6 +116,33 @@ def test_the_presenters_switch_puts_every_follower_in_projector_mode_with_the_an
         assert span >= 1 / 3, f"the body spans {span:.2f} of the view's height"
         for name, box in (("the slim bar", bar), ("the caption", caption["box"]), ("the plot", plot["box"])):
             assert _under(xs, ys, box) == 0, f"{_under(xs, ys, box)} body pixels under {name}"
+
+        # The caption's row: the presenter's buttons shown; a follower's, which cannot drive, not drawn at all.
+        wait_for(lambda: "Next" in [b["name"] for b in lecturer.evaluate(ROW) or []], 30, what="the lecturer's row")
+        assert follower.evaluate(ROW) == [], f"a follower's page draws {follower.evaluate(ROW)}"
+
+        # A 1024×768 projector: the caption clear of the bar and in the view, the presenter's whole row in it,
+        # the body clear of every panel.
+        narrow = {"width": 1024, "height": 768}
+        for page in (lecturer, follower):
+            page.set_viewport_size(narrow)
+        wait_for(lambda: follower.evaluate(CAPTION)["box"][2] <= narrow["width"], 30, what="the narrow caption")
+        caption, plot = follower.evaluate(CAPTION), follower.evaluate(PLOT)
+        bar = follower.evaluate(MAIN_PANEL)
+        assert caption["box"][2] <= bar[0], f"the caption {caption['box']} over the slim bar {bar}"
+        assert caption["onTop"], "the caption's first line is covered at 1024 px"
+        panel = lecturer.evaluate(CAPTION)["box"]
+        for button in wait_for(lambda: lecturer.evaluate(ROW), 30, what="the lecturer's row at 1024 px"):
+            left, top, right, bottom = button["box"]
+            assert 0 <= left and right <= narrow["width"], f"{button['name']} at x {left:.0f}-{right:.0f}"
+            assert bottom <= panel[3], f"{button['name']} at y {top:.0f}-{bottom:.0f}, below the caption's panel"
+        mask, _, _ = body_pixels(follower, app)
+        ys, xs = np.nonzero(mask)
+        assert len(xs) > 300, "no body in the follower's view at 1024 px"
+        for name, box in (("the slim bar", bar), ("the caption", caption["box"]), ("the plot", plot["box"])):
+            assert _under(xs, ys, box) == 0, f"{_under(xs, ys, box)} body pixels under {name} at 1024 px"
+        for page in (lecturer, follower):
+            page.set_viewport_size(viewport)
 
         # The reveal: the answer comes back in the large caption too.
         app.questions.reveal(None)
