@@ -3,7 +3,8 @@ device pixel ratio 3, touch, a mobile user agent). viser reports its canvas in d
 that looked fine at a plain 390 px viewport framed the body for a 780 px desktop and hid it behind the panel.
 
 Measured in the page's pixels: the body (a screenshot with it and one without) lies in the view above the
-panel's sheet, at least a quarter of that view's height, cut off nowhere; a touch drag orbits the camera."""
+panel's sheet, at least a quarter of that view's height, cut off nowhere; a touch drag orbits the camera and
+a tap on a slider's track sets the parameter where the finger is."""
 
 from __future__ import annotations
 
@@ -15,11 +16,17 @@ from PIL import Image
 
 from app.serving.framing import SHEET_FRACTION, SHEET_MARGIN_PX, framing_of
 from tests.browser.test_look import CLOSE_NOTIFICATIONS, body_pixels
-from tests.harness import DEVICES, running_app, wait_for
+from tests.harness import DEVICES, control_id, running_app, wait_for
 
 pytestmark = pytest.mark.browser
 
 PHONE = "iPhone 13"
+SLIDER_TRACK = """(id) => { const root = document.getElementById(id);
+    const track = root && root.querySelector('.mantine-Slider-track');
+    if (!track) return null;
+    track.scrollIntoView({block: 'center'});
+    const r = track.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; }"""
+"""The box of a slider's track (viser's slider root has the control's id), scrolled into the sheet's view."""
 
 
 def test_an_iphone_shows_the_body_large_above_the_sheet_and_orbits_by_touch(chromium):
@@ -69,4 +76,23 @@ def test_an_iphone_shows_the_body_large_above_the_sheet_and_orbits_by_touch(chro
             lambda: np.linalg.norm(np.array(client.camera.position) - start) > 0.05, 30, what="the camera to orbit"
         )
         assert moved
+
+        # A tap on a parameter slider's track in the sheet sets it there, as a finger does.
+        key, slider = next(iter(app.scene.params.sliders.items()))
+        low, high = float(slider.min), float(slider.max)
+        before_value = app.scene.params.values[key]
+        track = page.evaluate(SLIDER_TRACK, control_id(page, slider.label))
+        assert track is not None, f"no track for the slider {slider.label!r} on the phone"
+        left, top, right, bottom = track
+        aim = 0.8  # of the track's length from its start
+        tap = {"x": left + aim * (right - left), "y": 0.5 * (top + bottom)}
+        session.send("Input.dispatchTouchEvent", {"type": "touchStart", "touchPoints": [tap]})
+        session.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
+        target = low + aim * (high - low)
+        assert abs(before_value - target) > 0.05 * (high - low), "the slider already stands where the tap aims"
+        wait_for(
+            lambda: abs(app.scene.params.values[key] - target) <= 0.05 * (high - low),
+            30,
+            what=f"the slider {slider.label!r} at {target:g} after a tap (it was {before_value:g})",
+        )
         assert Image.open(io.BytesIO(page.screenshot())).size == (3 * width, 3 * height)  # rendered at DPR 3
