@@ -389,11 +389,30 @@ def slider_disabled(page: Any, label: str) -> bool | None:
     return None if state is None else bool(state)
 
 
+SLIDER_THUMB = """([id, focus]) => {
+  const thumb = document.querySelector(`[id='${id}'] [role=slider]`);
+  if (!thumb) return null;
+  if (focus) { thumb.scrollIntoView({block: 'center'}); thumb.focus(); }
+  return thumb.getAttribute('aria-valuenow');
+}"""
+"""A slider's thumb read (its ``aria-valuenow``), and focused if asked, in one evaluation in the page: a page
+drawing a moving body in software can take a second a frame on a loaded machine, and a Playwright locator's
+several round trips to it (resolve, check, act) took longer than 30 s in CI."""
+
+
+def slider_value(page: Any, label: str) -> str | None:
+    """The value (``aria-valuenow``) the slider labelled ``label`` shows; None while it has no thumb."""
+    return page.evaluate(SLIDER_THUMB, [control_id(page, label), False])
+
+
 def nudge_slider(page: Any, label: str, key: str = "ArrowRight", times: int = 1) -> None:
     """Focus a slider in the page and press a key (one step per press), like a user with a keyboard."""
-    thumb = slider_by_label(page, label)
     # Focus through the DOM and type on the keyboard: no wait for a re-rendering thumb to be "stable".
-    thumb.first.evaluate("el => { el.scrollIntoView({block: 'center'}); el.focus(); }")
+    wait_for(
+        lambda: page.evaluate(SLIDER_THUMB, [control_id(page, label), True]) is not None,
+        30,
+        what=f"the slider {label!r}",
+    )
     for _ in range(times):
         page.keyboard.press(key)
 

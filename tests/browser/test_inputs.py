@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.harness import control_id, open_page, running_app, wait_for
+from tests.harness import control_id, open_page, running_app, slider_value, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -28,21 +28,12 @@ NUMBER_BOX = """([id, action]) => {
   if (action === 'focus') { box.scrollIntoView({block: 'center'}); box.focus(); box.select(); return box.value; }
   return box.value;
 }"""
-SLIDER_VALUE = """(id) => {
-  const thumb = document.querySelector(`[id='${id}'] [role=slider]`);
-  return thumb ? thumb.getAttribute('aria-valuenow') : null;
-}"""
 
 
 def _number_box(page, label: str, action: str = "read") -> str | None:
     """The text in the number box viser draws beside the slider labelled ``label`` (None while there is
     none); with ``action="focus"`` the box is focused and its text selected first, as a click would."""
     return page.evaluate(NUMBER_BOX, [control_id(page, label), action])
-
-
-def _slider_value(page, label: str) -> str | None:
-    """The value (``aria-valuenow``) of the slider labelled ``label``, None while there is none."""
-    return page.evaluate(SLIDER_VALUE, control_id(page, label))
 
 
 def _clock(page) -> float:
@@ -80,7 +71,7 @@ def test_an_absurd_number_typed_in_one_browser_is_clamped_and_the_other_browser_
             # ... and the page that typed it shows the value in force, in its slider and its number box.
             shown = f"{maximum:g}"
             wait_for(
-                lambda: _slider_value(typist, LABEL) == shown,
+                lambda: slider_value(typist, LABEL) == shown,
                 30,
                 what="the typing page's slider at the maximum",
             )
@@ -91,7 +82,7 @@ def test_an_absurd_number_typed_in_one_browser_is_clamped_and_the_other_browser_
             assert watcher_client.client_id in app.server.get_clients()
             assert typist_client.client_id in app.server.get_clients()
             wait_for(
-                lambda: _slider_value(watcher, LABEL) == shown,
+                lambda: slider_value(watcher, LABEL) == shown,
                 30,
                 what="the other page's slider to follow",
             )

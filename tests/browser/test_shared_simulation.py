@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from app.scenes import REGISTRY
-from tests.harness import image_difference, image_stats, nudge_slider, open_page, pick_scene, slider_by_label, wait_for
+from tests.harness import image_difference, image_stats, nudge_slider, open_page, pick_scene, slider_value, wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -68,7 +68,7 @@ def test_a_second_browser_sees_the_same_simulation(live_app, chromium, page_and_
         wait_for(lambda: live_app.scene.params.values["spin"] != spin, what="the slider change")
         expected = f"{live_app.scene.params.values['spin']:g}"
         wait_for(
-            lambda: slider_by_label(other, "spin ω₃ (rad/s)").get_attribute("aria-valuenow") == expected,
+            lambda: slider_value(other, "spin ω₃ (rad/s)") == expected,
             what="the other browser's slider to follow",
         )
     finally:
@@ -84,7 +84,7 @@ def test_an_impossible_body_from_the_page_is_refused(live_app, page_and_client):
     page.get_by_text("no rigid body has these moments").first.wait_for(timeout=30_000)
     assert live_app.scene.top is top and live_app.scene.params.values["I3"] == I3
     wait_for(
-        lambda: slider_by_label(page, "I₃ about the axis (kg m²)").get_attribute("aria-valuenow") == f"{I3:g}",
+        lambda: slider_value(page, "I₃ about the axis (kg m²)") == f"{I3:g}",
         what="the slider to snap back",
     )
     frames = live_app.frames
