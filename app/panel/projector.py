@@ -66,9 +66,10 @@ div.mantine-Paper-root:has(.rbl-projector-plot) .u-legend, div.mantine-Paper-roo
 </style>"""
 """The caption's text and the plot's title and legend at projector size, their panels' one-tab headers
 hidden; the caption's panel no wider than the view left of the slim bar (it is placed for 1280 px: on a
-1024 px projector it hid the bar and its row's last button was cut off at the right edge), and its row of buttons hidden where they are disabled (a
-follower's page: the presenter drives the lecture, greyed buttons were clutter over the view). Scoped to the floating panel that holds the marker (``:has``), so the control panel keeps its own
-sizes; ``div`` makes it outrank :data:`app.panel.look.STYLE`'s 14 px rules."""
+1024 px projector it hid the bar and cut off its row's last button), and its row of buttons not drawn where
+they are disabled (a follower's page: the presenter drives the lecture). Scoped to the floating panel that
+holds the marker (``:has``), so the control panel keeps its own sizes; ``div`` makes it outrank
+:data:`app.panel.look.STYLE`'s 14 px rules."""
 
 
 def projector_region(width: float, height: float, plot: bool) -> tuple[float, float, float, float]:
