@@ -22,18 +22,19 @@ ABSURD = "99999999999999999999999"
 # Every read and the focus are one evaluation in the page: a page drawing the heavy top in software takes
 # about a second a frame on a loaded machine, and a Playwright locator's several round trips to such a page
 # (resolve, check, evaluate) took longer than 30 s in CI, where one evaluation takes about one frame.
-NUMBER_BOX = """([id, action]) => {
+NUMBER_BOX = """([id, focus]) => {
   const box = document.querySelector(`[id='${id}'] ~ * input.mantine-NumberInput-input`);
   if (!box) return null;
-  if (action === 'focus') { box.scrollIntoView({block: 'center'}); box.focus(); box.select(); return box.value; }
+  if (focus) { box.scrollIntoView({block: 'center'}); box.focus(); box.select(); }
   return box.value;
 }"""
 
 
-def _number_box(page, label: str, action: str = "read") -> str | None:
+def _number_box(page, label: str, focus: bool = False) -> str | None:
     """The text in the number box viser draws beside the slider labelled ``label`` (None while there is
-    none); with ``action="focus"`` the box is focused and its text selected first, as a click would."""
-    return page.evaluate(NUMBER_BOX, [control_id(page, label), action])
+    none); with ``focus`` the box is focused and its text selected first, as a click would (as
+    :func:`tests.harness.slider_value` and ``nudge_slider`` do for a slider's thumb)."""
+    return page.evaluate(NUMBER_BOX, [control_id(page, label), focus])
 
 
 def _clock(page) -> float:
@@ -61,7 +62,7 @@ def test_an_absurd_number_typed_in_one_browser_is_clamped_and_the_other_browser_
             wait_for(lambda: _clock(watcher) > 0.2, 30, what="the other page's clock to run")
 
             # Focus through the DOM (the panel re-renders every frame), select what is there, then type.
-            wait_for(lambda: _number_box(typist, LABEL, "focus") is not None, 60, what="the spin's number box")
+            wait_for(lambda: _number_box(typist, LABEL, focus=True) is not None, 60, what="the spin's number box")
             typist.keyboard.type(ABSURD)
             typist.keyboard.press("Enter")
 
