@@ -111,10 +111,10 @@ def case_state(case: Case) -> str | None:
         return None
     with running_app(case.scene, start_loop=False) as app:
         scene = app.scene
-        with app.lock:
+        with app.simulation.lock:
             if case.preset is not None and not scene.presets.choose(case.preset):
                 raise RuntimeError(f"{case.name}: preset {case.preset!r} refused: {scene.presets.panel.last_refusal}")
-            inputs = {str(h.label): h for h in app.scene_inputs}
+            inputs = {str(h.label): h for h in app.simulation.scene_inputs}
             for label, value in case.controls.items():
                 inputs[label].value = value  # runs the control's callback, as a browser's change does
                 if inputs[label].value != value:

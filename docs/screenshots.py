@@ -98,10 +98,10 @@ def readme(out: Path, seconds: float = 6.0) -> None:
         with running_app(scene, dark=dark) as app, launch_chromium() as browser:
             page, _client = open_page(browser, app, viewport={"width": width, "height": height})
             if preset is not None:
-                with app.lock:
+                with app.simulation.lock:
                     assert app.scene.presets.choose(preset), preset
             if file in SETUPS:
-                with app.lock:
+                with app.simulation.lock:
                     SETUPS[file](app)
             time.sleep(seconds)
             page.evaluate(_CLOSE_NOTIFICATIONS)
@@ -148,10 +148,10 @@ def projector(path: Path, seconds: float = 9.0) -> None:
         app.go_to_step(6)  # the racket's question
         page, _client = open_page(browser, app, timeout=120.0, viewport={"width": 1280, "height": 800})
         app.questions.reveal(None)  # the caption and the answer back
-        with app.lock:
+        with app.simulation.lock:
             app.set_playing(True)
         time.sleep(seconds)
-        with app.lock:
+        with app.simulation.lock:
             app.set_playing(False)  # paused: the labels (drawn apart from the 3D picture) catch up with it
         page.evaluate(_CLOSE_NOTIFICATIONS)
         time.sleep(2.0)
@@ -164,7 +164,7 @@ def teaching(path: Path) -> None:
     with running_app("tennis_racket") as app, launch_chromium() as browser:
         page, client = open_page(browser, app, viewport={"width": 1500, "height": 900})
         scene = app.scene
-        with app.lock:
+        with app.simulation.lock:
             scene.ghost.step_slider.value = 0.1
             scene.ghost.choice.value = "Lie–Poisson splitting (order 2)"
             app.restart()

@@ -41,6 +41,9 @@ import zstandard
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
+from app.server import App
+from app.serving.simulation import Simulation
+
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [
     "--headless",
@@ -579,14 +582,15 @@ def send_upload(ws: Any, button: str, filename: str, content: bytes, declared: i
     return transfer
 
 
-def still_connected(ws: Any, seconds: float = 10.0, app: Any = None) -> bool:
+def still_connected(ws: Any, seconds: float = 10.0, app: App | Simulation | None = None) -> bool:
     """The server still talks to this client: a message arrives within ``seconds`` and the connection is
     open. With ``app``, the client first sends a value to the read-only time display, which the server
     always answers (it sets that client's display back), so a paused clock cannot make a live client look
-    dead."""
+    dead. ``app`` is the app (its shared simulation) or the simulation this client sees."""
     if app is not None:
+        simulation = app.simulation if isinstance(app, App) else app
         drain(ws)
-        send_value(ws, app.time_text._impl.uuid, "still there?")
+        send_value(ws, simulation.time_text._impl.uuid, "still there?")
     deadline = time.monotonic() + seconds
     try:
         while time.monotonic() < deadline:

@@ -7,9 +7,9 @@ Each quantity has one colour everywhere (:data:`COLOURS`) and a legend text (:da
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
+import viser
 from numpy.typing import ArrayLike
 
 __all__ = [
@@ -160,7 +160,7 @@ def legend_html(quantities: tuple[str, ...] | list[str], dark: bool = False) -> 
     return '<div class="rbl-legend">' + "".join(rows) + "</div>"
 
 
-def light(scene: Any, dark: bool = False) -> None:
+def light(scene: viser.SceneApi, dark: bool = False) -> None:
     """Light a scene so that a surface facing the viewer shows its colour as the legend does.
 
     viser's defaults (a warehouse environment map plus a directional light of intensity 3) wash the

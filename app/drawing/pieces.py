@@ -116,7 +116,7 @@ def move(node: Any, position: NDArray[np.float64] | tuple[float, float, float]) 
     send_position(node, position)
 
 
-def add_label(server: Any, name: str, text: str, **kwargs: Any) -> Any:
+def add_label(server: viser.ViserServer | viser.ClientHandle, name: str, text: str, **kwargs: Any) -> viser.LabelHandle:
     """A label in the 3D scene at :data:`LABEL_SCALE` (the arrows', the markers' and the guides' alike)."""
     return server.scene.add_label(name, text, font_screen_scale=LABEL_SCALE, **kwargs)
 

@@ -18,7 +18,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import viser
+from viser import infra
 
+from app.contracts import ClientId
 from app.guards.gate import REFUSED_CODE
 from app.guards.responses import connection_address, hook_requests
 
@@ -81,14 +83,14 @@ class Admission:
     def __init__(self, caps: Caps, sessions_per_connection: bool = False) -> None:
         self.caps = caps
         self._private = sessions_per_connection
-        self._address: dict[Any, str] = {}  # client id -> address, for every admitted connection
+        self._address: dict[ClientId, str] = {}  # client id -> address, for every admitted connection
         self._count: Counter[str] = Counter()
         self.refused: Counter[str] = Counter()  # refusals by reason (tests and the benchmark read it)
         self._opens: dict[str, tuple[float, float]] = {}  # address -> (opens it may still make, when)
         self._quiet: dict[str, float] = {}  # address -> until when it is turned away before its websocket opens
         self._lock = threading.Lock()
 
-    def admit(self, client_id: Any, address: str) -> str | None:
+    def admit(self, client_id: ClientId, address: str) -> str | None:
         """Count the connection in and return None, or return why it may not connect (nothing counted)."""
         caps = self.caps
         total = min(caps.connections, caps.sessions) if self._private else caps.connections
@@ -147,7 +149,7 @@ class Admission:
             self.refused["turned away"] += 1
         return "Refused: too many connections from your address; wait a moment and reload"
 
-    def release(self, client_id: Any) -> None:
+    def release(self, client_id: ClientId) -> None:
         """A connection closed (one never admitted: nothing to do)."""
         with self._lock:
             address = self._address.pop(client_id, None)
@@ -156,12 +158,12 @@ class Admission:
                 if self._count[address] <= 0:
                     del self._count[address]
 
-    def address_of(self, client_id: Any) -> str | None:
+    def address_of(self, client_id: ClientId) -> str | None:
         """The address an admitted connection comes from."""
         with self._lock:
             return self._address.get(client_id)
 
-    def session_refusal(self, client_id: Any, owners: list[Any]) -> str | None:
+    def session_refusal(self, client_id: ClientId, owners: list[ClientId]) -> str | None:
         """Why ``client_id`` may not have a simulation of its own while ``owners`` (client ids) have one, or
         None (presenter mode's copies; in private mode the connection caps already count sessions)."""
         with self._lock:
@@ -179,7 +181,7 @@ def install_admission(server: viser.ViserServer, admission: Admission) -> Admiss
     connects); a refused one is closed with its reason before viser builds anything for it."""
     websock = server._websock_server
 
-    async def on_connection(client_connection: Any) -> None:
+    async def on_connection(client_connection: infra.WebsockClientConnection) -> None:
         client_id = client_connection.client_id
         connection = websock._live_connections.get(client_id)
         if connection is None:
@@ -198,7 +200,7 @@ def install_admission(server: viser.ViserServer, admission: Admission) -> Admiss
         connection.recv = nothing  # type: ignore[method-assign]
         await connection.close(REFUSED_CODE, f"Refused: {reason}"[:120])
 
-    def on_disconnect(client_connection: Any) -> None:
+    def on_disconnect(client_connection: infra.WebsockClientConnection) -> None:
         admission.release(client_connection.client_id)
 
     websock._client_connect_cb.insert(0, on_connection)

@@ -13,6 +13,8 @@ from typing import Any
 import viser
 from viser import _messages
 
+from app.contracts import ClientId
+
 __all__ = ["BroadcastView"]
 
 WINDOW = 128  # messages per replayed window (viser's own window size)
@@ -40,37 +42,37 @@ class BroadcastView:
         self._server = server
         self._buffer = server._websock_server._broadcast_buffer
         self._read_only = read_only
-        self._clients: dict[Any, _Client] = {}
+        self._clients: dict[ClientId, _Client] = {}
         self._lock = threading.Lock()
         # An invisible element whose (unchanged) visibility is re-sent to make a window: see poke().
         self._beacon = server.gui.add_html("", visible=False, order=1e9)
         original = self._buffer.window_generator
 
-        def window_generator(client_id: Any, backlog_done_message: Any = None) -> AsyncGenerator[Any, None]:
+        def window_generator(client_id: ClientId, backlog_done_message: Any = None) -> AsyncGenerator[Any, None]:
             inner = original(client_id, backlog_done_message=backlog_done_message)
             return self._windows(inner, client_id, backlog_done_message)
 
         self._buffer.window_generator = window_generator  # type: ignore[method-assign]
 
     # ------------------------------------------------------------------ asked from any thread
-    def detach(self, client_id: Any) -> None:
+    def detach(self, client_id: ClientId) -> None:
         """Stop sending the lecture to this browser (and remove what it shows of it)."""
         self._request(client_id, "detach")
 
-    def attach(self, client_id: Any) -> None:
+    def attach(self, client_id: ClientId) -> None:
         """Send the lecture to this browser again, starting with its current state."""
         self._request(client_id, "attach")
 
-    def unlock(self, client_id: Any) -> None:
+    def unlock(self, client_id: ClientId) -> None:
         """This browser may drive the lecture: show it the controls as they are."""
         self._request(client_id, "unlock")
 
-    def detached(self, client_id: Any) -> bool:
+    def detached(self, client_id: ClientId) -> bool:
         with self._lock:
             state = self._clients.get(client_id)
             return bool(state and state.detached)
 
-    def forget(self, client_id: Any) -> None:
+    def forget(self, client_id: ClientId) -> None:
         """The browser has gone."""
         with self._lock:
             self._clients.pop(client_id, None)
@@ -80,13 +82,13 @@ class BroadcastView:
         # An update that changes nothing; viser keeps only the newest of them in its buffer.
         self._buffer.push(_messages.GuiUpdateMessage(self._beacon._impl.uuid, {"visible": False}))
 
-    def _request(self, client_id: Any, what: str) -> None:
+    def _request(self, client_id: ClientId, what: str) -> None:
         with self._lock:
             self._clients.setdefault(client_id, _Client(read_only=self._read_only(client_id))).pending.append(what)
         self.poke()
 
     # ------------------------------------------------------------------ on viser's event loop
-    async def _windows(self, inner: Any, client_id: Any, marker: Any) -> AsyncGenerator[Sequence[Any], None]:
+    async def _windows(self, inner: Any, client_id: ClientId, marker: Any) -> AsyncGenerator[Sequence[Any], None]:
         with self._lock:
             state = self._clients.setdefault(client_id, _Client(read_only=self._read_only(client_id)))
         try:
@@ -106,7 +108,7 @@ class BroadcastView:
         finally:
             await inner.aclose()
 
-    def _change(self, state: _Client, what: str, client_id: Any) -> list[list[Any]]:
+    def _change(self, state: _Client, what: str, client_id: ClientId) -> list[list[Any]]:
         if what == "detach" and not state.detached:
             state.detached = True
             return _chunks(self._removals(client_id))
@@ -127,12 +129,12 @@ class BroadcastView:
             return _chunks(updates)
         return []
 
-    def _persistent(self, client_id: Any) -> list[Any]:
+    def _persistent(self, client_id: ClientId) -> list[Any]:
         """What a browser joining now would be sent (viser's buffer keeps the newest of each)."""
         with self._buffer.buffer_lock:
             return [m for m in self._buffer.message_from_id.values() if m.excluded_self_client != client_id]
 
-    def _removals(self, client_id: Any) -> list[Any]:
+    def _removals(self, client_id: ClientId) -> list[Any]:
         """Remove, in this browser, every node and panel element the lecture has made."""
         out: list[Any] = []
         for message in self._persistent(client_id):

@@ -10,6 +10,7 @@ import threading
 from typing import Any
 
 import viser
+from viser import infra
 
 __all__ = ["LoopEvent", "WINDOW_SECONDS", "confine_events"]
 
@@ -72,7 +73,7 @@ def confine_events(server: viser.ViserServer) -> None:
     thread = _loop_thread(broadcast.event_loop)
     _confine(broadcast, thread)
 
-    def on_connection(connection: Any) -> None:
+    def on_connection(connection: infra.WebsockClientConnection) -> None:
         # Runs on the event loop when a websocket opens, before its senders start waiting on the event.
         _confine(connection.get_message_buffer(), thread)
 

@@ -22,7 +22,7 @@ from typing import Any
 
 import msgspec
 import viser
-from viser import _messages
+from viser import _messages, infra
 
 __all__ = ["ALLOWED", "BURST", "OFFENCES", "RATE", "REFUSED_CODE", "Gate", "install_gate"]
 
@@ -136,7 +136,7 @@ def install_gate(server: viser.ViserServer, gate: Gate | None = None) -> Gate:
     gate = gate if gate is not None else Gate()
     websock = server._websock_server
 
-    def on_connection(client_connection: Any) -> None:
+    def on_connection(client_connection: infra.WebsockClientConnection) -> None:
         # Runs on the event loop when a websocket opens, before viser starts reading from it.
         connection = websock._live_connections.get(client_connection.client_id)
         if connection is not None:
@@ -146,7 +146,7 @@ def install_gate(server: viser.ViserServer, gate: Gate | None = None) -> Gate:
     return gate
 
 
-def _guard(connection: Any, client_connection: Any, gate: Gate) -> None:
+def _guard(connection: Any, client_connection: infra.WebsockClientConnection, gate: Gate) -> None:
     protocol = getattr(connection, "protocol", None)
     if protocol is not None and hasattr(protocol, "max_message_size"):
         protocol.max_message_size = LARGEST + 1024
@@ -172,8 +172,8 @@ def _guard(connection: Any, client_connection: Any, gate: Gate) -> None:
         unregister(message_cls, callback)
         frame_cap()
 
-    client_connection.register_handler = register_handler
-    client_connection.unregister_handler = unregister_handler
+    client_connection.register_handler = register_handler  # type: ignore[method-assign]
+    client_connection.unregister_handler = unregister_handler  # type: ignore[method-assign]
     offences = 0
     tokens, then = BURST, time.monotonic()
 

@@ -12,8 +12,9 @@ from collections.abc import Callable
 from typing import Any
 
 import viser
-from viser import _messages
+from viser import _messages, infra
 
+from app.contracts import ClientId
 from app.guards.uploads import guard_uploads
 
 __all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
@@ -149,9 +150,9 @@ def guard_inputs(
     handlers: list[Any] = interface._incoming_handlers[_messages.GuiUpdateMessage]
     original = gui._handle_gui_updates
     index = handlers.index(original)  # a ValueError here means viser changed: the pin test catches it
-    allowance: dict[Any, tuple[float, float]] = {}  # client id -> (changes it may still send, when)
+    allowance: dict[ClientId, tuple[float, float]] = {}  # client id -> (changes it may still send, when)
 
-    async def checked(client_id: Any, message: _messages.GuiUpdateMessage) -> None:
+    async def checked(client_id: infra.ClientId, message: _messages.GuiUpdateMessage) -> None:
         handle = gui._gui_input_handle_from_uuid.get(message.uuid, None)
         if handle is None or handle._impl.removed:
             return
@@ -189,7 +190,7 @@ def guard_inputs(
     handlers[index] = checked
 
 
-def _send_value(gui: viser.GuiApi, client_id: Any, uuid: str, value: Any) -> None:
+def _send_value(gui: viser.GuiApi, client_id: ClientId, uuid: str, value: Any) -> None:
     """Set one browser's control back to the value in force (nobody else is told)."""
     owner = gui._owner
     client = owner if isinstance(owner, viser.ClientHandle) else owner.get_clients().get(client_id)

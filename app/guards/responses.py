@@ -13,6 +13,8 @@ from collections.abc import Callable
 from typing import Any
 
 import viser
+from websockets.asyncio.server import Server, ServerConnection
+from websockets.http11 import Request
 
 __all__ = ["connection_address", "hook_requests", "hook_responses", "peer_address", "request_headers", "user_agent"]
 
@@ -25,7 +27,7 @@ def request_headers(server: viser.ViserServer, client_id: int) -> Any:
     return None if request is None else request.headers
 
 
-def user_agent(client: Any) -> str:
+def user_agent(client: viser.ClientHandle) -> str:
     """The ``User-Agent`` of the request that opened a browser's websocket (``client``: a viser
     ``ClientHandle``); empty when unknown."""
     server = getattr(client, "_viser_server", None)
@@ -44,7 +46,7 @@ def peer_address(server: viser.ViserServer, client_id: int) -> str | None:
     return None if connection is None else connection_address(connection)
 
 
-def connection_address(connection: Any) -> str:
+def connection_address(connection: ServerConnection) -> str:
     """The address of a websockets ``ServerConnection`` (see :func:`peer_address`)."""
     remote = getattr(connection, "remote_address", None)
     host = str(remote[0]) if remote else "unknown"
@@ -62,7 +64,7 @@ def hook_responses(server: viser.ViserServer, respond: Callable[[Any, Any, Any],
     """Set ``respond(connection, request, response) -> response`` as the ``process_response`` of viser's
     websockets server (it sees every HTTP response, the page's included); False if it cannot be found."""
 
-    def install(serving: Any) -> None:
+    def install(serving: Server) -> None:
         serving.process_response = respond
 
     return _on_serving(server, install, "process_response")
@@ -75,10 +77,10 @@ def hook_requests(server: viser.ViserServer, turn_away: Callable[[str], str | No
     request each time, not a connection). Every other request goes to viser's own handler (its page and
     files). False if viser's server cannot be found."""
 
-    def install(serving: Any) -> None:
+    def install(serving: Server) -> None:
         original = serving.process_request
 
-        async def process_request(connection: Any, request: Any) -> Any:
+        async def process_request(connection: ServerConnection, request: Request) -> Any:
             if str(request.headers.get("Upgrade", "")).lower() == "websocket":
                 reason = turn_away(connection_address(connection))  # (the request is on the connection now)
                 if reason is not None:
@@ -93,7 +95,7 @@ def hook_requests(server: viser.ViserServer, turn_away: Callable[[str], str | No
     return _on_serving(server, install, "process_request")
 
 
-def _on_serving(server: viser.ViserServer, install: Callable[[Any], None], attribute: str) -> bool:
+def _on_serving(server: viser.ViserServer, install: Callable[[Server], None], attribute: str) -> bool:
     """Run ``install(serving)`` on viser's websockets ``Server`` (found among the event loop's tasks, as
     one with ``attribute``) in its event loop; False if it cannot be found."""
     loop = server._websock_server._background_event_loop

@@ -13,6 +13,8 @@ from typing import Any
 import viser
 from viser import _messages
 
+from app.contracts import ClientId
+
 __all__ = ["NOT_SHARED", "guard_tunnel"]
 
 NOT_SHARED = "This server is not published on a public tunnel. Start it with --share to allow one."
@@ -43,7 +45,7 @@ def guard_tunnel(
     interface = server._websock_server
 
     def handler(action: str) -> Callable[[Any, Any], None]:
-        def run(client_id: Any, _message: Any) -> None:
+        def run(client_id: ClientId, _message: Any) -> None:
             reason = NOT_SHARED if not share else (permit(client_id) if permit is not None else None)
             if reason is not None:
                 refuse(client_id, reason)

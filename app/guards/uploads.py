@@ -13,8 +13,9 @@ from pathlib import PurePath
 from typing import Any
 
 import viser
-from viser import _messages
+from viser import _messages, infra
 
+from app.contracts import ClientId
 from app.guards.responses import peer_address
 from app.uploads import limits
 
@@ -47,11 +48,11 @@ def guard_uploads(
     part_index = parts.index(gui._handle_file_transfer_part)
     original_start, original_part = starts[start_index], parts[part_index]
     if isinstance(gui._owner, viser.ViserServer):
-        gui._websock_interface = _AcksToUploader(gui, gui._websock_interface)  # type: ignore[assignment]
+        gui._websock_interface = _AcksToUploader(gui, gui._websock_interface)  # type: ignore[assignment]  # ours stands in for viser's
     with _lock:
         _guis.add(gui)
 
-    def start(client_id: Any, message: _messages.FileTransferStartUpload) -> None:
+    def start(client_id: ClientId, message: _messages.FileTransferStartUpload) -> None:
         if message.source_component_uuid not in gui._gui_input_handle_from_uuid:
             return  # another GUI's button (viser ignores it here too)
         reason = permit(client_id) if permit is not None else None
@@ -67,7 +68,7 @@ def guard_uploads(
             _started[message.transfer_uuid] = now
             _active[message.transfer_uuid] = (now, _address(gui, client_id))
 
-    def part(client_id: Any, message: _messages.FileTransferPart) -> None:
+    def part(client_id: ClientId, message: _messages.FileTransferPart) -> None:
         state = gui._current_file_upload_states.get(message.transfer_uuid)
         if state is None:
             return  # not a transfer this GUI accepted: nothing is stored (viser drops it too)
@@ -93,7 +94,7 @@ def guard_uploads(
     parts[part_index] = part
 
 
-def _refusal(client_id: Any, message: _messages.FileTransferStartUpload, address: str) -> str | None:
+def _refusal(client_id: ClientId, message: _messages.FileTransferStartUpload, address: str) -> str | None:
     """Why this transfer may not start, or None (``address``: the browser's, :func:`_address`)."""
     size, count, filename = message.size_bytes, message.part_count, message.filename
     if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > limits.MAX_NAME:
@@ -118,7 +119,7 @@ def _count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 2**53
 
 
-def _in_flight(client_id: Any, address: str = "") -> tuple[int, int, int]:
+def _in_flight(client_id: ClientId, address: str = "") -> tuple[int, int, int]:
     """Transfers in flight (this browser's, everyone's, this address's) over every guarded GUI; stalled ones
     (over :data:`~app.uploads.limits.STALL_SECONDS` since they started, or
     :data:`~app.uploads.limits.IDLE_SECONDS` since their last part) dropped."""
@@ -147,7 +148,7 @@ def _in_flight(client_id: Any, address: str = "") -> tuple[int, int, int]:
     return mine, everyone, here
 
 
-def _address(gui: Any, client_id: Any) -> str:
+def _address(gui: Any, client_id: ClientId) -> str:
     """The address of the browser ``client_id`` of ``gui``'s server ("" if it is not connected)."""
     owner = gui._owner
     server = owner if isinstance(owner, viser.ViserServer) else owner._viser_server
@@ -170,7 +171,7 @@ class _AcksToUploader:
     button waiting for bytes that never come.
     """
 
-    def __init__(self, gui: Any, server: Any) -> None:
+    def __init__(self, gui: viser.GuiApi, server: infra.WebsockServer | infra.WebsockClientConnection) -> None:
         self._gui = gui
         self._server = server
 
@@ -187,7 +188,7 @@ class _AcksToUploader:
         return getattr(self._server, name)
 
 
-def _release(gui: viser.GuiApi, client_id: Any, button: Any, transfer: Any, size: Any) -> None:
+def _release(gui: viser.GuiApi, client_id: ClientId, button: Any, transfer: Any, size: Any) -> None:
     """Give a refused browser its upload button back: the transfer acknowledged as complete (the page
     enables the button again) and its "Uploading" notification taken away (ours says why)."""
     owner = gui._owner

@@ -8,18 +8,19 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import viser
 from numpy.typing import NDArray
 from viser import _messages
 
 __all__ = ["departed", "resend_poses", "send_markdown", "send_orientation", "send_points", "send_position", "unsent"]
 
 
-def departed(client: Any) -> bool:
+def departed(client: viser.ClientHandle) -> bool:
     """The browser has disconnected (viser closed its message buffer and removes its handles)."""
     return bool(client._websock_connection.get_message_buffer().done)
 
 
-def unsent(client: Any) -> bool:
+def unsent(client: viser.ClientHandle) -> bool:
     """Whether viser's sender has not yet taken everything queued for this browser's own connection (its
     last frame is still waiting: the network thread is behind, or the browser reads slowly)."""
     buffer = client._websock_connection.get_message_buffer()
@@ -100,7 +101,7 @@ def send_markdown(handle: Any, content: str) -> None:
     impl.gui_api._websock_interface.queue_message(_messages.GuiUpdateMessage(impl.uuid, {"_markdown": content}))
 
 
-def resend_poses(scene: Any, prefix: str) -> None:
+def resend_poses(scene: viser.SceneApi, prefix: str) -> None:
     """Send the pose of every scene node under ``prefix`` (a scene's root) as it stands, changed or not.
 
     A scene switch removes the old scene's nodes and adds the new scene's, often under the same names

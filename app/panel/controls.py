@@ -12,6 +12,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
+import viser
+
 from app.contracts import SceneContext
 from app.guards.handles import container_of, uuid_of
 from app.guards.wire import send_markdown
@@ -84,7 +86,7 @@ class ParameterPanel:
 
         return on_update
 
-    def offer(self, changes: dict[str, float], client: Any = None) -> bool:
+    def offer(self, changes: dict[str, float], client: viser.ClientHandle | None = None) -> bool:
         """Offer new values (some keys); returns True if accepted. Refused: notify, snap sliders back.
 
         Transactional: whatever ``apply`` raises, of any type, everything is put back as it was
@@ -128,7 +130,7 @@ class ParameterPanel:
             accepted[uuid] = value["value"]
         return accepted
 
-    def refuse(self, exc: Exception, client: Any = None) -> None:
+    def refuse(self, exc: Exception, client: viser.ClientHandle | None = None) -> None:
         """Tell the browser that asked why its change was refused, and show the values in force."""
         self.refusals += 1
         self.last_refusal = exc
@@ -299,7 +301,7 @@ class Presets:
         found = same or starting
         return found[0] if len(found) == 1 else None
 
-    def choose(self, name: str, client: Any = None) -> bool:
+    def choose(self, name: str, client: viser.ClientHandle | None = None) -> bool:
         """Apply a preset by name (or a former name, or a name :meth:`resolve` takes); returns True if
         accepted (KeyError for no such preset)."""
         name = self.resolve(name) or name

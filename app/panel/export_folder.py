@@ -9,11 +9,14 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import viser
 
 from app.guards.wire import departed
+
+if TYPE_CHECKING:  # annotations only: the simulation is above this package
+    from app.serving.simulation import Simulation
 
 __all__ = ["ExportFolder", "EXPORT_SECONDS", "ExportRun"]
 
@@ -44,7 +47,7 @@ class ExportFolder:
     """
 
     def __init__(
-        self, simulation: Any, export: ExportRun, auto_close_seconds: float, order: float | None = None
+        self, simulation: Simulation, export: ExportRun, auto_close_seconds: float, order: float | None = None
     ) -> None:
         self.simulation = simulation
         self.export = export
@@ -76,7 +79,7 @@ class ExportFolder:
         )
         self.running.start()
 
-    def _run(self, client: Any, text: str, seconds: float, name: str) -> None:
+    def _run(self, client: viser.ClientHandle, text: str, seconds: float, name: str) -> None:
         if departed(client):
             return
         try:
@@ -93,6 +96,7 @@ class ExportFolder:
                 last[0] = percent
                 note.body = f"{seconds:g} s of {name}: {percent} %"
 
+        final: tuple[str, str, Literal["green", "red"]]
         try:
             archive = self.export(text, seconds, progress)
             if departed(client):

@@ -38,7 +38,7 @@ class Rollback:
     are put back exactly. The trail drawn so far may be restarted; the state is not.
     """
 
-    def __init__(self, ctx: SceneContext, owner: Any, folder: Any, accepted: dict[str, Any]) -> None:
+    def __init__(self, ctx: SceneContext, owner: object | None, folder: Any, accepted: dict[str, Any]) -> None:
         self.ctx, self.owner = ctx, owner
         self.attributes = dict(vars(owner)) if owner is not None else {}
         self.motion = _call(owner, "snapshot")
@@ -115,7 +115,7 @@ def _differs(a: Any, b: Any) -> bool:
         return True
 
 
-def _call(owner: Any, name: str, *args: Any) -> Any:
+def _call(owner: object | None, name: str, *args: Any) -> Any:
     """``owner.name(*args)`` if the owner has it (a Scene's snapshot/restore), else None."""
     method = getattr(owner, name, None)
     return method(*args) if callable(method) else None

@@ -6,7 +6,7 @@ rest (:data:`LAST_ORDER`), so a scene's controls stay above the fold at 1280×80
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import viser
 
@@ -16,6 +16,9 @@ from app.panel.access import keys_markdown
 from app.panel.export_folder import ExportFolder, ExportRun
 from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
+
+if TYPE_CHECKING:  # annotations only: the simulation is above this package
+    from app.serving.simulation import Simulation
 
 __all__ = ["LAST_ORDER", "SimulationPanel"]
 
@@ -45,7 +48,7 @@ class SimulationPanel:
 
     def __init__(
         self,
-        sim: Any,
+        sim: Simulation,
         titles: dict[str, str],
         export: ExportRun,
         auto_close_seconds: float,
@@ -145,7 +148,8 @@ class SimulationPanel:
         """Copy state: the state text, with the camera of the browser that clicked, in the text box."""
         client = getattr(event, "client", None)
         try:
-            self.state_box.value = self.sim.state_text(client)
+            # viser's text props re-declare ``value``: mypy then misses the handle's setter.
+            self.state_box.value = self.sim.state_text(client)  # type: ignore[misc]
         except ValueError as exc:
             self.sim.notify("No state text", str(exc), client=client, error=True)
 

@@ -45,15 +45,15 @@ class TeacherPanel:
         self.folder: Any = None
         self.table: Any = None
         self.choice: Any = None
-        self.spotlight: Any = None
+        self.spotlight: viser.GuiButtonHandle | None = None
 
     @property
     def teaching(self) -> bool:
         """Whether this browser has the teacher's view."""
         return self.table is not None
 
-    def show_view(self, table_html: str, numbers: Sequence[str]) -> None:
-        """Replace the PIN box by the teacher's view: the table, the sessions' numbers and Spotlight."""
+    def show_view(self, table_html: str, numbers: Sequence[str]) -> viser.GuiButtonHandle:
+        """Replace the PIN box by the teacher's view: the table, the sessions' numbers and Spotlight (returned)."""
         self.pin.remove()
         self.open.remove()
         self.folder = self.gui.add_folder("Teacher's view", order=-29)
@@ -61,6 +61,7 @@ class TeacherPanel:
             self.table = self.gui.add_html(table_html)
             self.choice = self.gui.add_dropdown("Session", tuple(numbers) or (NO_SESSION,))
             self.spotlight = self.gui.add_button("Spotlight")
+        return self.spotlight
 
     def show_table(self, table_html: str) -> None:
         """Rewrite the table (one message to this browser, none if it did not change)."""

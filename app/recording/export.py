@@ -14,12 +14,15 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from app.guards.handles import scene_nodes
 from app.guards.text import csv_row
 from app.recording.picture import render_png
 from physics.validation import finite_scalar
+
+if TYPE_CHECKING:  # annotations only: the simulation is above this package
+    from app.serving.simulation import Simulation
 
 __all__ = [
     "EXPORT_FPS",
@@ -84,7 +87,7 @@ def check_request(scene: str | None, seconds: Any, preset: str | None, state: st
             raise ValueError(f"{name} must be between {low:g} and {high:g}, got {float(value):g}")
 
 
-def record(sim: Any, out: Path, frames: int, fps: float, progress: Callable[[int, int], None] | None) -> Export:
+def record(sim: Simulation, out: Path, frames: int, fps: float, progress: Callable[[int, int], None] | None) -> Export:
     """Run ``sim`` (a built simulation on a server nobody watches) for ``frames`` frames and write the files.
 
     Raises
@@ -93,6 +96,8 @@ def record(sim: Any, out: Path, frames: int, fps: float, progress: Callable[[int
         The scene stopped (a numerical failure), named with its time and message; nothing is written then.
     """
     scene = sim.scene
+    if scene is None:
+        raise ValueError("the simulation has no scene to record")
     sim.set_playing(False)
     sim.request_redraw()
     sim.frame(0.0)  # the start, drawn before the recording begins

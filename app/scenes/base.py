@@ -41,9 +41,9 @@ class Answer:
     hidden: tuple[str, ...] = ()
 
 
-def _resolve(scene: Any, path: str) -> Any:
+def _resolve(scene: Scene, path: str) -> Any:
     """The object at an attribute path of ``scene`` (dots: attributes, then dict keys), or None."""
-    obj = scene
+    obj: Any = scene
     for part in path.split("."):
         obj = obj.get(part) if isinstance(obj, dict) else getattr(obj, part, None)
         if obj is None:

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 import trimesh
+import viser
 
 from app import controls, draw
 from app.recording.columns import vector_columns
@@ -239,7 +240,7 @@ class InertiaExplorer(Scene):
         file = self.upload.value
         self.load_upload(file.name, file.content, client=client)
 
-    def load_upload(self, filename: str, content: bytes, client: Any = None) -> bool:
+    def load_upload(self, filename: str, content: bytes, client: viser.ClientHandle | None = None) -> bool:
         """Check an uploaded file; on success show it, on refusal keep the previous body and say why.
 
         Parsing and checking (up to ~1 s for a large file) run outside the simulation lock, so the other
@@ -253,7 +254,7 @@ class InertiaExplorer(Scene):
         swap = self.ctx.guarded(lambda _event: self._swap_in(filename, result, client))
         return bool(swap(SimpleNamespace(client=client)))
 
-    def _swap_in(self, filename: str, result: UploadedBody | Exception, client: Any) -> bool:
+    def _swap_in(self, filename: str, result: UploadedBody | Exception, client: viser.ClientHandle | None) -> bool:
         if self.closed:  # the user left the scene while the file was being parsed
             return False
         if isinstance(result, NotWatertightError):
@@ -265,7 +266,7 @@ class InertiaExplorer(Scene):
             raise result
         return self._adopt(result, client)
 
-    def _refuse(self, message: str, client: Any) -> bool:
+    def _refuse(self, message: str, client: viser.ClientHandle | None) -> bool:
         self.upload_refusals += 1
         self.last_upload_message = message
         self.ctx.notify("Upload refused — the previous body stays", message, client=client, error=True)
@@ -278,7 +279,7 @@ class InertiaExplorer(Scene):
         body = body_from_mesh(hull, f"{filename} (convex hull)")
         self._adopt(body, getattr(event, "client", None))
 
-    def _adopt(self, body: UploadedBody, client: Any) -> bool:
+    def _adopt(self, body: UploadedBody, client: viser.ClientHandle | None) -> bool:
         previous = (self.uploaded, self.choice.options, self.choice.value)
         self.uploaded = body
         self.pending_hull = None

@@ -16,6 +16,7 @@ from typing import Any
 
 import viser
 
+from app.contracts import ClientId, Sessions
 from app.guards.admission import Admission, Caps, install_admission
 from app.guards.event_loop import confine_events
 from app.guards.gate import install_gate
@@ -26,6 +27,7 @@ from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
 from app.panel import look
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
+from app.scenes.base import Scene
 from app.serving.addresses import is_loopback
 from app.serving.notices import NOTIFY_SECONDS
 from app.serving.simulation import FPS, Simulation, first_scene
@@ -140,8 +142,7 @@ class App:
         self.server = server
         self.host, self.port = host, server.get_port()
         self.voters = Voters(server)  # one identity per browser, kept across reconnects (PINs, votes)
-        self.sessions: dict[Any, Simulation] = {}
-        self.sessions_lock = threading.Lock()
+        self.sessions: Sessions[Simulation] = Sessions()
         self.shared: Simulation | None = None
         self.classroom: Classroom | None = None
         self.teacher: TeacherDesk | None = None
@@ -197,19 +198,59 @@ class App:
                 raise
         return app
 
-    def __getattr__(self, name: str) -> Any:
-        """The shared simulation's attributes (``app.scene``, ``app.frame``, ...) in shared and presenter mode."""
-        shared = self.__dict__.get("shared")
-        if shared is None or name.startswith("__"):
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        return getattr(shared, name)
+    @property
+    def simulation(self) -> Simulation:
+        """The shared simulation (shared and presenter mode); in private mode every browser has its own
+        (``app.sessions``) and this raises AttributeError."""
+        if self.shared is None:
+            raise AttributeError("a private app has no shared simulation: each browser's is in app.sessions")
+        return self.shared
 
     @property
-    def scene(self) -> Any:
+    def scene(self) -> Scene | None:
         """The shared simulation's scene; None in private mode (every browser has its own)."""
         return self.shared.scene if self.shared is not None else None
 
-    def _simulation(self, target: Any, **kwargs: Any) -> Simulation:
+    # The shared simulation driven from a script (examples/, benchmarks/, docs/screenshots.py): the few
+    # calls a script needs, declared; anything else through ``app.simulation``.
+    @property
+    def time(self) -> float:
+        """The shared simulation's time (s)."""
+        return self.simulation.time
+
+    @property
+    def frames(self) -> int:
+        """Frames the shared simulation has drawn."""
+        return self.simulation.frames
+
+    @property
+    def messages(self) -> list[tuple[str, str]]:
+        """The notifications the shared simulation has shown, (title, body), oldest first."""
+        return self.simulation.messages
+
+    def frame(self, wall_dt: float = 1.0 / FPS) -> bool:
+        """Advance the shared simulation by ``wall_dt`` seconds of wall time and draw (:meth:`Simulation.frame`)."""
+        return self.simulation.frame(wall_dt)
+
+    def set_playing(self, playing: bool) -> None:
+        self.simulation.set_playing(playing)
+
+    def set_speed(self, speed: float) -> None:
+        self.simulation.set_speed(speed)
+
+    def switch_scene(self, name: str) -> None:
+        self.simulation.switch_scene(name)
+
+    def restart(self) -> None:
+        self.simulation.restart()
+
+    def go_to_step(self, index: int) -> None:
+        self.simulation.go_to_step(index)
+
+    def state_text(self) -> str:
+        return self.simulation.state_text()
+
+    def _simulation(self, target: viser.ViserServer | viser.ClientHandle, **kwargs: Any) -> Simulation:
         return Simulation(
             target, self._first, export=export_zip, fps=self.fps, share=self.share, dark=self.dark, **kwargs
         )
@@ -220,20 +261,19 @@ class App:
         """ "shared", "presenter" or "private"."""
         return "private" if self.private else ("presenter" if self.classroom is not None else "shared")
 
-    def who(self, client_id: Any) -> tuple[str, str]:
+    def who(self, client_id: ClientId) -> tuple[str, str]:
         """A client's browser (its voter identity, kept across reconnects) and its network address: what the
         PIN limits count against (:class:`app.teaching.pin_gate.PinGate`)."""
         return self.voters.identity(client_id), peer_address(self.server, client_id) or f"connection {client_id}"
 
-    def refusal(self, client_id: Any) -> str | None:
+    def refusal(self, client_id: ClientId) -> str | None:
         """Why a browser may not drive the shared simulation (a follower in presenter mode), or None."""
         return self.classroom.refusal(client_id) if self.classroom is not None else None
 
-    def _refuse(self, client_id: Any, reason: str) -> None:
+    def _refuse(self, client_id: ClientId, reason: str) -> None:
         """Tell one browser it was refused, through the simulation it sees."""
         client = self.server.get_clients().get(client_id)
-        with self.sessions_lock:
-            simulation = self.sessions.get(client_id, self.shared)
+        simulation = self.sessions.get(client_id, self.shared)
         if client is None:
             return
         if simulation is not None:
@@ -241,15 +281,14 @@ class App:
         else:  # a private browser whose session is still being made: told all the same
             client.add_notification("Refused", reason, color="red", auto_close_seconds=NOTIFY_SECONDS)
 
-    def _follows(self, client: Any) -> bool:
+    def _follows(self, client: viser.ClientHandle) -> bool:
         """Whether a browser is drawn the shared simulation (not one exploring a copy of its own)."""
         return self.classroom is None or not self.classroom.exploring(client.client_id)
 
     def _copy_for(self, client: viser.ClientHandle) -> Simulation:
         """A browser's own copy of the lecture, at the lecture's current state (presenter mode)."""
         assert self.shared is not None
-        with self.sessions_lock:
-            owners = list(self.sessions)
+        owners = list(self.sessions)
         refused = self.admission.session_refusal(client.client_id, owners)
         if refused is not None:
             raise ValueError(f"no copy of your own: {refused}")
@@ -276,8 +315,7 @@ class App:
             if departed(client):
                 return  # it left while its session was being built
             raise
-        with self.sessions_lock:
-            self.sessions[client.client_id] = session
+        self.sessions.put(client.client_id, session)
         if self.teacher is not None:
             self.teacher.joined(client, session)
         if departed(client):  # it left just now: its disconnect may have come before the line above
@@ -285,13 +323,11 @@ class App:
 
     def _close_session(self, client: viser.ClientHandle) -> None:
         # The browser has gone: its panel and nodes went with its connection; drop the simulation.
-        with self.sessions_lock:
-            self.sessions.pop(client.client_id, None)
+        self.sessions.pop(client.client_id)
 
     def simulations(self) -> list[Simulation]:
         """The simulations the loop drives: the shared one and one per browser that has its own."""
-        with self.sessions_lock:
-            own = list(self.sessions.values())
+        own = self.sessions.values()
         return own if self.shared is None else [self.shared, *own]
 
     # ------------------------------------------------------------------ the loop

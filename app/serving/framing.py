@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import viser
 from numpy.typing import ArrayLike, NDArray
 
 from app.guards.responses import user_agent
@@ -183,7 +184,7 @@ def first_view(
 
 
 def show_scene_to(
-    client: Any,
+    client: viser.ClientHandle,
     position: Any,
     look_at: Any,
     view: tuple[float, float] | None = None,
@@ -255,7 +256,7 @@ _FRAMINGS: weakref.WeakKeyDictionary[Any, Framing] = weakref.WeakKeyDictionary()
 """Each browser's last framing, forgotten with its client handle (nothing of ours is stored on viser's)."""
 
 
-def framing_of(client: Any) -> Framing | None:
+def framing_of(client: viser.ClientHandle) -> Framing | None:
     """How this browser's camera was last framed, or None before the first framing."""
     return _FRAMINGS.get(client)
 

@@ -12,6 +12,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+import viser
+
 from app.guards.text import markdown_text
 
 __all__ = ["NOTIFY_SECONDS", "Notices"]
@@ -34,7 +36,7 @@ class Notices:
         go to the status line too.
     """
 
-    def __init__(self, clients: Callable[[], list[Any]], status: Any, own_browser: bool) -> None:
+    def __init__(self, clients: Callable[[], list[viser.ClientHandle]], status: Any, own_browser: bool) -> None:
         self.lock = threading.Lock()
         self.messages: list[tuple[str, str]] = []  # every notification sent (title, body), newest last
         self._clients = clients
@@ -42,7 +44,7 @@ class Notices:
         self._own_browser = own_browser
         self._shown: dict[tuple[Any, str, str], float] = {}  # (client id, title, body) -> when it was sent
 
-    def notify(self, title: str, body: str, client: Any = None, error: bool = False) -> None:
+    def notify(self, title: str, body: str, client: viser.ClientHandle | None = None, error: bool = False) -> None:
         """A notification to one client (the one who acted) or, without one, to every connected client.
 
         The same notification is not sent to the same browser again while the first is still showing. An

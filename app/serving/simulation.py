@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import viser
 
+from app.contracts import ClientId
 from app.drawing.palette import legend_html, light
 from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
@@ -93,7 +94,7 @@ class Simulation:
         first, names = first_scene(scene)
         self.lock = threading.RLock()
         self.fps = float(fps)
-        self.server: Any = target
+        self.server: viser.ViserServer | viser.ClientHandle = target
         self.dark = bool(dark)
         self.scene: Scene | None = None
         self.scene_inputs: list[Any] = []  # the scene's own adjustable controls, in the order it made them
@@ -148,7 +149,7 @@ class Simulation:
             self.switch_scene(first)
 
     # ------------------------------------------------------------------ who it is drawn for
-    def clients(self) -> list[Any]:
+    def clients(self) -> list[viser.ClientHandle]:
         """The browsers this simulation is drawn for."""
         if not isinstance(self.server, viser.ViserServer):
             return [self.server]
@@ -163,11 +164,11 @@ class Simulation:
         """True once the browser of a per-browser simulation has disconnected (nothing to draw for)."""
         return isinstance(self.server, viser.ClientHandle) and departed(self.server)
 
-    def refusal(self, client_id: Any) -> str | None:
+    def refusal(self, client_id: ClientId) -> str | None:
         """Why this browser may not drive this simulation, or None if it may."""
         return self._refusal(client_id) if self._refusal is not None else None
 
-    def pick(self, name: str, client: Any = None) -> None:
+    def pick(self, name: str, client: viser.ClientHandle | None = None) -> None:
         """A browser chose scene ``name`` in the picker."""
         if self.scene is None or name != self.scene.name:
             self.switch_scene(name, client=client)
@@ -176,7 +177,7 @@ class Simulation:
         if self.scene is not None:
             self._frame_for(client, self.scene)
 
-    def _frame_for(self, client: Any, scene: Scene) -> None:
+    def _frame_for(self, client: viser.ClientHandle, scene: Scene) -> None:
         """Frame ``client``'s camera on ``scene``, clear of the panel or of projector mode's caption and plot."""
         on = self.projector.on
         show_scene_to(client, *scene.camera, scene.view, projector=on, plot=on and bool(scene.key_plot))
@@ -253,7 +254,7 @@ class Simulation:
         """Go to the state :meth:`snapshot` gave."""
         snapshots.restore(self, snapshot)
 
-    def state_text(self, client: Any = None) -> str:
+    def state_text(self, client: viser.ClientHandle | None = None) -> str:
         """This simulation's state as a short text, with ``client``'s camera if given."""
         return snapshots.state_text(self, client)
 
@@ -332,7 +333,7 @@ class Simulation:
 
         return wrapper
 
-    def notify(self, title: str, body: str, client: Any = None, error: bool = False) -> None:
+    def notify(self, title: str, body: str, client: viser.ClientHandle | None = None, error: bool = False) -> None:
         """A notification to one client or to every browser it is drawn for (:class:`Notices`)."""
         self.notices.notify(title, body, client=client, error=error)
 
@@ -340,7 +341,7 @@ class Simulation:
         """Empty the scene's status line (a change was accepted, or the scene changed)."""
         self.notices.clear_status()
 
-    def _refuse_input(self, client_id: Any, message: str) -> None:
+    def _refuse_input(self, client_id: ClientId, message: str) -> None:
         client = next((c for c in self.clients() if c.client_id == client_id), None)
         if client is not None:
             self.notify("Refused", message, client=client, error=True)
@@ -404,7 +405,7 @@ class Simulation:
         """For scenes: switch to another scene and hand it a payload (see Scene.accept)."""
         self.switch_scene(name, payload=payload)
 
-    def switch_scene(self, name: str, payload: Any = None, client: Any = None) -> None:
+    def switch_scene(self, name: str, payload: Any = None, client: viser.ClientHandle | None = None) -> None:
         """Tear the current scene down and build ``name``; on failure go back to the previous one."""
         if name not in REGISTRY:
             raise ValueError(f"unknown scene {name!r}; choose one of: {', '.join(scene_names())}")

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+import viser
+
 from app.guards.handles import is_removed, properties
 from app.guards.inputs import check_update
 from app.teaching.states import parse_state
@@ -71,7 +73,7 @@ def restore(sim: Simulation, state: dict[str, Any]) -> None:
         sim.set_playing(state["playing"])
 
 
-def state_text(sim: Simulation, client: Any = None) -> str:
+def state_text(sim: Simulation, client: viser.ClientHandle | None = None) -> str:
     """``sim``'s state as a short text (:mod:`app.teaching.states`), with ``client``'s camera if given."""
     camera = None
     if client is not None:

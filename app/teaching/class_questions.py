@@ -12,10 +12,11 @@ import threading
 import traceback
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import viser
 
+from app.contracts import ClientId
 from app.teaching.lectures import Step
 from app.teaching.question_panel import QuestionPanel
 from app.teaching.questions import (
@@ -29,6 +30,9 @@ from app.teaching.questions import (
     true_value,
 )
 from app.teaching.voters import Voters
+
+if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
+    from app.serving.app import App
 
 __all__ = ["ClassQuestions", "parse_choices"]
 
@@ -57,8 +61,10 @@ class ClassQuestions:
         A CSV file rewritten with every question's counts whenever a vote closes (``--export-answers``).
     """
 
-    def __init__(self, app: Any, export: str | Path | None = None) -> None:
+    def __init__(self, app: App, export: str | Path | None = None) -> None:
         self.app = app
+        if app.classroom is None:
+            raise ValueError("class questions are asked in presenter mode: the app has no classroom")
         self.classroom = app.classroom
         self.poll = Poll()
         self.export = None if export is None else Path(export)
@@ -71,7 +77,7 @@ class ClassQuestions:
         app.server.on_client_connect(self._joined)
         app.server.on_client_disconnect(self._left)
         self.classroom.on_present.append(self._promoted)
-        app.shared.following.listeners.append(self.step_shown)
+        app.simulation.following.listeners.append(self.step_shown)
 
     # ------------------------------------------------------------------ browsers
     def _joined(self, client: viser.ClientHandle) -> None:
@@ -98,7 +104,7 @@ class ClassQuestions:
             if panel is not None:
                 self._show(panel)
 
-    def _presenting(self, client_id: Any) -> bool:
+    def _presenting(self, client_id: ClientId) -> bool:
         return client_id in self.classroom.presenters
 
     def _show(self, panel: QuestionPanel) -> None:
@@ -119,7 +125,7 @@ class ClassQuestions:
                     traceback.print_exc()
 
     def _safely(self, fn: Callable[..., None]) -> Callable[..., None]:
-        def run(client: Any, *args: Any) -> None:
+        def run(client: viser.ClientHandle, *args: Any) -> None:
             try:
                 fn(client, *args)
             except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
@@ -128,8 +134,8 @@ class ClassQuestions:
 
         return run
 
-    def _tell(self, client: Any, title: str, body: str) -> None:
-        self.app.notify(title, body, client=client, error=True)
+    def _tell(self, client: viser.ClientHandle, title: str, body: str) -> None:
+        self.app.simulation.notify(title, body, client=client, error=True)
 
     # ------------------------------------------------------------------ asking and answering
     def step_shown(self, index: int, step: Step) -> None:
@@ -140,7 +146,7 @@ class ClassQuestions:
             self.showing = False
             self._closed()
             return
-        scene = self.app.shared.scene
+        scene = self.app.simulation.scene
         # What states the answer waits for the reveal, on the lecture and on every copy explored from it.
         self.ask(step.ask, f"step {index + 1}", true_value(step.ask, scene))
         self.hold_back(held_back(step.ask, scene))
@@ -149,11 +155,11 @@ class ClassQuestions:
         """Put a question to the class (the one before is closed and kept for the CSV)."""
         self.poll.ask(ask, source, true=true)
         self.showing = True
-        self._waiting = not self.app.shared.playing
+        self._waiting = not self.app.simulation.playing
         self._show_all()
         self.write()
 
-    def ask_from_panel(self, client: Any, text: str, choices: str) -> None:
+    def ask_from_panel(self, client: viser.ClientHandle, text: str, choices: str) -> None:
         if not self._presenting(client.client_id):
             self._tell(client, "Refused", "Only the presenter asks the class.")
             return
@@ -164,14 +170,14 @@ class ClassQuestions:
             return
         self.ask(ask, "asked from the panel")
 
-    def vote(self, client: Any, value: Any) -> None:
+    def vote(self, client: viser.ClientHandle, value: Any) -> None:
         """A browser's answer: refused (with a message to that browser only) or kept, one per voter."""
         cid = client.client_id
         if self._presenting(cid):
             self._tell(client, "Refused", "The presenter does not vote: the class does.")
             return
         question = self.poll.current
-        if question is not None and question.open and self._waiting and self.app.shared.playing:
+        if question is not None and question.open and self._waiting and self.app.simulation.playing:
             self.poll.close()  # the demonstration has started: predictions are over
             self._closed()
         with self._lock:
@@ -191,14 +197,14 @@ class ClassQuestions:
                 if panel.presenter or self._identity.get(other) == voter:  # the count, or a copy of this page
                     panel.update(question, kept, count)
 
-    def reveal(self, client: Any) -> None:
+    def reveal(self, client: viser.ClientHandle) -> None:
         """The presenter's "Show answers": close the vote, put the distribution on every screen."""
         if client is not None and not self._presenting(client.client_id):
             self._tell(client, "Refused", "Only the presenter shows the answers.")
             return
         if self.poll.reveal() is None:
             return
-        self.app.shared.following.show_text(caption=True)
+        self.app.simulation.following.show_text(caption=True)
         self._closed()
 
     def _closed(self) -> None:
@@ -211,21 +217,20 @@ class ClassQuestions:
         question = self.poll.current
         if question is None or not question.open:
             return ()
-        return held_back(question.ask, self.app.shared.scene)
+        return held_back(question.ask, self.app.simulation.scene)
 
     def hold_back(self, quantities: tuple[str, ...]) -> None:
         """Hold back (or, empty, show again) what states ``quantities`` on the lecture and on every browser's
         own copy of it that shows the same scene."""
-        sims = [self.app.shared]
-        with self.app.sessions_lock:
-            sims += list(self.app.sessions.values())
-        name = getattr(self.app.shared.scene, "name", None)
+        sims = [self.app.simulation]
+        sims += self.app.sessions.values()
+        name = getattr(self.app.simulation.scene, "name", None)
         for sim in sims:
             if getattr(sim.scene, "name", None) == name or not quantities:
                 sim.hold_back(quantities)
 
     # ------------------------------------------------------------------ the CSV
-    def save_for(self, client: Any) -> None:
+    def save_for(self, client: viser.ClientHandle) -> None:
         """The presenter's "Save answers (CSV)": the file, downloaded by that browser."""
         if not self._presenting(client.client_id):
             self._tell(client, "Refused", "Only the presenter saves the answers.")

@@ -11,12 +11,15 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import viser
 
 from app.guards.text import lecturer_markdown
 from app.teaching.lectures import Lecture, Step
+
+if TYPE_CHECKING:  # annotations only: the simulation is above this package
+    from app.serving.simulation import Simulation
 
 __all__ = ["Following", "apply_step"]
 
@@ -24,7 +27,7 @@ __all__ = ["Following", "apply_step"]
 class Following:
     """The lecture a simulation follows, its step and when that step began (None: no lecture)."""
 
-    def __init__(self, sim: Any) -> None:
+    def __init__(self, sim: Simulation) -> None:
         self.sim = sim
         self.lecture: Lecture | None = None
         self.step_index = 0
@@ -120,7 +123,7 @@ class Following:
             self.go_to(self.step_index + 1)
 
 
-def apply_step(sim: Any, step: Step) -> None:
+def apply_step(sim: Simulation, step: Step) -> None:
     """Put ``sim`` at a step: its state or its scene from the defaults, then its dropdown choices, preset,
     values, camera (ValueError naming the key and what was refused)."""
     if step.state is not None:

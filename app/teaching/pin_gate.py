@@ -19,6 +19,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from app.contracts import ClientId
+
 __all__ = [
     "ADDRESS_ATTEMPTS",
     "ATTEMPTS",
@@ -95,12 +97,12 @@ class PinGate:
         with self._lock:
             return sum(1 for t in self._room if now - t < 60.0)
 
-    def _who(self, client_id: Any) -> tuple[Any, str]:
+    def _who(self, client_id: ClientId) -> tuple[Any, str]:
         if self._identify is None:
             return client_id, f"connection {client_id}"
         return self._identify(client_id)
 
-    def refusal(self, client_id: Any, typed: Any, now: float | None = None) -> tuple[str, str] | None:
+    def refusal(self, client_id: ClientId, typed: Any, now: float | None = None) -> tuple[str, str] | None:
         """None if ``typed`` is the PIN and this browser may try; otherwise (title, body) for that browser.
 
         A wrong PIN counts against the browser (:data:`ATTEMPTS`, then :data:`LOCKOUT` s), its address
@@ -140,7 +142,7 @@ class PinGate:
         if len(self._address) > _FORGET_AFTER:
             self._address = {k: v for k, v in self._address.items() if v[1] > now or any(now - t < 60.0 for t in v[0])}
 
-    def forget(self, client_id: Any) -> None:
+    def forget(self, client_id: ClientId) -> None:
         """A browser left. A connection without a cookie was its own browser: its count goes (its address's
         and the room's stay, so reconnecting resets nothing); a browser with a cookie keeps its count."""
         if self._identify is not None:

@@ -8,14 +8,19 @@ from __future__ import annotations
 import threading
 import traceback
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import viser
 
+from app.contracts import ClientId
 from app.guards.broadcast import BroadcastView
 from app.guards.inputs import guard_inputs
 from app.guards.wire import departed
 from app.teaching.pin_gate import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, PinGate, check_pin, new_pin
+
+if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
+    from app.serving.app import App
+    from app.serving.simulation import Simulation
 
 __all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "Classroom", "new_pin", "check_pin"]
 
@@ -53,7 +58,7 @@ class Classroom:
         Makes a browser's own copy of the lecture, at the lecture's current state.
     """
 
-    def __init__(self, app: Any, pin: str, copy: Callable[[viser.ClientHandle], Any]) -> None:
+    def __init__(self, app: App, pin: str, copy: Callable[[viser.ClientHandle], Simulation]) -> None:
         self.app = app
         self.gate = PinGate(pin, "The presenter PIN is shown where the server was started.", identify=app.who)
         self.pin = self.gate.pin
@@ -68,20 +73,21 @@ class Classroom:
         app.server.on_client_disconnect(self._left)
 
     # ------------------------------------------------------------------ who may do what
-    def refusal(self, client_id: Any) -> str | None:
+    def refusal(self, client_id: ClientId) -> str | None:
         """None for a presenter; for anyone else, why the lecture's controls do not take their changes."""
         if client_id in self.presenters:
             return None
         return "You are following the lecturer: enter the presenter PIN to drive, or press “Explore on my own”."
 
-    def exploring(self, client_id: Any) -> bool:
+    def exploring(self, client_id: ClientId) -> bool:
         """Whether this browser has a copy of its own (and so no longer follows the lecture)."""
-        with self.app.sessions_lock:
-            return client_id in self.app.sessions
+        return client_id in self.app.sessions
 
     # ------------------------------------------------------------------ browsers come and go
     def _joined(self, client: viser.ClientHandle) -> None:
-        guard_inputs(client.gui, lambda _id, message: self.app.notify("Refused", message, client=client, error=True))
+        guard_inputs(
+            client.gui, lambda _id, message: self.app.simulation.notify("Refused", message, client=client, error=True)
+        )
         panel = _Panel(client)
         with self._lock:
             self._panels[client.client_id] = panel
@@ -93,8 +99,7 @@ class Classroom:
             self._panels.pop(client.client_id, None)
             self.presenters.discard(client.client_id)
             self._toggling.pop(client.client_id, None)
-        with self.app.sessions_lock:
-            self.app.sessions.pop(client.client_id, None)
+        self.app.sessions.pop(client.client_id)
         self.view.forget(client.client_id)
         self.gate.forget(client.client_id)
 
@@ -107,7 +112,9 @@ class Classroom:
                     self._left(event.client)  # it left while we worked for it: drop what was made
                     return
                 traceback.print_exc()
-                self.app.notify("Something went wrong", f"{type(exc).__name__}: {exc}", client=event.client, error=True)
+                self.app.simulation.notify(
+                    "Something went wrong", f"{type(exc).__name__}: {exc}", client=event.client, error=True
+                )
 
         return run
 
@@ -121,7 +128,7 @@ class Classroom:
             refused = self.gate.refusal(cid, pin)
             if refused is not None:
                 title, body = refused
-                self.app.notify(title, body, client=client, error=title != "Wrong PIN")
+                self.app.simulation.notify(title, body, client=client, error=title != "Wrong PIN")
                 return False
             self.presenters.add(cid)
             panel = self._panels.get(cid)
@@ -142,20 +149,18 @@ class Classroom:
             else:
                 self.explore(client)
 
-    def _client_lock(self, client_id: Any) -> threading.Lock:
+    def _client_lock(self, client_id: ClientId) -> threading.Lock:
         with self._lock:
             return self._toggling.setdefault(client_id, threading.Lock())
 
-    def explore(self, client: viser.ClientHandle) -> Any:
+    def explore(self, client: viser.ClientHandle) -> Simulation:
         """Give ``client`` its own copy of the lecture, from the lecture's current state; returns it."""
         cid = client.client_id
-        with self.app.sessions_lock:
-            existing = self.app.sessions.get(cid)
+        existing = self.app.sessions.get(cid)
         if existing is not None:
             return existing
         copy = self._copy(client)
-        with self.app.sessions_lock:
-            self.app.sessions[cid] = copy
+        self.app.sessions.put(cid, copy)
         self.view.detach(cid)
         if cid not in self.app.server.get_clients():  # it left while its copy was being made
             self._left(client)
@@ -169,8 +174,7 @@ class Classroom:
     def follow(self, client: viser.ClientHandle) -> None:
         """Drop ``client``'s own copy and show it the lecture as it is now."""
         cid = client.client_id
-        with self.app.sessions_lock:
-            copy = self.app.sessions.pop(cid, None)
+        copy = self.app.sessions.pop(cid)
         if copy is not None:
             copy.close()
         self.view.attach(cid)

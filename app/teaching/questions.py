@@ -200,18 +200,18 @@ def true_value(ask: Ask, scene: Scene | None) -> float | None:
     return value(scene)
 
 
-def held_back(ask: Ask | None, scene: Any) -> tuple[str, ...]:
+def held_back(ask: Ask | None, scene: Scene | None) -> tuple[str, ...]:
     """The quantities of ``scene`` that ``ask`` asks about (empty for another scene's or no question)."""
     if ask is None or scene is None:
         return ()
-    declared = {a.quantity for a in getattr(scene, "answers", ())}
+    declared = {a.quantity for a in scene.answers}
     return tuple(q for q in ask.holds if q in declared)
 
 
-def show_spoilers(ask: Ask | None, scene: Any, visible: bool) -> None:
+def show_spoilers(ask: Ask | None, scene: Scene | None, visible: bool) -> None:
     """Hold back (``visible`` False) or show again what of ``scene`` states the answer to ``ask``
     (:meth:`app.scenes.base.Scene.hold`)."""
-    if scene is not None and hasattr(scene, "hold"):
+    if scene is not None:
         scene.hold(() if visible else held_back(ask, scene))
 
 

@@ -14,14 +14,19 @@ import traceback
 import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import viser
 
+from app.contracts import ClientId
 from app.guards.handles import is_removed
 from app.guards.wire import departed
 from app.panel.teacher_panel import TeacherPanel
 from app.teaching.pin_gate import PinGate
+
+if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
+    from app.serving.app import App
+    from app.serving.simulation import Simulation
 
 __all__ = [
     "MAIN_PARAMETERS",
@@ -72,7 +77,7 @@ def _value_text(value: Any) -> str:
     return text if len(text) <= 32 else text[:31] + "…"
 
 
-def parameters(session: Any, count: int = MAIN_PARAMETERS) -> tuple[tuple[str, str], ...]:
+def parameters(session: Simulation, count: int = MAIN_PARAMETERS) -> tuple[tuple[str, str], ...]:
     """The first ``count`` parameters of a session's scene as (label, value text); () without a scene."""
     out: list[tuple[str, str]] = []
     for handle in list(getattr(session, "scene_inputs", ())):
@@ -153,7 +158,7 @@ class _Seat:
     """What the desk keeps of one connected browser."""
 
     number: int
-    client: Any
+    client: viser.ClientHandle
     panel: TeacherPanel
     name: str = ""
     signature: tuple[Any, ...] = ()
@@ -172,12 +177,12 @@ class TeacherDesk:
     Parameters
     ----------
     app : app.serving.app.App
-        The app: its ``sessions`` (client id -> Simulation, under ``sessions_lock``) and ``server``.
+        The app: its ``sessions`` (client id -> Simulation, :class:`app.contracts.Sessions`) and ``server``.
     pin : str
         The teacher PIN (4 to 32 letters or digits); guessing is limited as the presenter's is.
     """
 
-    def __init__(self, app: Any, pin: str) -> None:
+    def __init__(self, app: App, pin: str) -> None:
         self.app = app
         self.gate = PinGate(pin, WHERE, identify=app.who)
         self.teachers: set[Any] = set()
@@ -189,7 +194,7 @@ class TeacherDesk:
         app.server.on_client_disconnect(self.left)
 
     # ------------------------------------------------------------------ browsers come and go
-    def joined(self, client: viser.ClientHandle, session: Any) -> int:
+    def joined(self, client: viser.ClientHandle, session: Simulation) -> int:
         """A browser's private session is ready: number it and give it its controls; returns its number."""
         with self._lock:
             number = self._next
@@ -217,19 +222,19 @@ class TeacherDesk:
             seat.name = name
             seat.active_at = time.time()
 
-    def number_of(self, client_id: Any) -> int | None:
+    def number_of(self, client_id: ClientId) -> int | None:
         """The session number of a connected browser, or None."""
         with self._lock:
             seat = self._seats.get(client_id)
         return None if seat is None else seat.number
 
-    def name_of(self, client_id: Any) -> str | None:
+    def name_of(self, client_id: ClientId) -> str | None:
         """The name a connected browser gave (cleaned; "" if none), or None."""
         with self._lock:
             seat = self._seats.get(client_id)
         return None if seat is None else seat.name
 
-    def panel_of(self, client_id: Any) -> TeacherPanel | None:
+    def panel_of(self, client_id: ClientId) -> TeacherPanel | None:
         """A connected browser's controls for the teacher's view, or None."""
         with self._lock:
             seat = self._seats.get(client_id)
@@ -244,8 +249,7 @@ class TeacherDesk:
         now = time.time() if now is None else now
         with self._lock:
             seats = [(cid, seat) for cid, seat in self._seats.items() if cid not in self.teachers]
-        with self.app.sessions_lock:
-            sessions = {cid: self.app.sessions.get(cid) for cid, _ in seats}
+        sessions = {cid: self.app.sessions.get(cid) for cid, _ in seats}
         out = []
         for cid, seat in sorted(seats, key=lambda item: item[1].number):
             session = sessions[cid]
@@ -334,8 +338,8 @@ class TeacherDesk:
         with self._lock:
             self.teachers.add(cid)
         rows = self.rows()
-        seat.panel.show_view(table_html(rows), [str(row.number) for row in rows])
-        seat.panel.spotlight.on_click(self._safely(lambda event: self.spotlight(event.client, seat.panel.choice.value)))
+        spotlight = seat.panel.show_view(table_html(rows), [str(row.number) for row in rows])
+        spotlight.on_click(self._safely(lambda event: self.spotlight(event.client, seat.panel.choice.value)))
         self._tell(
             client,
             "Teacher's view",
@@ -363,9 +367,8 @@ class TeacherDesk:
             self._tell(client, "Refused", f"Session {number} is a teacher's view, not a student's.", error=True)
             return False
         seat = found[1] if found is not None else None
-        with self.app.sessions_lock:
-            student = self.app.sessions.get(seat.client.client_id) if seat is not None else None
-            own = self.app.sessions.get(cid)
+        student = self.app.sessions.get(seat.client.client_id) if seat is not None else None
+        own = self.app.sessions.get(cid)
         if seat is None or student is None:
             self._tell(client, "Refused", f"Session {number} is not connected (it may just have left).", error=True)
             return False
@@ -397,8 +400,7 @@ class TeacherDesk:
     # ------------------------------------------------------------------ messages
     def _tell(self, client: viser.ClientHandle, title: str, body: str, error: bool = False) -> None:
         """A notification to one browser, through its own session."""
-        with self.app.sessions_lock:
-            session = self.app.sessions.get(client.client_id)
+        session = self.app.sessions.get(client.client_id)
         if session is not None:
             session.notify(title, body, client=client, error=error)
 

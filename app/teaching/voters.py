@@ -21,6 +21,7 @@ from typing import Any
 
 import viser
 
+from app.contracts import ClientId
 from app.guards.responses import hook_responses, request_headers
 
 __all__ = ["COOKIE", "MAX_TOKENS", "Voters"]
@@ -60,7 +61,7 @@ class Voters:
         with self._lock:
             return token is not None and token in self._tokens
 
-    def identity(self, client_id: Any) -> str:
+    def identity(self, client_id: ClientId) -> str:
         """The voter a connected client counts as: its browser's token, or its connection alone."""
         headers = request_headers(self._server, client_id)
         token = _token(headers.get("Cookie")) if headers is not None else None

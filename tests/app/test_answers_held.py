@@ -37,11 +37,11 @@ def test_every_declared_element_exists_and_comes_back_as_it_was(name):
             assert all(isinstance(r, Readout) for r in readouts), answer.readouts
             before = [(r.text, r.value_text) for r in readouts]
             shown = [n.visible for n in nodes]
-            app.hold_back((answer.quantity,))
+            app.simulation.hold_back((answer.quantity,))
             app.frame(FRAME)  # a frame while held: the readouts set their values again, still held
             assert all(r.text == HELD for r in readouts) and not any(n.visible for n in nodes)
             assert scene.held == {answer.quantity}
-            app.hold_back(())
+            app.simulation.hold_back(())
             assert [n.visible for n in nodes] == shown
             assert [r.text for r in readouts] == [r.value_text for r in readouts]
             assert before[0][0] == before[0][1] != HELD
@@ -61,16 +61,16 @@ def test_the_words_leave_the_answer_out_while_it_is_held():
         period = f"{scene.model.small_oscillation_period:.3g}"
         state = scene.compute(0.0, 0.0)
         assert ell in scene.describe(state) and period in scene.describe(state)
-        app.hold_back(("centre_of_percussion",))
+        app.simulation.hold_back(("centre_of_percussion",))
         said = scene.describe(state)
         assert ell not in said and period not in said and "released at 30°" in said
         scene = open_scene(app, "tennis_racket")
-        app.hold_back(("flip",))
+        app.simulation.hold_back(("flip",))
         said = scene.describe(scene.compute(0.0, 0.0))
         assert "flip" not in said.replace("the class question", "") and "class question" in said
         assert not scene.caption_markdown.visible  # the caption states the theorem
         scene = open_scene(app, "heavy_top")
-        app.hold_back(("precession_rate",))
+        app.simulation.hold_back(("precession_rate",))
         said = scene.describe(scene.compute(0.0, 0.0))
         assert "rad/s," not in said.split(";")[0] and "its rate is the class question" in said
 
@@ -102,7 +102,7 @@ def test_a_lecture_asking_about_what_its_scene_does_not_declare_is_refused(tmp_p
         encoding="utf-8",
     )
     with running_app(start_loop=False) as app, pytest.raises(ValueError, match="step 1: about: wobble declares no"):
-        app.load_lecture(read_lecture(str(path)))
+        app.simulation.load_lecture(read_lecture(str(path)))
 
 
 def test_the_shipped_questions_say_what_they_ask_about_and_give_what_is_needed():
@@ -115,7 +115,7 @@ def test_the_shipped_questions_say_what_they_ask_about_and_give_what_is_needed()
         (9, ("precession_rate",)),
     ]
     with running_app(start_loop=False) as app:
-        app.load_lecture(lecture)
+        app.simulation.load_lecture(lecture)
         app.go_to_step(2)
         model = app.scene.model
         text = lecture.steps[2].ask.text

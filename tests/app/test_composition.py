@@ -49,8 +49,8 @@ def test_the_body_fills_a_third_of_the_free_view_and_stays_in_it(name):
             eye, target = framed(*scene.camera, width, height, FOV, type(scene).view)
             left, top, right, bottom = free_region(width, height)
             for t in (1.0, 2.0, 3.0, 4.0) if not scene.static else (0.0,):
-                app.set_time(t)
-                app.request_redraw()
+                app.simulation.set_time(t)
+                app.simulation.request_redraw()
                 app.frame(0.0)
                 x0, y0, x1, y1 = box(project(posed(scene.body.handle), eye, target, width, height))
                 share = max(x1 - x0, y1 - y0) / (bottom - top)
@@ -75,8 +75,8 @@ def test_the_racket_l_sphere_is_drawn_beside_the_racket():
         )
         sx0, sy0, sx1, sy1 = box(project(sphere, eye, target, width, height))
         for t in np.linspace(0.0, 8.0, 33):  # through a flip and back
-            app.set_time(float(t))
-            app.request_redraw()
+            app.simulation.set_time(float(t))
+            app.simulation.request_redraw()
             app.frame(0.0)
             bx0, _, bx1, _ = box(project(posed(scene.body.handle), eye, target, width, height))
             assert sx1 < bx0, f"t = {t:.2f}: the L-sphere ({sx0:.0f}-{sx1:.0f} px) reaches the racket ({bx0:.0f} px)"
@@ -112,8 +112,8 @@ def test_the_pendulum_labels_neither_overlap_nor_sit_on_the_bat(strike):
         eye, target = framed(*scene.camera, width, height, FOV, type(scene).view)
         labels = [scene.cm_label, scene.cop_label, scene.hit_label]
         for t in np.linspace(0.0, 1.6, 9):  # a whole swing of ±30°
-            app.set_time(float(t))
-            app.request_redraw()
+            app.simulation.set_time(float(t))
+            app.simulation.request_redraw()
             app.frame(0.0)
             boxes = [label_box(label, eye, target, width, height) for label in labels]
             for i in range(len(boxes)):
@@ -145,8 +145,8 @@ def test_no_two_labels_overlap_in_any_scene(name):
         width, height = 1280, 800
         eye, target = framed(*scene.camera, width, height, FOV, type(scene).view)
         for t in np.linspace(0.0, 4.0, 17) if not scene.static else (0.0,):
-            app.set_time(float(t))
-            app.request_redraw()
+            app.simulation.set_time(float(t))
+            app.simulation.request_redraw()
             app.frame(0.0)
             labels = shown_labels(scene)
             boxes = [label_box(label, eye, target, width, height) for label in labels]
@@ -186,8 +186,8 @@ def test_every_arrow_and_its_label_stay_in_the_free_view(name, view):
         eye, target = framed(*scene.camera, width, height, FOV, type(scene).view, mobile)
         left, top, right, bottom = free_region(width, height, mobile)
         for t in np.linspace(0.0, 4.0, 17) if not scene.static else (0.0,):
-            app.set_time(float(t))
-            app.request_redraw()
+            app.simulation.set_time(float(t))
+            app.simulation.request_redraw()
             app.frame(0.0)
             for arrow in shown_arrows(scene):
                 ((x, y),) = project(np.asarray([arrow.tip], dtype=float), eye, target, width, height)

@@ -11,7 +11,7 @@ from app import controls
 
 
 def test_refused_dropdown_choice_snaps_back_and_notifies(app):
-    ctx = SimpleNamespace(server=app.server, guarded=app.guarded, notify=app.notify)
+    ctx = SimpleNamespace(server=app.server, guarded=app.simulation.guarded, notify=app.simulation.notify)
     adopted = {"value": "box"}
     applied = []
 
@@ -229,7 +229,7 @@ def test_presets_and_dropdowns_refuse_any_exception(app):
         assert app.messages[-1][1] == "ZeroDivisionError: float division by zero"
     finally:
         del presets.presets["broken (test)"]
-    ctx = SimpleNamespace(server=app.server, guarded=app.guarded, notify=app.notify)
+    ctx = SimpleNamespace(server=app.server, guarded=app.simulation.guarded, notify=app.simulation.notify)
 
     def apply() -> bool:
         raise RuntimeError("no such body")

@@ -159,9 +159,8 @@ class Browser:
 
 def own_simulation(app: Any, mode: str, browser: Browser) -> Any:
     """The simulation this browser drives (or follows): its private session or copy, else the app."""
-    with app.sessions_lock:
-        own = app.sessions.get(browser.cid)
-    return own if own is not None or mode == "private" else app
+    own = app.sessions.get(browser.cid)
+    return own if own is not None or mode == "private" else app.simulation
 
 
 def controls_of(simulation: Any) -> list[Any]:
@@ -352,9 +351,9 @@ def test_random_gui_events_never_break_the_server(capfd, monkeypatch, mode):
                 if mode == "presenter" and roll < 0.08:
                     # The lecture's picker; half the time the inertia explorer, so that the followers' uploads
                     # meet the lecturer's upload button (and a presenter's are read).
-                    titles = list(app.scene_picker._impl.props.options)
+                    titles = list(app.simulation.scene_picker._impl.props.options)
                     title = "Inertia explorer" if rng.random() < 0.5 else rng.choice(titles)
-                    send(ws, app.scene_picker._impl.uuid, title)
+                    send(ws, app.simulation.scene_picker._impl.uuid, title)
                     counts["scene switches"] += 1
                     continue
                 if mode == "shared" or (mode == "private" and rng.random() < 0.95):

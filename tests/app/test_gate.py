@@ -95,7 +95,7 @@ def test_every_other_message_type_changes_nothing() -> None:
                 with raw_client(app) as hostile:
                     for name in FORBIDDEN[start : start + batch]:
                         hostile.send(_message(_messages.Message._subclass_from_type_string()[name]))
-                    send_value(hostile, app.time_text._impl.uuid, "still here")  # allowed: answered
+                    send_value(hostile, app.simulation.time_text._impl.uuid, "still here")  # allowed: answered
                     assert received_until(hostile, lambda got: any(m["type"] == "GuiUpdateMessage" for m in got))
             seen = received(watcher, 0.5)
             assert not any(MARK in repr(m) for m in seen), [m["type"] for m in seen]
@@ -143,7 +143,7 @@ def test_repeated_offences_close_the_connection(hostile: bytes) -> None:
             assert "refused" in (ws.close_reason or "")
         assert app.gate.closed == 1
         with raw_client(app) as other:  # the server goes on serving
-            send_value(other, app.time_text._impl.uuid, "x")
+            send_value(other, app.simulation.time_text._impl.uuid, "x")
             assert received_until(other, lambda got: any(m["type"] == "GuiUpdateMessage" for m in got))
 
 
@@ -175,7 +175,7 @@ def test_a_frame_over_the_largest_cap_is_refused_by_websockets_as_it_comes() -> 
                     ws.recv(timeout=10)
             assert ws.close_code == 1009
         with raw_client(app) as other:
-            send_value(other, app.time_text._impl.uuid, "x")
+            send_value(other, app.simulation.time_text._impl.uuid, "x")
             assert received_until(other, lambda got: any(m["type"] == "GuiUpdateMessage" for m in got))
 
 

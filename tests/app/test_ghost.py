@@ -37,7 +37,7 @@ RK4, SPLIT, BEST, OPTIMISED6, TENTH = list(METHODS)[1:]
 
 
 def _choose(app, scene, method: str, step: float | None = None) -> None:
-    with app.lock:
+    with app.simulation.lock:
         if step is not None:
             scene.ghost.step_slider.value = step
         scene.ghost.choice.value = method
@@ -129,9 +129,9 @@ def test_reset_rewind_and_choices():
         app.restart()  # Reset: the ghost starts again from the exact start
         _run(app, 1)
         assert ghost.t0 == 0.0 and ghost.steps == 0 and app.time > 0.0
-        with app.lock:
-            app.set_time(500.0)  # a jump (an opened state): restart there, not 10,000 steps
-            app.request_redraw()
+        with app.simulation.lock:
+            app.simulation.set_time(500.0)  # a jump (an opened state): restart there, not 10,000 steps
+            app.simulation.request_redraw()
         _run(app, 1)
         assert ghost.t0 > 499.0 and ghost.steps <= 1
         _choose(app, scene, "none")
@@ -230,7 +230,7 @@ def test_a_step_the_method_refuses_stops_the_ghost_not_the_scene():
         _choose(app, scene, RK4, step=0.2)  # |ω| h far past RK4's stability limit 2√2
         frames = app.frames
         _run(app, 30)
-        assert app.playing and app.frames == frames + 30  # the scene was not paused
+        assert app.simulation.playing and app.frames == frames + 30  # the scene was not paused
         assert not [m for m in app.messages if m[0] == "Paused"]
         assert app.messages[-1][0] == "Integrator ghost stopped" and "stability limit" in app.messages[-1][1]
         assert scene.ghost.choice.value == "none" and scene.ghost.method is None

@@ -132,20 +132,20 @@ def test_text_dropdowns_checkboxes_disabled_controls_and_other_properties(gui_ap
 def test_absurd_values_from_one_client_leave_every_other_client_connected(gui_app):
     app = gui_app
     whole = app.server.gui.add_slider("whole (test)", min=0, max=10, step=1, initial_value=5)
-    speed_uuid = app.speed_slider._impl.uuid
+    speed_uuid = app.simulation.speed_slider._impl.uuid
     try:
         with raw_client(app) as sender, raw_client(app) as other:
             refusals = sum(1 for title, _ in app.messages if title == "Refused")
             send_value(sender, whole._impl.uuid, 1e23)  # int(1e23) does not fit in 64 bits
             send_value(sender, speed_uuid, "fast")
             send_value(sender, speed_uuid, None)
-            send_value(sender, app.time_text._impl.uuid, "999")  # a read-only display
+            send_value(sender, app.simulation.time_text._impl.uuid, "999")  # a read-only display
             wait_for(lambda: whole.value == 10, what="the clamped value")
             wait_for(
                 lambda: sum(1 for title, _ in app.messages if title == "Refused") >= refusals + 3,
                 what="three refusals",
             )
-            assert app.speed == 1.0 and app.speed_slider.value == 0.0  # 1× sits in the middle
+            assert app.simulation.speed == 1.0 and app.simulation.speed_slider.value == 0.0  # 1× sits in the middle
             assert still_connected(other, app=app) and still_connected(sender, app=app)
             assert len(app.server.get_clients()) >= 2
             # A later browser gets the state in force, which encodes: it connects and hears the server.
@@ -169,7 +169,7 @@ def test_a_value_a_slider_accepts_still_reaches_the_scene(gui_app):
 
 def test_a_flood_of_changes_from_one_browser_is_limited(gui_app):
     app = gui_app
-    speed_uuid = app.speed_slider._impl.uuid
+    speed_uuid = app.simulation.speed_slider._impl.uuid
     with raw_client(app) as flooder, raw_client(app) as other:
         before = len(app.messages)
         for k in range(400):  # far more than a person can send: about 2,000 a second
@@ -190,22 +190,22 @@ def test_a_refusal_goes_to_its_browser_only_and_not_into_the_shared_status_line(
     from tests.harness import drain, received
 
     app = gui_app
-    app.clear_status()
+    app.simulation.clear_status()
     with raw_client(app) as sender, raw_client(app) as other:
         drain(other)
-        send_value(sender, app.speed_slider._impl.uuid, "fast (status)")
+        send_value(sender, app.simulation.speed_slider._impl.uuid, "fast (status)")
         wait_for(lambda: any("fast (status)" in body for _, body in app.messages), what="the refusal")
         told = received_until(sender, lambda ms: any("fast (status)" in body for body in _notifications(ms)))
         assert any("fast (status)" in body for body in _notifications(told))
         assert not _notifications(received(other, 0.5))  # the other browser hears nothing of it
-        assert app.status.content == ""  # the status line everyone shares is not told either
+        assert app.simulation.status.content == ""  # the status line everyone shares is not told either
         # A failure of the scene is everyone's: it is in the status line, until the clock runs again.
-        app.pause("a numerical failure (test)")
-        assert "a numerical failure (test)" in app.status.content
+        app.simulation.pause("a numerical failure (test)")
+        assert "a numerical failure (test)" in app.simulation.status.content
         failure = received_until(other, lambda ms: any("a numerical failure (test)" in b for b in _notifications(ms)))
         assert any("a numerical failure (test)" in body for body in _notifications(failure))
         app.set_playing(True)
-        assert app.status.content == ""
+        assert app.simulation.status.content == ""
 
 
 def test_a_refusal_on_viser_s_event_loop_waits_for_the_notice_lock(gui_app):
@@ -219,11 +219,11 @@ def test_a_refusal_on_viser_s_event_loop_waits_for_the_notice_lock(gui_app):
         return any(text in body for _, body in app.messages)
 
     with raw_client(app) as sender:
-        with app.lock:  # a frame or a scene switch in progress does not hold the refusal up ...
-            send_value(sender, app.speed_slider._impl.uuid, "fast (locked)")
+        with app.simulation.lock:  # a frame or a scene switch in progress does not hold the refusal up ...
+            send_value(sender, app.simulation.speed_slider._impl.uuid, "fast (locked)")
             wait_for(lambda: told("fast (locked)"), what="the refusal while the simulation is locked")
-        with app.notices.lock:  # ... but the notice lock does: nothing is written while another holds it
-            send_value(sender, app.speed_slider._impl.uuid, "fast (notice)")
+        with app.simulation.notices.lock:  # ... but the notice lock does: nothing is written while another holds it
+            send_value(sender, app.simulation.speed_slider._impl.uuid, "fast (notice)")
             deadline = time.monotonic() + 0.5
             while time.monotonic() < deadline:
                 assert not told("fast (notice)")

@@ -30,21 +30,21 @@ def test_the_shipped_lecture_follows_the_lectures_order_and_every_step_shows():
     assert [s for i, s in enumerate(scenes) if i == 0 or s != scenes[i - 1]] == order
     assert lecture.steps[-1].preset == "sleeping top with friction: falls"  # friction last
     with running_app(start_loop=False) as app:
-        app.load_lecture(lecture)  # every step applied once: presets and values all accepted
+        app.simulation.load_lecture(lecture)  # every step applied once: presets and values all accepted
         for k, step in enumerate(lecture.steps):
             app.go_to_step(k)
             assert app.scene.name == step.scene
-            assert f"step {k + 1} of {len(lecture.steps)}" in app.following.text.content
+            assert f"step {k + 1} of {len(lecture.steps)}" in app.simulation.following.text.content
             if step.preset:
                 assert app.scene.presets.last == step.preset
             for label, choice in step.choices.items():
-                assert next(h for h in app.scene_inputs if str(h.label) == label).value == choice
+                assert next(h for h in app.simulation.scene_inputs if str(h.label) == label).value == choice
             for key, value in step.values.items():
                 assert app.scene.params.values[key] == value
         app.go_to_step(len(lecture.steps) + 5)  # Next at the last step stays there
-        assert app.step_index == len(lecture.steps) - 1
+        assert app.simulation.step_index == len(lecture.steps) - 1
         app.go_to_step(-3)
-        assert app.step_index == 0
+        assert app.simulation.step_index == 0
 
 
 def _shows(caption: str, value: float, digits: int = 4) -> None:
@@ -65,7 +65,7 @@ def test_the_shipped_captions_state_what_each_step_shows():
     lecture = read_lecture("rigid-body-motion")
     captions = [step.caption for step in lecture.steps]
     with running_app(start_loop=False) as app:
-        app.load_lecture(lecture)
+        app.simulation.load_lecture(lecture)
 
         def at(k: int):
             app.go_to_step(k)
@@ -209,7 +209,7 @@ def test_a_bad_file_is_refused_naming_the_step_and_the_key(tmp_path, name):
 def test_what_only_a_scene_can_check_is_checked_before_the_lecture_starts(tmp_path, step, message):
     path = _write(tmp_path, f'[[step]]\nscene = "pendulum"\n\n[[step]]\n{step}\n')
     with pytest.raises(ValueError, match=message), running_app(start_loop=False) as app:
-        app.load_lecture(read_lecture(path))
+        app.simulation.load_lecture(read_lecture(path))
     with pytest.raises(SystemExit) as info:
         main(["--lecture", path, "--port", "0"])
     assert info.value.code == 2
@@ -229,7 +229,7 @@ def test_a_choice_the_scene_refuses_is_named(tmp_path, monkeypatch):
     path = _write(tmp_path, '[[step]]\nscene = "inertia_explorer"\nchoices = { Body = "Solid sphere" }\n')
     with pytest.raises(ValueError, match="step 1: choices.Body: 'Solid sphere' was refused: no spheres today"):
         with running_app(start_loop=False) as app:
-            app.load_lecture(read_lecture(path))
+            app.simulation.load_lecture(read_lecture(path))
 
 
 def test_a_step_with_seconds_moves_on_by_itself_and_the_last_stays(tmp_path):
@@ -237,16 +237,16 @@ def test_a_step_with_seconds_moves_on_by_itself_and_the_last_stays(tmp_path):
         tmp_path, '[[step]]\nscene = "wobble"\nseconds = 0.5\n\n[[step]]\nscene = "pendulum"\nseconds = 0.5\n'
     )
     with running_app(start_loop=False) as app:
-        app.load_lecture(read_lecture(path))
+        app.simulation.load_lecture(read_lecture(path))
         assert app.scene.name == "wobble"
         app.frame(1.0 / 60.0)
-        assert app.step_index == 0  # not yet
-        app.following.step_started -= 1.0  # as if a second had passed
+        assert app.simulation.step_index == 0  # not yet
+        app.simulation.following.step_started -= 1.0  # as if a second had passed
         app.frame(1.0 / 60.0)
-        assert (app.step_index, app.scene.name) == (1, "pendulum")
-        app.following.step_started -= 1.0
+        assert (app.simulation.step_index, app.scene.name) == (1, "pendulum")
+        app.simulation.following.step_started -= 1.0
         app.frame(1.0 / 60.0)
-        assert app.step_index == 1
+        assert app.simulation.step_index == 1
 
 
 def test_a_step_can_be_a_state_text_and_sets_the_camera(tmp_path):
@@ -258,8 +258,8 @@ def test_a_step_can_be_a_state_text_and_sets_the_camera(tmp_path):
         f'[[step]]\nstate = "{text}"\ncamera = {{ position = [3.0, -3.0, 2.0], look_at = [0.0, 0.0, 0.5] }}\n',
     )
     with running_app("wobble", start_loop=False) as app:
-        app.load_lecture(read_lecture(path))
-        assert app.scene.name == "heavy_top" and app.speed == 2.0
+        app.simulation.load_lecture(read_lecture(path))
+        assert app.scene.name == "heavy_top" and app.simulation.speed == 2.0
         assert list(app.server.initial_camera.position) == [3.0, -3.0, 2.0]
 
 

@@ -43,7 +43,7 @@ def test_every_node_is_drawn_in_the_legend_colours(app, name):
     scene = open_scene(app, name)
     for _ in range(3):
         app.frame(FRAME)
-    legend = app.legend.content
+    legend = app.simulation.legend.content
     for quantity in scene.quantities:
         assert draw.hex_colour(quantity) in legend, quantity
     arrows = _parts(scene, draw.Arrow)
@@ -65,7 +65,7 @@ def test_every_node_is_drawn_in_the_legend_colours(app, name):
         holders.setdefault(colour, set()).add(quantity)
     allowed = set(draw.COLOURS.values()) | {draw.instance_colour(q) for q in draw.COLOURS}
     for node, handle in app.server.scene._handle_from_node_name.items():
-        if not node.startswith(app.root):
+        if not node.startswith(app.simulation.root):
             continue
         for colour in _colours_of(handle):
             assert colour in allowed, f"{node} is drawn in {colour}, not in the palette"
@@ -89,7 +89,7 @@ def test_every_label_in_the_scene_is_drawn_at_the_projector_size(app, name):
     labels = {
         node: handle
         for node, handle in app.server.scene._handle_from_node_name.items()
-        if node.startswith(app.root) and isinstance(handle, viser.LabelHandle)
+        if node.startswith(app.simulation.root) and isinstance(handle, viser.LabelHandle)
     }
     assert labels, f"{name} draws no label"
     for node, handle in labels.items():

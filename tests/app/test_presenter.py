@@ -74,7 +74,7 @@ def _enables(message, uuid):
 def _lecture_removed(messages, spin, app):
     """An explorer's page was told to remove the lecture's slider, picker and scene root."""
     removed = {m["uuid"] for m in messages if m.get("type") == "GuiRemoveMessage"}
-    return {spin._impl.uuid, app.scene_picker._impl.uuid} <= removed and any(
+    return {spin._impl.uuid, app.simulation.scene_picker._impl.uuid} <= removed and any(
         m.get("type") == "RemoveSceneNodeMessage" and m["name"] == "/scene" for m in messages
     )
 
@@ -118,12 +118,12 @@ def test_a_follower_sees_the_lecture_disabled_and_cannot_change_it(lecture):
         wait_for(lambda: any("following the lecturer" in b for _, b in app.messages), what="the refusal")
         assert app.scene.params.values["spin"] == before and spin.value == before
         # Uploads and clicks are refused too (the clock's Pause is a button).
-        playing = app.playing
-        click_button(ws, app.play_button._impl.uuid)
+        playing = app.simulation.playing
+        click_button(ws, app.simulation.play_button._impl.uuid)
         assert still_connected(ws, app=app)
-        assert app.playing == playing
+        assert app.simulation.playing == playing
         # The refusal went to that browser only: the lecture's status line stays clean.
-        assert "following" not in app.status.content
+        assert "following" not in app.simulation.status.content
 
 
 def test_the_pin_makes_a_presenter_wrong_pins_are_limited(lecture, monkeypatch):
@@ -190,7 +190,7 @@ def test_exploring_gives_a_copy_from_the_current_state_and_following_brings_the_
         # The student's page removes the lecture's panel and nodes, then hears nothing more of it.
         removal = received_until(student, lambda ms: _lecture_removed(ms, spin, app))
         removed = {m["uuid"] for m in removal if m.get("type") == "GuiRemoveMessage"}
-        assert spin._impl.uuid in removed and app.scene_picker._impl.uuid in removed
+        assert spin._impl.uuid in removed and app.simulation.scene_picker._impl.uuid in removed
         assert any(m.get("type") == "RemoveSceneNodeMessage" and m["name"] == "/scene" for m in removal)
         send_value(lecturer, spin._impl.uuid, changed + 1.0)
         wait_for(lambda: app.scene.params.values["spin"] == changed + 1.0, what="the lecturer's next change")
@@ -264,7 +264,7 @@ def test_a_followers_upload_is_refused_before_anything_reads_it(lecture, monkeyp
         wait_for(lambda: any("following the lecturer" in b for _, b in app.messages[before:]), what="the refusal")
         assert still_connected(ws, app=app)
         assert not parsed and scene.uploaded is None and not app.server.gui._current_file_upload_states
-        assert "following" not in app.status.content  # to that browser only
+        assert "following" not in app.simulation.status.content  # to that browser only
         # The scene's own callback asks first too (a file viser completed before the browser lost the right).
         client = app.server.get_clients()[cid]
         refused = scene.upload_refusals
@@ -303,4 +303,4 @@ def test_exploring_copies_an_uploaded_body_and_its_state_text_is_refused_by_name
             assert copy.scene.choice.value == app.scene.choice.value
             assert not [b for t, b in copy.messages if t == "Refused"], copy.messages
         with pytest.raises(ValueError, match="uploaded mesh"):
-            state_text(app.snapshot())
+            state_text(app.simulation.snapshot())

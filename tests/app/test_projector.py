@@ -28,8 +28,8 @@ PENDULUM_QUESTION, RACKET_QUESTION = 2, 6  # the shipped lecture's pendulum and 
 
 
 def _frame(app, n: int = 3) -> None:
-    with app.lock:
-        app.request_redraw()
+    with app.simulation.lock:
+        app.simulation.request_redraw()
         for _ in range(n):
             app.frame(1.0 / 60.0)
 
@@ -90,11 +90,11 @@ def test_the_caption_is_sanitised_and_a_hidden_plot_is_not_copied():
         content = projector.caption.content
         assert "<img" not in content and "<script" not in content and "alert(2)" not in content
         assert "**Look**" in content
-        with app.lock:
+        with app.simulation.lock:
             app.scene.plot.visible = False  # as a held-back answer hides it
         _frame(app)
         assert projector.plot is None
-        with app.lock:
+        with app.simulation.lock:
             app.scene.plot.visible = True
         _frame(app)
         assert projector.plot is not None
@@ -152,7 +152,7 @@ def test_the_pendulums_swing_is_its_key_plot_and_is_held_back_with_the_centre_of
         # The swing's period states ℓ: held back while the question is open, on the projector too.
         assert not scene.swing_plot.visible and projector.plot is None
         app.questions.reveal(None)
-        with app.lock:
+        with app.simulation.lock:
             app.set_playing(True)
         _frame(app, 120)
         assert scene.swing_plot.visible and projector.plot is not None
@@ -179,11 +179,11 @@ def test_the_captions_row_steps_the_lecture_runs_the_clock_and_leaves_projector_
         assert projector.row.options == ("Previous", "Play", "Reset", "Next", LEAVE)
         press("Play")
         _frame(app, 1)
-        assert app.playing and projector.row.options[1] == "Pause"
+        assert app.simulation.playing and projector.row.options[1] == "Pause"
         press("Next")
-        assert app.step_index == 3
+        assert app.simulation.step_index == 3
         press("Previous")
-        assert app.step_index == 2
+        assert app.simulation.step_index == 2
         press(LEAVE)
         assert not projector.on and projector.row is None
 
@@ -194,7 +194,7 @@ def test_the_heavy_tops_key_plot_is_theta_of_t_between_its_turning_points():
     with running_app("heavy_top", projector=True, start_loop=False) as app:
         scene, projector = app.scene, app.shared.projector
         assert scene.key_plot_handle() is scene.nutation.handle
-        with app.lock:
+        with app.simulation.lock:
             app.set_playing(True)
         _frame(app, 240)  # 4 s at 1×: more than one nutation period of the default top
         times, thetas = scene.nutation.handle.data

@@ -157,7 +157,7 @@ def test_the_histogram_bins_are_half_open_and_the_last_is_closed():
 def test_the_true_values_come_from_the_physics_api():
     lecture = read_lecture("rigid-body-motion")
     with running_app(start_loop=False) as app:
-        app.load_lecture(lecture)
+        app.simulation.load_lecture(lecture)
         app.go_to_step(STEADY)
         top = HeavyTop(0.4, 0.2, 1.0)  # the preset: I₁ = 0.4, I₃ = 0.2 kg m², M g ℓ = 1 N m
         theta, L3 = math.radians(60.0), 0.2 * 10.0  # θ₀ = 60°, ω₃ = 10 rad/s
@@ -279,8 +279,11 @@ def test_a_question_step_waits_and_every_follower_answers_once(lecture_app):
     app, questions = lecture_app, lecture_app.questions
     assert questions.voters.installed
     app.go_to_step(RACKET)
-    assert not app.playing and app.time == 0.0
-    assert "**Question.**" in app.following.text.content and "flips" not in app.following.text.content
+    assert not app.simulation.playing and app.time == 0.0
+    assert (
+        "**Question.**" in app.simulation.following.text.content
+        and "flips" not in app.simulation.following.text.content
+    )
     question = questions.poll.current
     assert question.source == "step 7" and question.open
     with _browser(app) as (a, a_id, a_panel), _browser(app) as (b, b_id, b_panel), _browser(app) as (p, p_id, _):
@@ -309,7 +312,7 @@ def test_a_question_step_waits_and_every_follower_answers_once(lecture_app):
         wait_for(lambda: question.revealed_at is not None, what="the reveal")
         after = _text(received_until(b, lambda ms: "2 answers" in _text(ms) and "✓" in _text(ms)))
         assert "2 answers" in after and "✓" in after  # the chart, with the right choice marked
-        assert "again and again" in app.following.text.content  # the caption with the answers
+        assert "again and again" in app.simulation.following.text.content  # the caption with the answers
         send_value(a, a_panel.choice._impl.uuid, "B")  # after the close (a raw client ignores disabled)
         closed = received_until(a, lambda ms: _note_in(ms, "closed") or _note_in(ms, "cannot be changed"))
         assert any("closed" in n or "cannot be changed" in n for n in _notes(closed))

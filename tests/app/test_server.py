@@ -61,7 +61,7 @@ def test_check_finite_finds_one_bad_element_in_an_array_of_any_size_and_float_ty
 @pytest.mark.parametrize("name", SCENES)
 def test_each_scene_builds_steps_and_moves_its_handles(app, name):
     scene = open_scene(app, name)
-    assert app.scene_picker.value == REGISTRY[name].title
+    assert app.simulation.scene_picker.value == REGISTRY[name].title
     before = np.array(scene.body.handle.wxyz)
     for _ in range(30):
         assert app.frame(FRAME)
@@ -82,7 +82,7 @@ def test_paused_clock_holds_time_and_step_advances_one_frame(app):
     assert app.time == t0
     assert not app.frame(FRAME)  # nothing to redraw
     app.set_speed(2.5)
-    app.step()
+    app.simulation.step()
     assert app.frame(FRAME)
     assert app.time == pytest.approx(t0 + 2.5 / 60.0, rel=1e-12)
     with pytest.raises(ValueError, match="speed"):
@@ -104,16 +104,18 @@ def test_speed_scales_simulation_time(app):
 
 def test_buttons_and_speed_slider_drive_the_clock(app):
     open_scene(app, "wobble")
-    app.play_button._impl.value = True
-    for cb in app.play_button._impl.update_cb:  # a click from the page arrives like this
+    app.simulation.play_button._impl.value = True
+    for cb in app.simulation.play_button._impl.update_cb:  # a click from the page arrives like this
         cb(None)
-    assert not app.playing and app.play_button.label == "Play"
-    app.speed_slider.value = 0.5  # the slider is logarithmic (app.panel.speed): half-way right is 10^0.5×
-    assert app.speed == pytest.approx(10**0.5, rel=1e-15) and app.speed_slider.label == "Speed 3.2×"
-    app.speed_slider.value = -1.0
-    assert app.speed == pytest.approx(0.01, rel=1e-15) and app.speed_slider.label == "Speed 0.01×"
+    assert not app.simulation.playing and app.simulation.play_button.label == "Play"
+    app.simulation.speed_slider.value = 0.5  # the slider is logarithmic (app.panel.speed): half-way right is 10^0.5×
+    assert (
+        app.simulation.speed == pytest.approx(10**0.5, rel=1e-15) and app.simulation.speed_slider.label == "Speed 3.2×"
+    )
+    app.simulation.speed_slider.value = -1.0
+    assert app.simulation.speed == pytest.approx(0.01, rel=1e-15) and app.simulation.speed_slider.label == "Speed 0.01×"
     app.set_speed(1.0)
-    assert app.speed_slider.value == 0.0 and app.speed_slider.label == "Speed 1×"
+    assert app.simulation.speed_slider.value == 0.0 and app.simulation.speed_slider.label == "Speed 1×"
 
 
 def test_nan_in_a_frame_pauses_with_a_message_and_keeps_the_last_state(app, monkeypatch):
@@ -130,10 +132,10 @@ def test_nan_in_a_frame_pauses_with_a_message_and_keeps_the_last_state(app, monk
 
     monkeypatch.setattr(scene, "compute", broken)
     assert not app.frame(FRAME)
-    assert not app.playing
+    assert not app.simulation.playing
     assert app.time == t
     assert "numerical failure" in app.messages[-1][1] and "omega_space" in app.messages[-1][1]
-    assert "⚠" in app.status.content
+    assert "⚠" in app.simulation.status.content
     np.testing.assert_array_equal(scene.body.handle.wxyz, pose)
     monkeypatch.setattr(scene, "compute", good)
     app.set_playing(True)
@@ -149,10 +151,10 @@ def test_exception_in_a_frame_or_a_callback_is_shown_not_swallowed(app, monkeypa
     monkeypatch.setattr(scene, "compute", boom)
     assert not app.frame(FRAME)
     assert "RuntimeError: the model broke" in app.messages[-1][1]
-    assert not app.playing
+    assert not app.simulation.playing
     monkeypatch.undo()
 
-    @app.guarded
+    @app.simulation.guarded
     def callback(event):
         raise KeyError("missing")
 
@@ -167,18 +169,18 @@ def test_a_scene_that_fails_to_build_leaves_the_previous_one(app, monkeypatch):
         raise RuntimeError("cannot build")
 
     monkeypatch.setattr(REGISTRY["free_fall"], "build", broken_build)
-    app.scene_picker.value = REGISTRY["free_fall"].title  # the picker, as from the page
+    app.simulation.scene_picker.value = REGISTRY["free_fall"].title  # the picker, as from the page
     assert app.scene.name == "wobble"
-    assert app.scene_picker.value == REGISTRY["wobble"].title
+    assert app.simulation.scene_picker.value == REGISTRY["wobble"].title
     assert "cannot build" in app.messages[-1][1]
     assert app.frame(FRAME)
 
 
 def test_switching_scenes_from_the_picker_replaces_the_scene(app):
     open_scene(app, "heavy_top")
-    app.scene_picker.value = REGISTRY["wobble"].title
+    app.simulation.scene_picker.value = REGISTRY["wobble"].title
     assert app.scene.name == "wobble" and app.time == 0.0
-    assert "body cone" in app.legend.content
+    assert "body cone" in app.simulation.legend.content
     assert app.frame(FRAME)
 
 

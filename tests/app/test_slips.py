@@ -31,7 +31,7 @@ def test_the_principal_axes_are_legible_in_both_looks():
             scene = open_scene(app, name)
             rows = np.asarray(scene.frame.handle.colors).reshape(-1, 3)
             assert contrast(_hex(rows[0]), DARK_BACKGROUND) >= 7.0, name  # not black on near-black
-            assert _hex(draw.DARK_COLOURS["axes"]) in app.legend.content  # the legend shows them as drawn
+            assert _hex(draw.DARK_COLOURS["axes"]) in app.simulation.legend.content  # the legend shows them as drawn
     with running_app(start_loop=False) as app:
         scene = open_scene(app, "wobble")
         assert tuple(np.asarray(scene.frame.handle.colors).reshape(-1, 3)[0]) == draw.COLOURS["axes"]
@@ -51,7 +51,7 @@ def test_free_fall_names_its_centre_of_mass_parabola_apart_from_the_axis_tip_tra
         scene = open_scene(app, "free_fall")
         for _ in range(30):
             app.frame(FRAME)
-        path = app.server.scene._handle_from_node_name[app.root + "/path"]
+        path = app.server.scene._handle_from_node_name[app.simulation.root + "/path"]
         assert tuple(np.asarray(path.colors).reshape(-1, 3)[0]) != draw.COLOURS["trace"]
         assert scene.path_label.text == "centre of mass"
         # It hangs right of the launch point, under the rising leg, farther than the body reaches from its centre.
@@ -66,13 +66,17 @@ def test_free_fall_names_its_centre_of_mass_parabola_apart_from_the_axis_tip_tra
 def test_the_still_explorer_has_no_running_clock():
     with running_app(start_loop=False) as app:
         open_scene(app, "inertia_explorer")  # open_scene presses Play
-        assert not app.playing and app.play_button.disabled and app.panel.step_button.disabled
-        app.step()
+        assert (
+            not app.simulation.playing
+            and app.simulation.play_button.disabled
+            and app.simulation.panel.step_button.disabled
+        )
+        app.simulation.step()
         for _ in range(5):
             app.frame(FRAME)
         assert app.time == 0.0
         open_scene(app, "wobble")  # a moving scene after it plays again
-        assert app.playing and not app.play_button.disabled
+        assert app.simulation.playing and not app.simulation.play_button.disabled
         app.frame(FRAME)
         assert app.time > 0.0
 

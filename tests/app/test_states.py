@@ -38,12 +38,12 @@ def test_a_state_round_trips_through_its_text_exactly():
         app.set_speed(2.5)
         for _ in range(40):
             app.frame(1.0 / 60.0)
-        before = app.snapshot()
+        before = app.simulation.snapshot()
         text = app.state_text()
         assert text.startswith(PREFIX) and len(text) < 1000
         with running_app("wobble", start_loop=False) as other:
-            other.open_state(text)
-            _same(other.snapshot(), before)
+            other.simulation.open_state(text)
+            _same(other.simulation.snapshot(), before)
             # The stepped friction top goes on from the same attitude: the next frames agree too.
             app.frame(1.0 / 60.0)
             other.frame(1.0 / 60.0)
@@ -56,11 +56,11 @@ def test_the_copy_button_writes_the_text_and_open_brings_it_back_with_the_camera
     with running_app("pendulum", start_loop=False) as app:
         camera = SimpleNamespace(position=np.array([1.0, -2.0, 0.5]), look_at=np.array([0.0, 0.0, 0.3]))
         client = SimpleNamespace(camera=camera, client_id="someone")
-        app.panel.on_copy_state(SimpleNamespace(client=client))
-        text = app.state_box.value
+        app.simulation.panel.on_copy_state(SimpleNamespace(client=client))
+        text = app.simulation.state_box.value
         assert parse_state(text)["camera"] == {"position": [1.0, -2.0, 0.5], "look_at": [0.0, 0.0, 0.3]}
         app.switch_scene("wobble")
-        app.open_state(text)
+        app.simulation.open_state(text)
         assert app.scene.name == "pendulum"
         np.testing.assert_allclose(app.server.initial_camera.position, [1.0, -2.0, 0.5])
 
@@ -70,7 +70,7 @@ def test_a_state_text_opens_the_app_there_and_every_private_session():
         source.set_speed(3.0)
         text = source.state_text()
     with running_app(state=text, start_loop=False) as app:
-        assert app.scene.name == "heavy_top" and app.speed == 3.0
+        assert app.scene.name == "heavy_top" and app.simulation.speed == 3.0
     with running_app(private=True, state=text) as app, raw_client(app):
         session = wait_for(lambda: next(iter(app.sessions.values()), None), what="the session")
         wait_for(lambda: session.scene is not None and session.speed == 3.0, what="the session at the state")
@@ -108,15 +108,15 @@ def test_a_bad_text_is_refused_with_a_message(name):
 def test_a_refused_control_leaves_the_previous_state_whole():
     with running_app("pendulum", start_loop=False) as app:
         app.set_speed(4.0)
-        before = app.snapshot()
+        before = app.simulation.snapshot()
         good = parse_state(state_text({**before, "scene": "wobble", "controls": [], "motion": {}}))
         text = state_text({**good, "controls": [("no such slider", 1.0)]})
         with pytest.raises(ValueError, match="no such slider"):
-            app.open_state(text)
-        _same(app.snapshot(), before)
+            app.simulation.open_state(text)
+        _same(app.simulation.snapshot(), before)
         # A value beyond a slider's range is clamped to it, as a browser's would be.
         wobble = state_text({**good, "controls": [("|ω| (rad/s)", 1e9)]})
-        app.open_state(wobble)
+        app.simulation.open_state(wobble)
         assert app.scene.params.values["spin"] == 10.0
 
 
@@ -142,7 +142,7 @@ def test_sliders_are_named_by_their_keys_and_a_state_written_by_labels_still_ope
     old = parse_state(OLD_STATE)
     assert ["spin ω₃ (rad/s)", 12.5] in [list(c) for c in old["controls"]]  # the old text names sliders by label
     with running_app("heavy_top", start_loop=False) as app:
-        app.open_state(OLD_STATE)
+        app.simulation.open_state(OLD_STATE)
         assert app.scene.params.values["spin"] == 12.5 and app.scene.params.values["theta0"] == 40.0
         assert app.time == 0.75
         written = parse_state(app.state_text())
@@ -158,10 +158,10 @@ def test_a_state_survives_a_slider_relabelled():
         text = app.state_text()
         app.scene.params.sliders["spin"].label = "rate of spin ω₃ (rad/s)"
         assert app.scene.params.offer({"spin": 3.0})
-        app.open_state(text)
+        app.simulation.open_state(text)
         assert app.scene.params.values["spin"] == 17.0
         with pytest.raises(ValueError, match="“no such control”, which the scene does not have"):
-            app.open_state(
+            app.simulation.open_state(
                 _pack(
                     {
                         "scene": "heavy_top",

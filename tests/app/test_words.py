@@ -53,7 +53,7 @@ def test_the_explorer_says_what_each_body_weighs_with_four_digits(app):
     lightest, heaviest = min(a.mass for a in ASSETS.values()), max(a.mass for a in ASSETS.values())
     assert "1 kg" in scene.caption and f"{lightest:.2g} to {heaviest:.2g} kg" in scene.caption
     for choice in ("Box (L × 2a × a)", "Tennis racket", "Spinning top"):
-        with app.lock:
+        with app.simulation.lock:
             scene.choice.value = choice
         note = scene.note.content
         assert f"{scene.props.mass:.4g} kg" in note and f"{scene.display_scale:.4g}× its size" in note
@@ -92,5 +92,5 @@ def test_the_racket_readouts_say_estimate_and_the_legend_has_its_axes_and_ghost(
     assert "estimated from the linear growth" in scene.first_flip_readout.handle.label
     assert "lecture's first flip" not in scene.first_flip_readout.handle.label
     assert "exp(λt)" in scene.caption
-    legend = app.legend.content
+    legend = app.simulation.legend.content
     assert "principal axes" in legend and "ghost" in legend

@@ -26,12 +26,12 @@ def test_the_friction_top_lies_on_the_table_and_never_below_it(chromium) -> None
         lowest = []
         deadline = time.monotonic() + 60.0
         while not app.scene.landed and time.monotonic() < deadline:
-            with app.lock:
+            with app.simulation.lock:
                 R = app.scene.R.copy()
             lowest.append(float(np.min(TOP_MESH.vertices @ R.T[:, 2])))  # what the last frame drew (m)
             time.sleep(0.02)
         assert app.scene.landed, "the top never came down"
-        with app.lock:
+        with app.simulation.lock:
             R = app.scene.R.copy()
         lowest.append(float(np.min(TOP_MESH.vertices @ R.T[:, 2])))
         assert min(lowest) >= -1e-12 and lowest[-1] == pytest.approx(0.0, abs=1e-12)

@@ -54,7 +54,7 @@ def test_no_payload_runs_in_the_sender_or_a_follower(chromium):
                 wait_for(lambda page=page: _shows(page, MESH_NAME), 30, what="the name in the note")
             # The status line every page shows (a refusal quoting a text): the whole corpus at once, each
             # payload then found as its own characters.
-            app.notify("Refused", " | ".join(PAYLOADS), error=True)
+            app.simulation.notify("Refused", " | ".join(PAYLOADS), error=True)
             for page in pages:
                 wait_for(lambda page=page: _shows(page, PAYLOADS[-1]), 30, what="the corpus in the status line")
                 assert all(_shows(page, payload) for payload in PAYLOADS)
@@ -65,7 +65,7 @@ def test_no_payload_runs_in_the_sender_or_a_follower(chromium):
                 assert not page.evaluate(PWNED), page
             # The check sees a script that runs: a payload written raw into a Markdown element (viser renders
             # an iframe's srcdoc, whose script sets the page's variable).
-            app.status.content = PAYLOADS[7]
+            app.simulation.status.content = PAYLOADS[7]
             wait_for(lambda: follower.evaluate(PWNED), 30, what="the raw payload to run (the check's control)")
         finally:
             for page in pages:

@@ -222,7 +222,7 @@ def focus_cycle(page: Any) -> list[dict[str, Any]]:
 
 def test_a_whole_lecture_and_every_scenes_controls_by_keyboard_alone(chromium) -> None:
     with running_app(lecture="rigid-body-motion") as app:
-        steps = app.lecture.steps
+        steps = app.simulation.lecture.steps
         total = len(steps)
         page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
         try:
@@ -276,7 +276,11 @@ def test_a_whole_lecture_and_every_scenes_controls_by_keyboard_alone(chromium) -
                 if k > 0:
                     page.keyboard.press(clicker[k % 3])
                     wait_for(
-                        lambda k=k: app.step_index == k and app.scene is not None and app.scene.name == steps[k].scene,
+                        lambda k=k: (
+                            app.simulation.step_index == k
+                            and app.scene is not None
+                            and app.scene.name == steps[k].scene
+                        ),
                         20,
                         what=f"{clicker[k % 3]} to step {k + 1}",
                     )
@@ -292,7 +296,9 @@ def test_a_whole_lecture_and_every_scenes_controls_by_keyboard_alone(chromium) -
             for k, key in zip((total - 2, total - 3, total - 4), ("PageUp", "ArrowLeft", "ArrowUp"), strict=True):
                 page.keyboard.press(key)
                 wait_for(
-                    lambda k=k: app.step_index == k and app.scene is not None and app.scene.name == steps[k].scene,
+                    lambda k=k: (
+                        app.simulation.step_index == k and app.scene is not None and app.scene.name == steps[k].scene
+                    ),
                     20,
                     what=f"{key} back to step {k + 1}",
                 )

@@ -113,13 +113,13 @@ def body_pixels(page, app, name: str | None = None) -> tuple[np.ndarray, np.ndar
 
 
 def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    with app.lock:
+    with app.simulation.lock:
         if name is not None and app.scene.name != name:
             app.switch_scene(name)
         app.set_playing(False)
         app.restart()  # the traces cleared: the picture is of the pose alone, whatever ran before
-        app.set_time(SCENE_TIME)
-        app.request_redraw()
+        app.simulation.set_time(SCENE_TIME)
+        app.simulation.request_redraw()
         drawn = app.frames
     wait_for(lambda: app.frames > drawn, 30, what="the paused frame")
     _drawn_again(page)
@@ -129,11 +129,11 @@ def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, n
     page.evaluate(PANEL_VISIBLE, False)
     try:
         shown = _settled(page)
-        with app.lock:
+        with app.simulation.lock:
             app.scene.body.handle.visible = False
         _drawn_again(page)
         hidden = _settled(page, unlike=shown)
-        with app.lock:
+        with app.simulation.lock:
             app.scene.body.handle.visible = True
     finally:
         page.evaluate(PANEL_VISIBLE, True)
@@ -289,7 +289,7 @@ def test_key_controls_above_the_fold_and_the_panel_collapses(chromium) -> None:
         page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
         for scene in sorted(MAIN_CONTROLS):
             sliders, buttons = MAIN_CONTROLS[scene]
-            with app.lock:
+            with app.simulation.lock:
                 if app.scene.name != scene:
                     app.switch_scene(scene)
             for label in sliders:

@@ -46,8 +46,8 @@ SEEN = "() => window.rblNotices"
 def _refuse(page, app, text: str, times: int = 1) -> None:
     """Open a state text that no state has, from this page (the refusal is this browser's); ``times``
     clicks in quick succession."""
-    with app.lock:
-        app.state_box.value = text
+    with app.simulation.lock:
+        app.simulation.state_box.value = text
     # The page has the text before the click sends it back (viser's text box: an input or a textarea).
     shown = "(t) => [...document.querySelectorAll('input, textarea')].some(e => e.value === t)"
     wait_for(lambda: page.evaluate(shown, text), 30, what="the page to show the state text")
@@ -93,7 +93,7 @@ def test_refusals_close_by_themselves_and_identical_ones_are_not_stacked(chromiu
         seen = page.evaluate(SEEN)
         assert len(seen) == 1 and next(iter(seen.values()))["most"] == 1, (seen, page.evaluate(TEXTS))
         assert other.evaluate(VISIBLE) == 0  # the other browser did nothing wrong and hears nothing
-        assert "⚠" not in app.status.content  # ...not even in the status line every browser shares
+        assert "⚠" not in app.simulation.status.content  # ...not even in the status line every browser shares
         wait_for(lambda: page.evaluate(VISIBLE) == 0, LIFETIME + 30, what="the notification to close itself")
         page.evaluate(RECORD)
         bodies = []
@@ -116,12 +116,12 @@ def test_refusals_close_by_themselves_and_identical_ones_are_not_stacked(chromiu
         for record in shown:
             assert record["last"] - record["first"] >= 1000 * LIFETIME / 2, shown
         assert "⚠" not in page.inner_text("body")
-        app.pause("a numerical failure (test)")  # the scene's own failure: in the status line, for everyone
+        app.simulation.pause("a numerical failure (test)")  # the scene's own failure: in the status line, for everyone
         wait_for(lambda: "⚠" in page.inner_text("body"), 10, what="the failure in the status line")
         pick_scene(page, "Heavy top")
         wait_for(lambda: getattr(app.scene, "name", None) == "heavy_top", 30, what="the heavy top")
-        with app.lock:  # the switch holds it until it is done: the scene is set before the status is cleared
-            assert app.status.content == ""  # the status line belonged to the wobble
+        with app.simulation.lock:  # the switch holds it until it is done: the scene is set before the status is cleared
+            assert app.simulation.status.content == ""  # the status line belonged to the wobble
         wait_for(lambda: "⚠" not in page.inner_text("body"), 10, what="the status line cleared in the page")
         page.close()
         other.close()

@@ -64,7 +64,7 @@ def test_the_effective_potential_survives_reset_preset_and_sliders(chromium) -> 
 
         def under_lock(change):
             def run() -> None:
-                with app.lock:
+                with app.simulation.lock:
                     assert change()
 
             return run
@@ -124,7 +124,7 @@ def test_the_racket_and_drift_plots_survive_reset_choices_presets_and_sliders(ch
 
         def locked(action):
             def run() -> None:
-                with app.lock:
+                with app.simulation.lock:
                     assert action() is not False
 
             return run

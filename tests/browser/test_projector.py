@@ -165,7 +165,7 @@ def test_the_presenters_switch_puts_every_follower_in_projector_mode_with_the_an
         # The clicker's key steps the lecture with the panel a bar (the caption's row has the Next button).
         lecturer.mouse.click(0.3 * WIDTH, 0.6 * HEIGHT)  # the focus on the page, not on a control
         lecturer.keyboard.press("PageDown")
-        wait_for(lambda: app.step_index == RACKET + 1, 30, what="the clicker's next step")
+        wait_for(lambda: app.simulation.step_index == RACKET + 1, 30, what="the clicker's next step")
 
         # Switched off from the caption's row: the panel back at its width, the projector's panels gone.
         click(lecturer.get_by_role("button", name="Leave projector mode"))

@@ -47,7 +47,7 @@ def test_three_followers_vote_change_and_see_the_answers_only_when_revealed(chro
     with running_app(presenter=True, pin=PIN, lecture=str(path)) as app:
         questions = app.questions
         question = questions.poll.current  # the lecture waits at t = 0 with the question
-        assert question.source == "step 1" and not app.playing and app.time == 0.0
+        assert question.source == "step 1" and not app.simulation.playing and app.time == 0.0
         pages = [chromium.new_page(viewport=SMALL) for _ in range(4)]
         for page in pages:  # four pages load side by side
             page.goto(app.url, wait_until="commit")

@@ -36,24 +36,24 @@ def test_a_lecture_steps_forward_and_back_from_the_page(chromium) -> None:
     """rigid-body-lab --lecture rigid-body-motion: the page shows "step k of n" and the step's caption;
     Next and Previous in the page change the step, its scene and its text."""
     with running_app(lecture="rigid-body-motion") as app:
-        steps = app.lecture.steps
+        steps = app.simulation.lecture.steps
         page, _ = open_page(chromium, app, viewport={"width": 1280, "height": 800})
         total = len(steps)
         page.get_by_text(f"step 1 of {total}").first.wait_for(timeout=30_000)
-        assert app.step_index == 0 and app.scene.name == steps[0].scene
+        assert app.simulation.step_index == 0 and app.scene.name == steps[0].scene
         click(page.get_by_role("button", name="Next"))
-        wait_for(lambda: app.step_index == 1, 30, what="the second step")
+        wait_for(lambda: app.simulation.step_index == 1, 30, what="the second step")
         page.get_by_text(f"step 2 of {total}").first.wait_for(timeout=30_000)
         assert app.scene.name == steps[1].scene
         words = steps[1].caption.split("**")[1]  # the step's bold title, as the page renders it
         page.get_by_text(words).first.wait_for(timeout=30_000)
         for target in (2, 3):  # each click once the page shows the step before (the buttons sit under its text)
             click(page.get_by_role("button", name="Next"))
-            wait_for(lambda t=target: app.step_index == t, 30, what=f"step {target + 1}")
+            wait_for(lambda t=target: app.simulation.step_index == t, 30, what=f"step {target + 1}")
             page.get_by_text(f"step {target + 1} of {total}").first.wait_for(timeout=30_000)
         assert app.scene.name == steps[3].scene
         click(page.get_by_role("button", name="Previous"))
-        wait_for(lambda: app.step_index == 2, 30, what="the step before")
+        wait_for(lambda: app.simulation.step_index == 2, 30, what="the step before")
         page.get_by_text(f"step 3 of {total}").first.wait_for(timeout=30_000)
         assert app.scene.name == steps[2].scene
         page.close()

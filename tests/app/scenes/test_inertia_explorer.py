@@ -198,9 +198,9 @@ def test_upload_is_parsed_outside_the_lock_and_swapped_in_under_it(app, monkeypa
         out = []
 
         def probe() -> None:
-            out.append(app.lock.acquire(blocking=False))
+            out.append(app.simulation.lock.acquire(blocking=False))
             if out[0]:
-                app.lock.release()
+                app.simulation.lock.release()
 
         thread = threading.Thread(target=probe)
         thread.start()
