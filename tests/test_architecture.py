@@ -9,7 +9,10 @@
   ``getattr(x, "_name")``) on anything but ``self``/``cls``, no import of viser's private modules or names
   (``app/guards/handles.py`` and its neighbours are the one door; docs/viser-internals.md lists them);
 - no scene imports ``app.guards`` (it is composed from the kit, ``app.draw`` and ``app.controls``);
-- docs/architecture.md names every package of ``app/`` and every module in it, and nothing that is not there.
+- docs/architecture.md names every package of ``app/`` and every module in it, and nothing that is not there;
+- no ``Any`` for a context, app, client, server, simulation, scene or session anywhere in ``app/``; no class
+  outside ``app/guards/`` forwards unknown attributes (``__getattr__``); mypy checks ``app/`` as strictly as
+  ``physics/``.
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
 modules) for a closing note.
@@ -356,6 +359,114 @@ def test_the_checker_sees_a_loop_and_a_private_import(tmp_path: Path) -> None:
     assert cycles(import_graph(modules)) == [["physics.a", "physics.b"]]
     assert modules["physics.a"].private == ["physics.b._x"]
     assert modules["physics.b"].lazy == ["physics.a"]
+
+
+CONTRACT_NAMES = frozenset(
+    {"ctx", "context", "app", "client", "client_id", "clients", "server", "simulation", "sim", "scene", "session"}
+)
+"""Names that stand for one of app/'s contracts: their annotations must say which (app.contracts, viser)."""
+
+
+def _is_any(annotation: ast.expr) -> bool:
+    """``Any``, ``typing.Any``, ``Any | None`` or ``Optional[Any]``: an annotation that declares nothing."""
+    parts = ast.unparse(annotation).removeprefix("Optional[").removesuffix("]").split("|")
+    return any(part.strip() in ("Any", "typing.Any") for part in parts)
+
+
+def untyped_contracts(source: str) -> list[str]:
+    """``line: name`` for every parameter or annotated variable named for a contract (:data:`CONTRACT_NAMES`,
+    also as ``self.name``) whose annotation is ``Any``."""
+    found: list[tuple[int, int, str]] = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.arg) and node.annotation is not None:
+            name, annotation = node.arg, node.annotation
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, (ast.Name, ast.Attribute)):
+            name = node.target.id if isinstance(node.target, ast.Name) else node.target.attr
+            annotation = node.annotation
+        else:
+            continue
+        if name in CONTRACT_NAMES and _is_any(annotation):
+            found.append((node.lineno, node.col_offset, name))
+    return [f"{line}: {name}" for line, _, name in sorted(found)]
+
+
+def forwarding_classes(source: str) -> list[str]:
+    """The classes that define ``__getattr__`` (every unknown attribute handed on to something else)."""
+    return [
+        node.name
+        for node in ast.walk(ast.parse(source))
+        if isinstance(node, ast.ClassDef)
+        and any(isinstance(f, ast.FunctionDef) and f.name == "__getattr__" for f in node.body)
+    ]
+
+
+def _app_sources(*, outside_guards: bool = False) -> dict[str, str]:
+    return {
+        str(path.relative_to(ROOT)): path.read_text(encoding="utf-8")
+        for path in sorted((ROOT / "app").rglob("*.py"))
+        if not (outside_guards and path.parent.name == "guards")
+    }
+
+
+def test_no_contract_is_typed_any_in_app() -> None:
+    found = {path: hits for path, source in _app_sources().items() if (hits := untyped_contracts(source))}
+    assert found == {}
+
+
+def test_no_class_outside_guards_forwards_unknown_attributes() -> None:
+    """The App declares what it answers for its shared simulation; viser's stand-ins in guards/ may forward."""
+    found = {
+        path: names
+        for path, source in _app_sources(outside_guards=True).items()
+        if (names := forwarding_classes(source))
+    }
+    assert found == {}
+
+
+def test_the_contract_checks_can_fail() -> None:
+    source = """
+def f(ctx: Any, client: Any = None, scene: Any | None = None, value: Any = 0, server: viser.ViserServer = s): ...
+class App:
+    session: Optional[Any] = None
+    def __init__(self, app: Any) -> None:
+        self.simulation: Any = None
+        self.other: Any = None
+    def __getattr__(self, name: str) -> Any: ...
+"""
+    assert untyped_contracts(source) == ["2: ctx", "2: client", "2: scene", "4: session", "5: app", "6: simulation"]
+    assert forwarding_classes(source) == ["App"]
+
+
+def strict_flags(pyproject: str, module: str) -> dict[str, object]:
+    """The mypy flags pyproject's ``[[tool.mypy.overrides]]`` set for ``module`` (a later override wins)."""
+    import tomllib
+
+    flags: dict[str, object] = {}
+    for override in tomllib.loads(pyproject).get("tool", {}).get("mypy", {}).get("overrides", []):
+        patterns = override["module"] if isinstance(override["module"], list) else [override["module"]]
+        if module in patterns:
+            flags.update({k: v for k, v in override.items() if k != "module"})
+    return flags
+
+
+def test_mypy_checks_app_as_strictly_as_physics() -> None:
+    pyproject = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    physics, app = strict_flags(pyproject, "physics.*"), strict_flags(pyproject, "app.*")
+    assert physics.get("disallow_untyped_defs") is True and physics.get("warn_return_any") is True
+    assert app == physics
+
+
+def test_the_strictness_check_can_fail() -> None:
+    pyproject = """
+[[tool.mypy.overrides]]
+module = ["physics.*", "app.*"]
+disallow_untyped_defs = true
+[[tool.mypy.overrides]]
+module = "app.*"
+disallow_untyped_defs = false
+"""
+    assert strict_flags(pyproject, "physics.*") == {"disallow_untyped_defs": True}
+    assert strict_flags(pyproject, "app.*") == {"disallow_untyped_defs": False}
 
 
 if __name__ == "__main__":

@@ -49,7 +49,7 @@ def chordal_angle(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
 def _nearest_rotation(R: NDArray[np.float64]) -> NDArray[np.float64]:
     """The rotation nearest to ``R`` (polar factor), for drawing a ghost whose R left SO(3)."""
     u, _, vt = np.linalg.svd(R)
-    q = u @ vt
+    q: NDArray[np.float64] = u @ vt
     if np.linalg.det(q) < 0.0:
         u[:, -1] *= -1.0
         q = u @ vt

@@ -99,7 +99,7 @@ def top_mesh(length: float = 1.0, radius: float = 0.3, sections: int = 48) -> tr
     cone_h = 0.55 * length
     cone = trimesh.creation.cone(radius=radius, height=cone_h, sections=sections)
     # trimesh's cone has its base at z = 0 and its apex at +z: flip so the apex (the tip) is at the origin.
-    cone.apply_transform(trimesh.transformations.rotation_matrix(math.pi, [1, 0, 0]))
+    cone.apply_transform(np.diag([1.0, -1.0, -1.0, 1.0]))  # a half turn about x
     cone.apply_translation([0, 0, cone_h])
     disc = trimesh.creation.cylinder(radius=radius, height=0.12 * length, sections=12)
     disc.apply_translation([0, 0, cone_h + 0.06 * length])
@@ -112,4 +112,5 @@ def top_mesh(length: float = 1.0, radius: float = 0.3, sections: int = 48) -> tr
 
 def cylinder_mesh(radius: float, length: float, sections: int = 40) -> trimesh.Trimesh:
     """A solid cylinder centred at the origin, axis +z, with a notch-free but faceted rim."""
-    return trimesh.creation.cylinder(radius=radius, height=length, sections=sections)
+    cylinder: trimesh.Trimesh = trimesh.creation.cylinder(radius=radius, height=length, sections=sections)
+    return cylinder

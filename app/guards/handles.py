@@ -91,12 +91,12 @@ def handles_in(container: Any) -> list[Any]:
 
 def gui_inputs(gui: viser.GuiApi) -> dict[str, Any]:
     """The server's input elements, uuid -> handle: viser's own table (live; copy it to iterate)."""
-    return gui._gui_input_handle_from_uuid  # type: ignore[no-any-return]
+    return gui._gui_input_handle_from_uuid
 
 
 def scene_nodes(scene: viser.SceneApi) -> dict[str, Any]:
     """The server's scene nodes, name -> handle: viser's own table (live; copy it to iterate)."""
-    return scene._handle_from_node_name  # type: ignore[no-any-return]
+    return scene._handle_from_node_name
 
 
 def node_pose(handle: Any) -> tuple[bool, Any, Any]:

@@ -56,7 +56,7 @@ def connection_address(connection: ServerConnection) -> str:
         request = getattr(connection, "request", None)
         forwarded = request.headers.get("X-Real-IP") if request is not None else None
         if forwarded and len(forwarded) <= 64:
-            return forwarded.strip()
+            return str(forwarded).strip()
     return host
 
 

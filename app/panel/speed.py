@@ -26,7 +26,7 @@ POSITION_MARKS: tuple[float | tuple[float, str], ...] = ((-1.0, "0.01×"), -0.5,
 def speed_at(position: float) -> float:
     """The speed (×) at a slider position in [−1, 1] (clamped): 100^p left of the middle, 10^p right."""
     p = min(max(float(position), -1.0), 1.0)
-    return 100.0**p if p <= 0.0 else 10.0**p
+    return float(100.0**p if p <= 0.0 else 10.0**p)
 
 
 def position_of(speed: float) -> float:

@@ -158,9 +158,9 @@ def render_png(
         rgba = tuple(min(255, int(c * shade)) for c in colour[:3]) + (int(255 * opacity),)
         corners = [tuple(map(float, p)) for p in screen]
         if kind == "tri":
-            canvas.polygon(corners, fill=rgba)  # type: ignore[arg-type]
+            canvas.polygon(corners, fill=rgba)
         elif kind == "arrow":
-            canvas.line(corners, fill=rgba, width=4 * SUPERSAMPLE)  # type: ignore[arg-type]
+            canvas.line(corners, fill=rgba, width=4 * SUPERSAMPLE)
             tip, tail = screen[1], screen[0]
             direction = tip - tail
             length = float(np.linalg.norm(direction))
@@ -170,10 +170,10 @@ def render_png(
                 head = min(12.0 * SUPERSAMPLE, 0.4 * length)
                 canvas.polygon(
                     [tuple(tip), tuple(tip - head * d + 0.5 * head * n), tuple(tip - head * d - 0.5 * head * n)],
-                    fill=rgba,  # type: ignore[arg-type]
+                    fill=rgba,
                 )
         else:
-            canvas.line(corners, fill=rgba, width=(1 if kind == "grid" else 2) * SUPERSAMPLE)  # type: ignore[arg-type]
+            canvas.line(corners, fill=rgba, width=(1 if kind == "grid" else 2) * SUPERSAMPLE)
     image = image.resize(size, Image.Resampling.LANCZOS)
     out = io.BytesIO()
     image.save(out, format="PNG")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -94,7 +95,7 @@ def _steady(values: dict[str, float]) -> float:
     return top.steady_precession_rates(math.radians(values["theta0"]), values["I3"] * values["spin"])[0]
 
 
-def _with_phidot(factor: float):
+def _with_phidot(factor: float) -> Callable[[dict[str, float]], dict[str, float]]:
     def preset(values: dict[str, float]) -> dict[str, float]:
         v = {**values, "spin": 10.0, "theta0": 60.0, "friction": 0.0}
         return {**v, "phidot0": round(factor * _steady(v), 3)}
@@ -102,7 +103,7 @@ def _with_phidot(factor: float):
     return preset
 
 
-PRESETS = {
+PRESETS: dict[str, dict[str, float] | Callable[[dict[str, float]], dict[str, float]]] = {
     "cusps (released from rest)": {"spin": 10.0, "theta0": 60.0, "phidot0": 0.0, "friction": 0.0},
     "waves (φ̇0 = ½ × steady)": _with_phidot(0.5),
     "loops (φ̇0 = −1 × steady)": _with_phidot(-1.0),

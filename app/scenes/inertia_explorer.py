@@ -198,7 +198,7 @@ class InertiaExplorer(Scene):
         scale = DISPLAY_SIZE / max(extent, 1e-9)
         drawn = mesh.copy()
         drawn.apply_translation(-props.center_of_mass)
-        drawn.apply_scale(scale)
+        drawn.apply_scale(scale)  # type: ignore[no-untyped-call]  # trimesh does not annotate it
         self.body.set_mesh(drawn)
         self.body.set_pose(np.eye(3), self.centre)
         self.frame.set_pose(axes, self.centre)

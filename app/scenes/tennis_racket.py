@@ -67,7 +67,8 @@ def box_for_moments(moments: np.ndarray, mass: float = 1.0) -> trimesh.Trimesh:
     i1, i2, i3 = moments
     sq = 6.0 / mass * np.array([i2 + i3 - i1, i1 + i3 - i2, i1 + i2 - i3])
     extents = np.sqrt(np.maximum(sq, 0.0))
-    return trimesh.creation.box(extents=np.maximum(extents, 0.01 * extents.max()))
+    box: trimesh.Trimesh = trimesh.creation.box(extents=np.maximum(extents, 0.01 * extents.max()))
+    return box
 
 
 def separatrix_circles(moments: np.ndarray, n: int = 181) -> np.ndarray:
@@ -284,7 +285,7 @@ class TennisRacket(Scene):
         self._energy_scale = 0.5 * float(omega0 @ L_body)
         scale = self.size / float(np.max(np.ptp(mesh.vertices, axis=0)))
         drawn = mesh.copy()
-        drawn.apply_scale(scale)
+        drawn.apply_scale(scale)  # type: ignore[no-untyped-call]  # trimesh does not annotate it
         self.body.set_mesh(drawn)
         self.ghost.start_free(moments, self.motion, drawn)
         self.mesh_scale = scale

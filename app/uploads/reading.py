@@ -161,7 +161,7 @@ def body_from_mesh(
     extent = float(np.max(np.ptp(mesh.vertices, axis=0)))
     if extent > MILLIMETRE_GUESS:
         mesh = mesh.copy()
-        mesh.apply_scale(1e-3)
+        mesh.apply_scale(1e-3)  # type: ignore[no-untyped-call]  # trimesh does not annotate it
         notes.append(f"its largest size was {extent:.4g}, so it was read as millimetres ({extent / 1000:.3g} m)")
     if not mesh.is_watertight:
         open_edges = _open_edge_count(mesh)
