@@ -350,7 +350,7 @@ def all_cases(quick: bool = False) -> list[Case]:
         ),
     ]
     cases[5].budget_scale = 8.0  # 10^4 periods: a run that reaches 1e-4 needs ~10^6 steps
-    # No closed form: an asymmetric heavy top, slow and fast (issue 11).
+    # No closed form: an asymmetric heavy top, slow and fast.
     cases += [
         _asymmetric_top(
             "asym_top_slow",

@@ -6,7 +6,7 @@ kernel (numba ``cache=True`` writes the machine code there), the next ones load 
 timed call is the app's warm-up path, :func:`physics.integrators.warm.warm` (one tiny step of every kernel;
 it also imports numba, on first use), wall (``time.perf_counter``) and CPU (``time.process_time``); the
 import of :mod:`physics.integrators` before it and the whole process's wall time are shown beside it. The
-cached figure is the best of the cached runs. Targets (issue 11): at most 10 s for the first call, at most
+cached figure is the best of the cached runs. Targets: at most 10 s for the first call, at most
 1 s once cached.
 
 It also measures what compiling buys: CPU per step of Yoshida 4 on the friction top (gravity and spin

@@ -1,4 +1,4 @@
-"""Rooms behind nginx (issue 22, item 4): frames/s per simulated browser through the proxy, isolation, and
+"""Rooms behind nginx: frames/s per simulated browser through the proxy, isolation, and
 a pool process killed with SIGKILL.
 
 ``rigid-body-lab rooms`` runs in a child process exactly as a department runs it (nginx in front, one
@@ -354,7 +354,7 @@ def report(
         )
     lines += [
         "",
-        "Targets (issue 22):",
+        "Targets:",
         "",
         f"- a private pool of 2 processes holds {pool['sessions']} sessions at ≥ 30 frames/s each: slowest "
         f"{pool['frames_min']:.1f} — {verdict(pool['frames_min'] >= 30.0)}",

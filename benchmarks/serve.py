@@ -94,7 +94,7 @@ GHOST = Case(
     check=_ghost_check,
 )
 QUESTION = Case("question_top", "heavy_top", question=True)
-"""The heavy top in presenter mode while the class answers (issue 24): a question with three choices is put to
+"""The heavy top in presenter mode while the class answers: a question with three choices is put to
 the class once every client is connected, and each client's answer is cast, as a lecture step does."""
 HEAVY = (FRICTION, GHOST)
 
@@ -217,7 +217,7 @@ def table_line(case: str, mode: str, n: int, row: dict[str, Any]) -> str:
 
 def targets(measured: list[tuple[str, str, int, dict[str, Any]]], cores: int | None = None) -> list[str]:
     """The issue's targets against the rows measured: one line each, with the worst row."""
-    out = ["Targets (issue 10):", ""]
+    out = ["Targets:", ""]
     # A case whose body never moves (the inertia explorer) sends only its 10 Hz readouts: no frames to count.
     # (A row that received nothing at all is not that: it is listed among the problems below.)
     still = {

@@ -3,7 +3,7 @@
 For each model (heavy top, free body, physical pendulum) and each of its regimes, the trajectory is
 built once; then ``at`` is called with one time (what a frame of the app asks) and with an array of
 1,000 times (a plot, an export). CPU time by ``time.process_time``, best of several runs of many calls,
-all in one process. Targets (issue 15): one time ≤ 20 µs, 1,000 times ≤ 2 ms. The time to build the
+all in one process. Targets: one time ≤ 20 µs, 1,000 times ≤ 2 ms. The time to build the
 trajectory (once per initial condition) is shown beside them.
 
 Writes ``benchmarks/results/trajectories.md`` and ``trajectories.png``.

@@ -1,6 +1,6 @@
 """What an upload costs the server: resident memory and time for the largest files a browser may send.
 
-Issue 10 asks that no upload of 20 MB or less takes the server's resident memory past 1 GB and that a
+The targets: no upload of 20 MB or less takes the server's resident memory past 1 GB, and a
 pathological file costs bounded time. Each case here is handed to the inertia explorer as the page's
 upload does (``InertiaExplorer.load_upload``: read in a worker process with memory and time limits, the
 body swapped in under the simulation's lock), in a fresh server process, and the server's resident

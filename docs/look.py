@@ -27,7 +27,7 @@ look. Each scene is paused at t = 1 s with its traces cleared; the ratio is WCAG
 (L_bright + 0.05)/(L_dark + 0.05) between the median relative luminance of the body's inner pixels (two
 pixels in from its outline; their number is the last column) and of the same pixels with the body hidden
 (the background, the floor grid, and whatever translucent guide lies behind or over the body, e.g. the
-explorer's inertia ellipsoid). Issue 12 asks for at least 3:1. The body is slate, RGB {body}
+explorer's inertia ellipsoid). The target is at least 3:1. The body is slate, RGB {body}
 (`app.draw.COLOURS["body"]`), opaque in every scene; the scenes are lit by `app.draw.light`.
 
 Written by `python docs/look.py`; `tests/browser/test_look.py` measures the same (and that every body is in

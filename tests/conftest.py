@@ -85,7 +85,7 @@ def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Co
 
 
 # --------------------------------------------------------------------------------------------------
-# App fixtures (issue 4; helpers in tests/harness.py). Module-scoped: one Chromium per test module.
+# App fixtures (helpers in tests/harness.py). Module-scoped: one Chromium per test module.
 # --------------------------------------------------------------------------------------------------
 
 

@@ -1,4 +1,4 @@
-"""The house rules of issue 26, read from the code's own imports.
+"""The house rules, read from the code's own imports.
 
 - no import loop in ``physics/``, ``app/`` or ``assets/`` (module level and inside functions alike);
 - no private name (one leading underscore) imported from another project module;
@@ -12,7 +12,8 @@
 - docs/architecture.md names every package of ``app/`` and every module in it, and nothing that is not there;
 - no ``Any`` for a context, app, client, server, simulation, scene or session anywhere in ``app/``; no class
   outside ``app/guards/`` forwards unknown attributes (``__getattr__``); mypy checks ``app/`` as strictly as
-  ``physics/``.
+  ``physics/``;
+- no comment or docstring cites an issue by number (it says why in words).
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
 modules) for a closing note.
@@ -467,6 +468,31 @@ disallow_untyped_defs = false
 """
     assert strict_flags(pyproject, "physics.*") == {"disallow_untyped_defs": True}
     assert strict_flags(pyproject, "app.*") == {"disallow_untyped_defs": False}
+
+
+ISSUE_NUMBER = re.compile(r"\b[Ii]ssues? ?#?\d+")
+"""A comment or docstring citing an issue by number: the code says why in words, the tracker keeps the history."""
+
+
+def issue_citations(source: str) -> list[int]:
+    """The lines of ``source`` that cite an issue by number."""
+    return [n for n, line in enumerate(source.splitlines(), 1) if ISSUE_NUMBER.search(line)]
+
+
+def test_no_comment_cites_an_issue_number() -> None:
+    folders = ("app", "physics", "tests", "benchmarks", "examples", "lectures")
+    sources = [p for d in folders for p in (ROOT / d).rglob("*.py") if "node_modules" not in p.parts]
+    found = {
+        str(p.relative_to(ROOT)): lines
+        for p in sources
+        if p != Path(__file__) and (lines := issue_citations(p.read_text(encoding="utf-8")))
+    }
+    assert found == {}
+
+
+def test_the_issue_check_can_fail() -> None:
+    source = 'x = 1\n# as issue 15 asked\n"""(Issue #3, item 2)"""\n# an issue with 2 parts\n'
+    assert issue_citations(source) == [2, 3]
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
 A screen reader announces the description (an ``aria-live`` region of the panel, :mod:`app.panel.look`),
 so each number is said with its unit and three significant digits, the precision the readouts show
-rounded for the ear (issue 23, item 3).
+rounded for the ear.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Lectures (issue 13, item 1): a TOML file of steps, walked with Previous and Next; a bad file is
+"""Lectures: a TOML file of steps, walked with Previous and Next; a bad file is
 refused with a message that names the step and the key, before anything starts."""
 
 from __future__ import annotations

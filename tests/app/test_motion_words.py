@@ -1,4 +1,4 @@
-"""The motion in words (issue 23, item 3): each scene's live description, before and after a change of its
+"""The motion in words: each scene's live description, before and after a change of its
 parameters, says the numbers the physics API gives (three significant digits, with units), and is sent
 after a change and at most every DESCRIBE_SECONDS otherwise, not every frame."""
 

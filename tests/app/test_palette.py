@@ -1,4 +1,4 @@
-"""One palette (issue 12): every node a scene sends is drawn in a colour of ``app.draw.COLOURS``, every
+"""One palette: every node a scene sends is drawn in a colour of ``app.draw.COLOURS``, every
 arrow, trace and cone in exactly its legend's colour (as the page will show it), and the legend shows
 the colours of the quantities the scene draws. The palette is Okabe & Ito's."""
 

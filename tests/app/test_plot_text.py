@@ -1,4 +1,4 @@
-"""Plot text at least 14 px (issue 23, item 4): uPlot draws its tick numbers on a canvas, so their size is
+"""Plot text at least 14 px: uPlot draws its tick numbers on a canvas, so their size is
 set where the app builds each plot (``app.panel.look.plot_axes``); titles and legends are HTML, sized by
 the page patch and measured in tests/browser/test_accessibility.py."""
 

@@ -1,4 +1,4 @@
-"""Class questions (issue 24, items 1, 2 and 4): the model, the lecture keys, the CSV, and the one-answer
+"""Class questions: the model, the lecture keys, the CSV, and the one-answer
 rules with raw websocket clients standing in for browsers (tests/harness.py), whose received messages are
 decoded to check what goes over the wire."""
 

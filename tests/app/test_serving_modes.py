@@ -1,5 +1,5 @@
 """How the server is started: presenter mode on a non-loopback host, and viser's share button only with
-``--share`` (issue 10, deliver 1 and 6).
+``--share``.
 
 The command is run as a person runs it (``python -m app``) and its terminal read; what a page is told
 (viser's theme message, with ``show_share_button``) is read by a websocket client speaking viser's

@@ -1,4 +1,4 @@
-"""States as text (issue 13, item 2): "Copy state" gives a short text, ``open_state`` / ``--state TEXT``
+"""States as text: "Copy state" gives a short text, ``open_state`` / ``--state TEXT``
 reopen exactly that state; a bad or foreign text is refused with a message and nothing changes."""
 
 from __future__ import annotations

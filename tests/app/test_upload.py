@@ -127,7 +127,7 @@ def test_millimetre_mesh_is_scaled_to_metres():
 
 
 def test_a_box_smaller_than_trimeshs_merge_tolerance_keeps_its_corners():
-    """Audit of issue 15, item 6: a 1e-8 m box was "not watertight: 0 edges ..." because trimesh welded its
+    """Audit: a 1e-8 m box was "not watertight: 0 edges ..." because trimesh welded its
     corners (merge tolerance 1e-8 m); the merge now happens at unit size."""
     mesh = trimesh.creation.box(extents=EXTENTS)
     tiny = trimesh.Trimesh(mesh.vertices * 1e-7, mesh.faces, process=False)

@@ -1,4 +1,4 @@
-"""The words in the panel (issue 12, item 7): no raw LaTeX, units and four significant digits, and what the
+"""The words in the panel: no raw LaTeX, units and four significant digits, and what the
 captions and labels say is what the scene shows."""
 
 from __future__ import annotations

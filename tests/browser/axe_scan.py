@@ -1,4 +1,4 @@
-"""The axe-core scan of the browser tests (issue 23, item 1): npm's ``axe-core``, installed into
+"""The axe-core scan of the browser tests: npm's ``axe-core``, installed into
 ``tests/browser/axe/`` from its committed package.json and package-lock.json, injected into a page and run
 with the WCAG 2.0/2.1 A and AA rules.
 

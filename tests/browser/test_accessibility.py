@@ -1,4 +1,4 @@
-"""WCAG 2.1 AA in the page (issue 23, item 1): axe-core's WCAG 2.0/2.1 A and AA rules, injected into
+"""WCAG 2.1 AA in the page: axe-core's WCAG 2.0/2.1 A and AA rules, injected into
 headless Chromium (:mod:`tests.browser.axe_scan`), on the app's page.
 
 ``python -m tests.browser.test_accessibility [--before]`` prints the table of docs/accessibility.md (every mode,

@@ -1,4 +1,4 @@
-"""Text drawn on canvases, which axe-core cannot read (issue 23, item 4): measured in the pixels.
+"""Text drawn on canvases, which axe-core cannot read: measured in the pixels.
 
 * The plots' tick numbers (uPlot draws them on its canvas, in viser's grey 7 on white, grey 5 on the dark
   panel): at least 4.5:1 against the plot's background in both looks.

@@ -1,4 +1,4 @@
-"""The friction top in the page (issue 12): chosen from the page's preset dropdown, it spins down, falls
+"""The friction top in the page: chosen from the page's preset dropdown, it spins down, falls
 and lies on the table; its lowest point is never below the table in any frame the page is sent."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""An absurd number typed into a slider's number box (issue 10, deliver 7, the third browser test).
+"""An absurd number typed into a slider's number box.
 
 Before the input checks (:mod:`app.guards.inputs`), ``99999999999999999999999`` typed into a number box made
 viser fail to encode the value it rebroadcast and close every other browser's connection (code 1011).

@@ -1,4 +1,4 @@
-"""Keyboard shortcuts (issue 23, item 2, the first part): Space plays or pauses, → steps, R resets, and in a
+"""Keyboard shortcuts: Space plays or pauses, → steps, R resets, and in a
 lecture Page Down / Page Up (a presentation clicker) go to the next / previous step; none of them while the
 focus is in a text field. Keyboard only (no mouse event); each change read from the server's state."""
 

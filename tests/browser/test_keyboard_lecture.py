@@ -1,4 +1,4 @@
-"""The whole app by keyboard alone (issue 23, items 2 and 3; "Done when"): the shipped lecture walked from its
+"""The whole app by keyboard alone: the shipped lecture walked from its
 first step to its last with what a presentation clicker sends (Page Down, →, ↓ and back with Page Up, ←,
 ↑), every scene's main controls (a slider, a dropdown, a button) and the clock's reached with Tab and
 operated with keys, the Tab order and its focus ring, the keyboard help, and the live description read

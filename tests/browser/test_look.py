@@ -1,4 +1,4 @@
-"""The projector look in headless Chromium (issue 12): every scene's body contrast against what is behind
+"""The projector look in headless Chromium: every scene's body contrast against what is behind
 it, the panel's text size, the body framed clear of the panel, at 1280×800, 1024×768 and on a 390×844 phone
 in the light look and at 1280×800 in the dark one; the key controls above the fold, the panel collapsible.
 The contrast figures are recorded in docs/look.md (``python docs/look.py``), which the test checks."""

@@ -1,4 +1,4 @@
-"""Notifications in the page (issue 12, item 4): a refusal is one notification, to the browser that
+"""Notifications in the page: a refusal is one notification, to the browser that
 caused it, that closes by itself; an identical one is not stacked; the status line belongs to the scene
 (its failures, for everyone: one browser's refusal is not written there)."""
 

@@ -1,4 +1,4 @@
-"""Class questions in real browsers (issue 24, item 4): a presenter and three followers in one Chromium
+"""Class questions in real browsers: a presenter and three followers in one Chromium
 (each page its own context, so its own voter cookie); the followers vote and one changes its vote, a
 follower's page shows no count before the reveal, "Show answers" puts the chart on every page; a raw
 websocket client with a follower's cookie cannot add a vote, nor vote for a choice that does not exist."""

@@ -1,5 +1,5 @@
 """The clock in a real browser: at 1× the free fall's time readout advances one second per wall second
-(issue 12: the free fall "runs about a second too fast"; each throw lasts its real flight time, 1.02 s)."""
+(the free fall "runs about a second too fast"; each throw lasts its real flight time, 1.02 s)."""
 
 from __future__ import annotations
 

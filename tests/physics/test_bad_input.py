@@ -138,7 +138,7 @@ def test_times_whose_phase_overflows_are_refused_by_name():
 
 @pytest.mark.parametrize("attitude", [2.0 * np.eye(3), np.diag([1.0, 1.0, -1.0]), np.eye(3)[:2]])
 def test_simulate_heavy_body_refuses_an_attitude_that_is_not_a_rotation(attitude):
-    """Issue 15, item 6: 2·I (not orthonormal), a reflection, or a wrong shape as attitude0."""
+    """2·I (not orthonormal), a reflection, or a wrong shape as attitude0."""
     with pytest.raises(ValueError, match="attitude0"):
         simulate_heavy_body([1.0, 1.0, 0.5], 1.0, [0.0, 0.0, 0.1], attitude, [0.0, 0.0, 10.0], 0.05, 0.01)
 
@@ -173,7 +173,7 @@ def test_simulate_heavy_body_refuses_an_attitude_that_is_not_a_rotation(attitude
     ],
 )
 def test_wrong_shapes_and_counts_name_the_argument_and_what_it_must_be(call, argument, expected):
-    """Audit of issue 15, item 6: these leaked numpy's broadcast messages, a TypeError from int(), or
+    """Audit: these leaked numpy's broadcast messages, a TypeError from int(), or
     "cannot convert float NaN to integer"."""
     with pytest.raises(ValueError, match=expected) as info:
         call()
@@ -181,7 +181,7 @@ def test_wrong_shapes_and_counts_name_the_argument_and_what_it_must_be(call, arg
 
 
 # ---------------------------------------------------------------------------------------- the heavy top
-# Issue 15, item 5: every start the heavy top accepts gives finite values, right to its tolerance, or is
+# Every start the heavy top accepts gives finite values, right to its tolerance, or is
 # refused by name. The audit's cases: θ0 = 1e-80 gave NaN φ and axis (now solved: see
 # test_heavy_top_separatrix.py), θ0 closer to the vertical than 1e-100 rad was silently rounded to it,
 # and θ̇0 ≥ 1e75 made solve raise "t is too far from 0" even at t = 0 while nutation_period was NaN.

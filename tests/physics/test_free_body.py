@@ -112,7 +112,7 @@ def test_jacobi_functions_match_mpmath_near_m_equal_one_for_large_arguments():
 
 @pytest.mark.parametrize("mc", [1e-15, 1e-16, 1e-70, 1e-140, 1e-300, 5e-324])
 def test_jacobi_functions_keep_their_precision_down_to_the_smallest_complement(mc):
-    """Issue 15, item 1: below 1 − m ≈ 1e-130 cn used to underflow. Every value must be right to the
+    """Below 1 − m ≈ 1e-130 cn used to underflow. Every value must be right to the
     rounding of its argument: |error| ≤ |f| eps + |f'| eps |u| (f' = cn dn, −sn dn, −m sn cn), however small
     1 − m is. The reference needs more digits than 1 − m has zeros, or mpmath itself rounds m to 1."""
     from scipy.special import ellipkm1
@@ -135,7 +135,7 @@ def test_jacobi_functions_keep_their_precision_down_to_the_smallest_complement(m
 
 
 def test_spin_about_the_intermediate_axis_with_a_push_of_1e_70_matches_the_linear_growth():
-    """Issue 15's repro: ω at t = 213.5 s was (0.61, 0, 0.87). While the push is small the lecture's
+    """The reported case: ω at t = 213.5 s was (0.61, 0, 0.87). While the push is small the lecture's
     linearisation is exact to its square (here ≤ 1e-48): (η1, η3)' = A (η1, η3), ω2 = 1."""
     eps = 1e-70
     body = FreeBody([2.0, 1.5, 1.0])
@@ -286,7 +286,7 @@ def test_accuracy_closer_to_the_separatrix(name):
     assert np.max(rotation_angle(rr, ref_r)) < 1e-10
 
 
-# Issue 15, item 1, all the way down: a push off the intermediate axis, 1 − m of its square (times a ratio of
+# All the way down: a push off the intermediate axis, 1 − m of its square (times a ratio of
 # the moments); (name, moments, omega0, mpmath digits). The mpmath reference needs ~30 digits more than
 # 1 − m has zeros (its exponent range is unbounded, so 1 − m = 3e-320 is an ordinary number there). A push
 # of 1e-300 (1 − m ≈ 3e-600) is in the printed table (python -m tests.physics.test_free_body_reference): its
@@ -609,7 +609,7 @@ def test_bad_input_raises_with_a_clear_message(call, message):
     ],
 )
 def test_moments_beyond_the_triangle_inequality_by_round_off_are_the_lamina(moments, lamina):
-    """Audit of issue 15, item 5: FreeBody([1, 1 + 1e-13, 1e-300]) gave ω(0) = (0.5, 0.3, 3.6e127) for
+    """Audit: FreeBody([1, 1 + 1e-13, 1e-300]) gave ω(0) = (0.5, 0.3, 3.6e127) for
     ω0 = (0.5, 0.3, 0.2), and NaN with I3 = 0. Moments above the triangle inequality within the validation's
     round-off slack are the flat lamina they round (the largest = the sum of the other two), here symmetric."""
     w0 = np.array([0.5, 0.3, 0.2])
@@ -701,7 +701,7 @@ def test_random_bodies_satisfy_euler_and_conserve(raw, w):
 
 
 # ---------------------------------------------------------------------------------------------------
-# Property tests over the whole parameter space (issue 15, item 9): random bodies against independent
+# Property tests over the whole parameter space: random bodies against independent
 # computations, invariants to 1e-12 relative. Fixed seed (tests/conftest.py's profile).
 # ---------------------------------------------------------------------------------------------------
 @st.composite

@@ -1,4 +1,4 @@
-"""The fast top (issue 15, item 2): spins up to 1e9 rad/s against a 60-digit reference.
+"""The fast top: spins up to 1e9 rad/s against a 60-digit reference.
 
 For a fast top φ̇ = (α − β u)/(1 − u²) is the small difference (the slow precession, ~M g ℓ / L3) of two
 pole terms each of size ~β = L3/I1: summed as pole terms, φ lost every digit at 1e9 rad/s. The closed form
@@ -63,7 +63,7 @@ def test_fast_top_with_a_moving_start_keeps_phi_to_its_conditioning(spin, bound)
 
 @pytest.mark.parametrize("spin", [1e3, 1e6, 1e9])
 def test_fast_top_with_a_moving_start_is_within_a_few_ulps_of_its_data(spin):
-    # Issue 15's 1e-12 relative for φ cannot hold here (φ at 1e9 rad/s is only fixed to 1.2e-8 of itself by
+    # The required 1e-12 relative for φ cannot hold here (φ at 1e9 rad/s is only fixed to 1.2e-8 of itself by
     # its data, see the module's docstring): the error is measured against what one ulp of t, and one ulp
     # of ψ̇0, do to the exact φ (measured error / sensitivity: 5.2, 2.1 and 1.4). θ and ψ are well conditioned
     # and stay at 1e-12 (relative for ψ).

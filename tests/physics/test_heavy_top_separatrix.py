@@ -1,4 +1,4 @@
-"""The heavy top near its separatrix (issue 15, item 3): starts within 1e-6 rad of the vertical with the
+"""The heavy top near its separatrix: starts within 1e-6 rad of the vertical with the
 spin just below, at and above the sleeping threshold L3 = 2 sqrt(M g ℓ I1), against independent
 high-precision references.
 
@@ -10,7 +10,7 @@ references by quadrature would need hundreds of digits, :func:`linear_reference`
 about the vertical, ``ζ̈ − iβ ζ̇ − a ζ = 0`` for ``ζ = θ e^{iφ}``: exact to a relative ``O(θ²)``, i.e. to
 1e-20 while θ < 1e-10, solved in closed form and integrated by mpmath.
 
-What was wrong (issue 15, repro 3, and the audit):
+What was wrong (a reported case and the audit):
 
 * The phase of a start that is not at a turning point (θ̇0 ≠ 0) was formed with ``1 − m`` as the float
   ``1.0 − m``: near the separatrix m rounds to 1 and ``1 − m`` had none of its digits.
@@ -44,7 +44,7 @@ from hypothesis import strategies as st
 from physics.heavy_top import HeavyTop, euler_attitude, omega_body_from_euler
 from tests.physics.test_heavy_top import TOP, _space_L, dop853, mp_reference
 
-# Issue 15, repro 3: a start 1e-8 rad from the vertical, moving, with the spin below the sleeping
+# A reported case: a start 1e-8 rad from the vertical, moving, with the spin below the sleeping
 # threshold (the vertical is unstable, the top falls and comes back: m is 1 − 7e-16).
 REPROS = {
     "HeavyTop(1, 0.6, 2) from (1e-8, 1e-9, 0, 4)": (HeavyTop(1.0, 0.6, 2.0), (1e-8, 1e-9, 0.0, 4.0)),

@@ -1,4 +1,4 @@
-"""The small public helpers refuse bad input by name too (issue 15, items 5 and 6): NaN, inf, a wrong
+"""The small public helpers refuse bad input by name too: NaN, inf, a wrong
 shape, a zero axis or a result beyond the float range is a ValueError naming the argument, never a
 NaN, an inf, or numpy's IndexError/TypeError/broadcast message. And ``mgl = 0`` reduces to the free
 symmetric body in ``HeavyTop.simulate`` as it does in ``solve``."""

@@ -151,7 +151,7 @@ def _box_of_size(size: float) -> trimesh.Trimesh:
     ],
 )
 def test_tiny_and_huge_meshes_are_exact_at_every_size(size, kwargs):
-    """Audit of issue 15, item 6: from_mesh computes at unit size and scales back (mass ∝ density size³,
+    """Audit: from_mesh computes at unit size and scales back (mass ∝ density size³,
     I ∝ mass size²), so a box of any size representable in floats gets the closed form to round-off."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no overflow on the way
@@ -289,7 +289,7 @@ def test_bad_meshes_are_refused_with_a_reason():
 
 
 # ---------------------------------------------------------------------------------------------------
-# Winding (issue 15, item 4): never a wrong mass from a mesh wound inconsistently.
+# Winding: never a wrong mass from a mesh wound inconsistently.
 # ---------------------------------------------------------------------------------------------------
 def _box_faces():
     box = trimesh.creation.box((1.0, 2.0, 3.0))  # 6 m³: 6000 kg at 1000 kg/m³

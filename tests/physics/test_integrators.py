@@ -466,7 +466,7 @@ def test_a_python_torque_runs_interpreted_and_the_air_drag_compiled_agrees_with_
 
 
 # --------------------------------------------------------------------------------------------------
-# Validation (issue 15, item 6): attitudes must be rotations; shapes and steps are named in the message.
+# Validation: attitudes must be rotations; shapes and steps are named in the message.
 # --------------------------------------------------------------------------------------------------
 @pytest.mark.parametrize(
     ("attitude", "message"),

@@ -1,4 +1,4 @@
-"""The integrators never return NaN or inf silently (issue 15, item 5): a step beyond a method's stability
+"""The integrators never return NaN or inf silently: a step beyond a method's stability
 is refused up front, an angular momentum whose rate L × ω leaves the float range too, and a state that
 stops being finite on the way is reported after the chunk it happened in, naming the step."""
 

@@ -1,4 +1,4 @@
-"""physics/ imports one way (issue 26, docs/architecture.md): validation, double-double and constants →
+"""physics/ imports one way (docs/architecture.md): validation, double-double and constants →
 elliptic, rotations, Euler angles → inertia → the free body → integrators → the heavy top and the pendulum;
 a module imports only modules of its own layer's package or of the layers before it."""
 

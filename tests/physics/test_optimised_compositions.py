@@ -1,4 +1,4 @@
-"""The optimised compositions (issue 25): Blanes–Moan 6, Kahan–Li 8, Sofroniou–Spaletta 10.
+"""The optimised compositions: Blanes–Moan 6, Kahan–Li 8, Sofroniou–Spaletta 10.
 
 Each is checked three ways: its published weights satisfy the order conditions one can write down (sum 1,
 palindromic, vanishing odd moments); its *program* (the sub-flows the compiled kernel runs) has the declared

@@ -1,4 +1,4 @@
-"""Property tests over the parameter space (issue 15, item 9) for the two parts the other property tests
+"""Property tests over the parameter space for the two parts the other property tests
 do not reach: mass properties of meshes, and the geometric integrators.
 
 * ``from_mesh`` on random boxes (sides over three decades, any orientation and place, any overall scale

@@ -1,4 +1,4 @@
-"""Huge and tiny magnitudes where the physics is scale-invariant (issue 15, item 5): the motion depends
+"""Huge and tiny magnitudes where the physics is scale-invariant: the motion depends
 on the moments' ratios only, and on rates and times only through their product. Moments from 1e-300
 to 1e300 kg m², and rates scaled against times by 1e±90, give the same motion to a few roundings; the
 conserved quantities scale as they should."""

@@ -70,7 +70,7 @@ def test_random_tops_agree_one_time_and_many(I1, ratio, mgl, theta0, thetadot0, 
         motion = HeavyTop(I1, ratio * I1, mgl).trajectory(theta0, thetadot0, phidot0, psidot0)
     except ValueError as exc:
         # From the exact vertical at or below the sleeping threshold, a kick below 1e-100 of the top's own
-        # rate is refused (issue 15: it was rounded to none, and the top slept instead of falling).
+        # rate is refused (it was rounded to none, and the top slept instead of falling).
         assert theta0 == 0.0 and abs(thetadot0) < 1e-90 and "thetadot0" in str(exc)
         reject()
     _same(motion.at(t), motion.at(np.array([0.0, t])), 1)

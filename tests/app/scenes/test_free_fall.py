@@ -58,7 +58,7 @@ class _FakeClock:
 def test_free_fall_runs_in_real_time_through_the_loop(app, monkeypatch):
     """The real-time loop (App.run) on a fake clock whose pauses overrun by 0 to 12 ms: after 10 s of wall
     time the free fall's simulated time is 10 s (to within the last frame) and the body is where the
-    parabola puts it then; a throw lasts its flight time, 1.02 s (issue 12: "a second too fast")."""
+    parabola puts it then; a throw lasts its flight time, 1.02 s ("a second too fast")."""
     import app.serving.app as server
     from app.scenes.free_fall import FLIGHT_TIME, START, VELOCITY
 

@@ -1,4 +1,4 @@
-"""Every scene driven by dynamics plots the relative drift of its invariants (issue 13, item 4): flat at
+"""Every scene driven by dynamics plots the relative drift of its invariants: flat at
 the roundoff level for the exact solutions, rising for the friction top, cleared by Reset."""
 
 from __future__ import annotations
