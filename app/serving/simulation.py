@@ -18,6 +18,7 @@ import viser
 
 from app.contracts import ClientId
 from app.drawing.palette import legend_html, light
+from app.guards.callbacks import event_client, shielded
 from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
@@ -312,26 +313,24 @@ class Simulation:
 
         @functools.wraps(fn)
         def wrapper(*args: Any, **kwargs: Any) -> Any:
-            client = getattr(args[0], "client", None) if args else None
+            client = event_client(args)
             reason = self.refusal(client.client_id) if client is not None else None
             if reason is not None:  # an upload or a click that did not pass through the input checks
                 self.notify("Refused", reason, client=client, error=True)
                 return None
-            try:
-                with self.lock:
-                    if self.closed or self.gone():
-                        return None  # it arrived after its simulation was closed or its browser left
-                    if owner is not None and owner is not self.scene:
-                        return None
-                    out = fn(*args, **kwargs)
-                    self._dirty = True
-                    return out
-            except Exception as exc:  # noqa: BLE001 - shown to the user, never swallowed
-                traceback.print_exc()
-                self.notify("Something went wrong", f"{type(exc).__name__}: {exc}", client=client, error=True)
-                return None
+            with self.lock:
+                if self.closed or self.gone():
+                    return None  # it arrived after its simulation was closed or its browser left
+                if owner is not None and owner is not self.scene:
+                    return None
+                out = fn(*args, **kwargs)
+                self._dirty = True
+                return out
 
-        return wrapper
+        return shielded(wrapper, self._tell_error)
+
+    def _tell_error(self, client: viser.ClientHandle | None, title: str, body: str) -> None:
+        self.notify(title, body, client=client, error=True)
 
     def notify(self, title: str, body: str, client: viser.ClientHandle | None = None, error: bool = False) -> None:
         """A notification to one client or to every browser it is drawn for (:class:`Notices`)."""

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import viser
 
 from app.contracts import ClientId
+from app.guards.callbacks import first_argument, shielded
 from app.teaching.lectures import Step
 from app.teaching.question_panel import QuestionPanel
 from app.teaching.questions import (
@@ -125,16 +126,9 @@ class ClassQuestions:
                     traceback.print_exc()
 
     def _safely(self, fn: Callable[..., None]) -> Callable[..., None]:
-        def run(client: viser.ClientHandle, *args: Any) -> None:
-            try:
-                fn(client, *args)
-            except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
-                traceback.print_exc()
-                self._tell(client, "Something went wrong", f"{type(exc).__name__}: {exc}")
+        return shielded(fn, self._tell, client_of=first_argument)
 
-        return run
-
-    def _tell(self, client: viser.ClientHandle, title: str, body: str) -> None:
+    def _tell(self, client: viser.ClientHandle | None, title: str, body: str) -> None:
         self.app.simulation.notify(title, body, client=client, error=True)
 
     # ------------------------------------------------------------------ asking and answering

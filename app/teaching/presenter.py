@@ -6,7 +6,6 @@ More in docs/app-notes.md (``app.teaching.presenter``).
 from __future__ import annotations
 
 import threading
-import traceback
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -14,8 +13,8 @@ import viser
 
 from app.contracts import ClientId
 from app.guards.broadcast import BroadcastView
+from app.guards.callbacks import shielded_handler
 from app.guards.inputs import guard_inputs
-from app.guards.wire import departed
 from app.teaching.pin_gate import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, PinGate, check_pin, new_pin
 
 if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
@@ -104,19 +103,11 @@ class Classroom:
         self.gate.forget(client.client_id)
 
     def _safely(self, fn: Callable[[Any], object]) -> Callable[[Any], None]:
-        def run(event: Any) -> None:
-            try:
-                fn(event)
-            except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
-                if departed(event.client):
-                    self._left(event.client)  # it left while we worked for it: drop what was made
-                    return
-                traceback.print_exc()
-                self.app.simulation.notify(
-                    "Something went wrong", f"{type(exc).__name__}: {exc}", client=event.client, error=True
-                )
+        # A browser that left while we worked for it: drop what was made for it.
+        return shielded_handler(fn, self._tell, left=self._left)
 
-        return run
+    def _tell(self, client: viser.ClientHandle | None, title: str, body: str) -> None:
+        self.app.simulation.notify(title, body, client=client, error=True)
 
     # ------------------------------------------------------------------ the three actions
     def present(self, client: viser.ClientHandle, pin: str) -> bool:

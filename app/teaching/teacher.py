@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import viser
 
 from app.contracts import ClientId
+from app.guards.callbacks import shielded_handler
 from app.guards.handles import is_removed
 from app.guards.wire import departed
 from app.panel.teacher_panel import TeacherPanel
@@ -405,13 +406,8 @@ class TeacherDesk:
             session.notify(title, body, client=client, error=error)
 
     def _safely(self, fn: Callable[[Any], object]) -> Callable[[Any], None]:
-        def run(event: Any) -> None:
-            try:
-                fn(event)
-            except Exception as exc:  # noqa: BLE001 - shown to the browser that pressed, never raised into viser
-                if departed(event.client):
-                    return
-                traceback.print_exc()
-                self._tell(event.client, "Something went wrong", f"{type(exc).__name__}: {exc}", error=True)
+        return shielded_handler(fn, self._tell_error)
 
-        return run
+    def _tell_error(self, client: viser.ClientHandle | None, title: str, body: str) -> None:
+        if client is not None:
+            self._tell(client, title, body, error=True)
