@@ -16,32 +16,13 @@ from app.guards.broadcast import BroadcastView
 from app.guards.callbacks import shielded_handler
 from app.guards.inputs import guard_inputs
 from app.teaching.pin_gate import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, PinGate, check_pin, new_pin
+from app.teaching.presenter_panel import EXPLORING, FOLLOWING, PRESENTING, PresenterPanel
 
 if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
     from app.serving.app import App
     from app.serving.simulation import Simulation
 
 __all__ = ["ATTEMPTS", "CLASS_ATTEMPTS", "LOCKOUT", "Classroom", "new_pin", "check_pin"]
-
-FOLLOWING = "**Following the lecturer.** The panel below shows the lecture; enter the PIN to drive it."
-PRESENTING = "**Presenting.** Your changes are what the class sees."
-EXPLORING = "**Exploring on your own.** Nobody else sees this copy; the lecture goes on without you."
-
-
-class _Panel:
-    """One browser's own controls: its status, the PIN box and the explore/follow button."""
-
-    def __init__(self, client: viser.ClientHandle) -> None:
-        gui = client.gui
-        self.status = gui.add_markdown(FOLLOWING, order=-30)
-        self.pin = gui.add_text("Presenter PIN", initial_value="", order=-29)
-        self.present = gui.add_button("Present", order=-28)
-        self.explore = gui.add_button("Explore on my own", order=-27)
-
-    def presenting(self) -> None:
-        self.status.content = PRESENTING
-        self.pin.remove()
-        self.present.remove()
 
 
 class Classroom:
@@ -63,7 +44,7 @@ class Classroom:
         self.pin = self.gate.pin
         self._copy = copy
         self.presenters: set[Any] = set()
-        self._panels: dict[Any, _Panel] = {}
+        self._panels: dict[Any, PresenterPanel] = {}
         self._toggling: dict[Any, threading.Lock] = {}  # one explore/follow at a time per browser
         self._lock = threading.RLock()
         self.on_present: list[Callable[[viser.ClientHandle], None]] = []  # told when a browser starts presenting
@@ -87,7 +68,7 @@ class Classroom:
         guard_inputs(
             client.gui, lambda _id, message: self.app.simulation.notify("Refused", message, client=client, error=True)
         )
-        panel = _Panel(client)
+        panel = PresenterPanel(client)
         with self._lock:
             self._panels[client.client_id] = panel
         panel.present.on_click(self._safely(lambda event: self.present(event.client, panel.pin.value)))

@@ -22,8 +22,8 @@ from app.contracts import ClientId
 from app.guards.callbacks import shielded_handler
 from app.guards.handles import is_removed
 from app.guards.wire import departed
-from app.panel.teacher_panel import TeacherPanel
 from app.teaching.pin_gate import PinGate
+from app.teaching.teacher_panel import TeacherPanel
 
 if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
     from app.serving.app import App
@@ -171,7 +171,7 @@ class TeacherDesk:
     """The teacher's view of an :class:`app.serving.app.App` in private mode (``--private --pin PIN``).
 
     Every private session gets a number, a "Your name" box and the teacher PIN box
-    (:class:`app.panel.teacher_panel.TeacherPanel`). A browser with the PIN sees the table of the other
+    (:class:`app.teaching.teacher_panel.TeacherPanel`). A browser with the PIN sees the table of the other
     sessions (:func:`table_html`), rewritten every :data:`REFRESH` seconds by a thread of its own, and can
     spotlight one: copy its state into its own session (:meth:`spotlight`).
 

@@ -17,10 +17,10 @@ import weakref
 import numpy as np
 import pytest
 
-from app.panel.teacher_panel import WATCHED
 from app.teaching import presenter
 from app.teaching.pin_gate import PinGate
 from app.teaching.teacher import MAX_NAME, Row, clean_name, table_html
+from app.teaching.teacher_panel import WATCHED
 from tests.app.reading import received_until
 from tests.app.test_serving_modes import command
 from tests.harness import (
