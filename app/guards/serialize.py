@@ -5,16 +5,36 @@ More in docs/app-notes.md (``app.guards.serialize``).
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import numpy as np
 from viser import _messages as _viser_messages
 from viser.infra import _messages
 
-__all__ = ["serialize_once"]
+__all__ = ["kept_form", "kept_count", "serialize_once"]
 
-_KEPT = "_rbl_wire"
-"""The attribute a message keeps its wire form in (False: it carries binary buffers, never kept)."""
+_KEPT: dict[int, tuple[weakref.ref[Any], dict[str, Any] | bool]] = {}
+"""Each message's wire form by the message's id, for as long as the message lives (False: it carries binary
+buffers, never kept). Kept here, not on viser's message: a message is not hashable, and ours stays ours."""
+
+
+def kept_form(message: Any) -> dict[str, Any] | bool | None:
+    """The wire form kept for ``message`` (False: never kept, it carries buffers; None: not serialized yet)."""
+    entry = _KEPT.get(id(message))
+    return entry[1] if entry is not None and entry[0]() is message else None
+
+
+def kept_count() -> int:
+    """How many messages have a wire form kept (each entry goes with its message)."""
+    return len(_KEPT)
+
+
+def _keep(message: Any, form: dict[str, Any] | bool) -> None:
+    key = id(message)
+    # The entry goes when the message does (before its id can be reused).
+    _KEPT[key] = (weakref.ref(message, lambda _ref: _KEPT.pop(key, None)), form)
+
 
 _viser_form = _messages.Message.as_serializable_dict
 
@@ -86,14 +106,14 @@ def _fast_form(message: Any, buffers: list[memoryview]) -> dict[str, Any] | None
 
 def _once(message: Any, binary_buffers: list[memoryview] | None = None) -> dict[str, Any]:
     """viser's ``Message.as_serializable_dict``: the same dict, built directly for a frame's messages, and
-    kept on the message when it adds no binary buffer.
+    kept for the message's life when it adds no binary buffer.
 
     A message with arrays (points, meshes) puts them into ``binary_buffers`` at indices that depend on the
     window it is sent in: it is serialized anew each time, as viser does.
     """
-    kept = message.__dict__.get(_KEPT)
-    if kept:
-        return kept  # type: ignore[no-any-return]
+    kept = kept_form(message)
+    if isinstance(kept, dict):
+        return kept
     if binary_buffers is None:
         return _viser_form(message, binary_buffers)
     before = len(binary_buffers)
@@ -101,7 +121,7 @@ def _once(message: Any, binary_buffers: list[memoryview] | None = None) -> dict[
     if form is None:
         form = _viser_form(message, binary_buffers)
     if kept is None:
-        message.__dict__[_KEPT] = form if len(binary_buffers) == before else False
+        _keep(message, form if len(binary_buffers) == before else False)
     return form
 
 

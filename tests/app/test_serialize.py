@@ -59,8 +59,20 @@ def test_the_wire_form_is_viasers_every_time_and_kept_only_without_buffers():
         expected = (msgspec.msgpack.encode(_viser(reference, buffers)), [bytes(b) for b in buffers])
         assert _wire(message) == expected
         assert _wire(message) == expected  # the second time: kept, or made anew with its buffers
-        kept = message.__dict__.get("_rbl_wire")
+        kept = serialize.kept_form(message)
         assert (kept is False) == bool(buffers), type(message).__name__
+
+
+def test_a_kept_wire_form_goes_with_its_message():
+    """Kept beside viser's messages, not on them: the table holds nothing of a message that has gone."""
+    serialize_once()
+    before = serialize.kept_count()
+    messages = [MESSAGES[0]() for _ in range(100)]
+    for message in messages:
+        _wire(message)
+    assert serialize.kept_count() == before + 100
+    del message, messages
+    assert serialize.kept_count() == before
 
 
 def test_a_whole_window_is_the_same_bytes_as_viasers():
