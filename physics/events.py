@@ -132,10 +132,11 @@ def phase_times(
         lo, hi = math.floor(ends[0]) - 1, math.ceil(ends[1]) + 1
         if hi - lo > MAX_EVENTS:
             raise ValueError(
-                f"the span [{a!r}, {b!r}] s holds about {hi - lo:,} events, more than {MAX_EVENTS:,}: ask for a shorter one"
+                f"the span [{a!r}, {b!r}] s holds about {float(hi - lo):.3g} events, more than {MAX_EVENTS:,}: ask for a shorter one"
             )
         j = np.arange(lo, hi + 1, dtype=np.int64)
-    times = np.asarray((j * half - offset) / rate, dtype=np.float64)
+    multiple = 0.0 if math.isinf(half) else j * half  # the separatrix: only j = 0 (0 · inf is NaN)
+    times = np.asarray((multiple - offset) / rate * np.ones(j.shape), dtype=np.float64)
     keep = (times >= a) & (times <= b)
     order = np.argsort(times[keep], kind="stable")
     return times[keep][order], j[keep][order]
@@ -175,12 +176,15 @@ def nutation_events(motion: HeavyTopTrajectory, t0: float, t1: float) -> list[Mo
     """The turning points of a heavy top's nutation in ``[t0, t1]`` (s): :data:`THETA_MAX` and
     :data:`THETA_MIN` alternately, half a :attr:`~physics.heavy_top.HeavyTopTrajectory.nutation_period`
     apart, each with its angle (rad, :attr:`~physics.heavy_top.HeavyTopTrajectory.turning_points`). Empty
-    when θ never moves (a steady precession, a top exactly vertical)."""
+    when θ never moves (a steady precession, a top exactly vertical) or its turning points are the same
+    float (a nutation below θ's rounding: a steady precession started from rounded rates)."""
     _span(t0, t1)
     phase = motion.nutation_phase
     if phase is None:
         return []
-    theta_min, theta_max = motion.turning_points
+    theta_min, theta_max = (float(v) for v in motion.turning_points)
+    if theta_min == theta_max:  # a nutation below the rounding of θ (a steady precession up to rounding)
+        return []
     times, j = phase_times(*phase, t0, t1)
     return [
         MotionEvent(float(t), THETA_MIN, theta_min, "rad")

@@ -134,7 +134,7 @@ class SteppedHistory:
                 f"{capacity:,} checkpoints of {state.size} numbers: keep less or checkpoint less often"
             )
         self.capacity = capacity
-        self._step = step
+        self._steps: list[tuple[int, Step]] = [(0, step)]  # (first step index, the step from there on)
         self._ring = np.empty((capacity, state.size))
         self._ring[0] = state
         self._newest = 0  # index j of the newest checkpoint (at step j · checkpoint_every)
@@ -208,9 +208,15 @@ class SteppedHistory:
 
     def replace_step(self, step: Step) -> None:
         """Step on from the current state with ``step`` from now on (forgetting the states after now,
-        :meth:`truncate`); the states before now stay as they were computed."""
+        :meth:`truncate`); the states before now stay as they were computed, recomputed with the step they
+        were computed with."""
         self.truncate()
-        self._step = step
+        oldest = self._oldest() * self.checkpoint_every
+        # Drop the steps that began after now, and those no kept state can reach any more.
+        kept = [(k, s) for k, s in self._steps if k < self._k]
+        while len(kept) > 1 and kept[1][0] <= oldest:
+            kept.pop(0)
+        self._steps = [*kept, (self._k, step)]
 
     # --- inside -----------------------------------------------------------------------------------------
     def _index(self, t: float) -> int:
@@ -248,8 +254,12 @@ class SteppedHistory:
         """Step from ``state`` at step k to step ``target``, checkpointing new states beyond the frontier."""
         state = state.copy()
         every = self.checkpoint_every
+        steps = self._steps
         while k < target:
-            nxt = np.asarray(self._step(state), dtype=float)
+            i = len(steps) - 1
+            while steps[i][0] > k:  # the step in force at k (a handful of segments at most)
+                i -= 1
+            nxt = np.asarray(steps[i][1](state), dtype=float)
             if nxt.shape != state.shape or not np.all(np.isfinite(nxt)):
                 raise ValueError(
                     f"the step from t = {self.t0 + k * self.dt!r} s gave a state of shape {nxt.shape} with "
