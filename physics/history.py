@@ -54,14 +54,20 @@ def stepper_step(method: Method, dt: float, substeps: int = 1) -> Step:
         Integrator steps per grid step (≥ 1).
     """
     h = _positive(dt, "dt")
-    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or not 1 <= substeps <= MAX_STEPS:
-        raise ValueError(f"substeps must be a whole number from 1 to {MAX_STEPS:,}, got {substeps!r:.60}")
-    n, sub = int(substeps), h / int(substeps)
+    n = _whole(substeps, "substeps", 1)
+    sub = h / n
 
     def step(state: Floats) -> Floats:
         return advance(method, state, sub, n)
 
     return step
+
+
+def _whole(value: int, name: str, minimum: int) -> int:
+    """A whole number of steps from ``minimum`` to ``MAX_STEPS``, else a ValueError naming it."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not minimum <= value <= MAX_STEPS:
+        raise ValueError(f"{name} must be a whole number from {minimum} to {MAX_STEPS:,}, got {value!r:.60}")
+    return int(value)
 
 
 def _positive(value: float, name: str) -> float:
@@ -120,10 +126,7 @@ class SteppedHistory:
         self.dt = _positive(dt, "dt")
         self.t0 = finite_scalar(t0, "t0")
         span = _positive(keep, "keep")
-        every = checkpoint_every
-        if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or not 1 <= every <= MAX_STEPS:
-            raise ValueError(f"checkpoint_every must be a whole number from 1 to {MAX_STEPS:,}, got {every!r:.60}")
-        self.checkpoint_every = int(every)
+        self.checkpoint_every = _whole(checkpoint_every, "checkpoint_every", 1)
         state = finite_array(state0, "state0").copy()
         if state.ndim != 1 or state.size == 0:
             raise ValueError(f"state0 must be a 1-D array of numbers (one state), got shape {state.shape}")
@@ -176,9 +179,7 @@ class SteppedHistory:
 
         Behind the furthest state computed this recomputes the same states; at it, it computes new ones
         (and checkpoints them)."""
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 0 <= n <= MAX_STEPS:
-            raise ValueError(f"n must be a whole number of steps from 0 to {MAX_STEPS:,}, got {n!r:.60}")
-        self._k, self._state = self._walk(self._k, self._state, self._k + int(n))
+        self._k, self._state = self._walk(self._k, self._state, self._k + _whole(n, "n", 0))
         return self._state.copy()
 
     def seek(self, t: float) -> Floats:

@@ -61,6 +61,8 @@ FLIPS = {
     "the other side of the separatrix": ([2.0, 1.5, 1.0], [1e-3, -2.0, 2e-3], 1),
     "negative spin, unsorted moments": ([1.5, 2.0, 1.0], [-3.0, 2e-2, -1e-2], 0),
     "wobble about the largest axis": ([2.0, 1.5, 1.0], [1.0, 0.3, 0.2], 1),
+    # 1 − m far below the float range: the separatrix's pulses, K = ln(4/k'), flips every ~1300 s.
+    "pushed 1e-200 off the intermediate axis": ([2.0, 1.5, 1.0], [1e-200, 2.0, 1e-200], 1),
 }
 
 
