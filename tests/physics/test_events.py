@@ -37,7 +37,7 @@ def zeros_by_dense_search(
     q: Callable[[float], float], t0: float, t1: float, n: int = 20001, sample: Callable[..., object] | None = None
 ) -> list[float]:
     """Every sign change of ``q`` on [t0, t1] found on n samples (``sample(times)``, q vectorised, if given),
-    then bisected on q itself to 1e-13 s."""
+    then bisected on q itself to 1e-13 s or to adjacent floats."""
     ts = np.linspace(t0, t1, n)
     values = np.asarray(sample(ts)) if sample is not None else np.array([q(float(t)) for t in ts])
     found = []
@@ -45,6 +45,8 @@ def zeros_by_dense_search(
         a, b, qa = float(ts[i]), float(ts[i + 1]), values[i]
         while b - a > 1e-13:
             mid = 0.5 * (a + b)
+            if mid in (a, b):  # adjacent floats (past 1000 s their spacing exceeds 1e-13 s)
+                break
             qm = q(mid)
             if np.signbit(qm) == np.signbit(qa):
                 a, qa = mid, qm
