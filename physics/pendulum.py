@@ -471,6 +471,22 @@ class PendulumTrajectory:
         # Separatrix: θ/2 = gd(ω0 t + c).
         self._separatrix = np.arcsinh(np.tan(self._sign[sep] * 0.5 * wrapped[sep]))  # gd⁻¹
 
+    @property
+    def phase(self) -> tuple[float, float, float] | None:
+        """``(rate, offset, K)`` of one swing: its elliptic phase ``u = rate t + offset`` (rate in 1/s) reaches
+        an odd multiple of the quarter period ``K`` at each turning point (libration: ``θ = +θ_max`` at
+        ``u = K (mod 4K)``, ``−θ_max`` at ``3K``) or each passage over the top (rotation, ``θ ≡ π mod 2π``).
+        None on the separatrix and without a restoring torque (no such instants); ValueError for several
+        initial states (one phase each: make one trajectory per state)."""
+        if self.theta0.ndim:
+            raise ValueError(f"the phase belongs to one initial state; this trajectory holds {self.theta0.shape}")
+        if self._w == 0.0 or self._sep:
+            return None
+        if self._lib:
+            return self._w, float(self._libration[4][0]), float(self._libration[3][0])
+        kappa, _, _, k_complete, c = (float(v[0]) for v in self._rotation)
+        return kappa * self._w, c, k_complete
+
     def at(self, t: ArrayLike) -> Swing:
         """The angle and rate at the times ``t`` (s), broadcast against the initial states.
 

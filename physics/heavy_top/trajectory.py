@@ -182,9 +182,24 @@ class HeavyTopTrajectory:
         """
         mo = self._mo
         cu = mo.cubic
+        if mo.kind == "free":  # without gravity: the parabola's roots, kept by the constructor
+            return self.theta_min, self.theta_max
         if mo.kind in ("vertical", "steady") or cu is None:
             return mo.theta0, mo.theta0
         return theta_from(cu.one_minus_u2, cu.one_plus_u2), theta_from(cu.one_minus_u1, cu.one_plus_u1)
+
+    @property
+    def nutation_phase(self) -> tuple[float, float, float] | None:
+        """``(rate, offset, half)`` of θ's oscillation: θ = θ_max where the phase ``rate t + offset`` is an
+        even multiple of ``half``, θ = θ_min where it is an odd one (rate in 1/s; times in s). Nutating:
+        ``(λ, c, K)`` of ``u = u1 + (u2 − u1) sn²(λ t + c | m)``; without gravity ``(ν, c + π, π)`` of
+        ``u = ū + A cos(ν t + c)``. None when θ never moves (vertical, steady precession)."""
+        mo = self._mo
+        if mo.kind == "nutating":
+            return mo.lam, mo.c, mo.K
+        if mo.kind == "free" and mo.free is not None:
+            return mo.free.nu, mo.free.c + math.pi, math.pi
+        return None
 
     @property
     def kind(self) -> str:

@@ -1,6 +1,6 @@
 """physics/ imports one way (docs/architecture.md): validation, double-double and constants →
-elliptic, rotations, Euler angles → inertia → the free body → integrators → the heavy top and the pendulum;
-a module imports only modules of its own layer's package or of the layers before it."""
+elliptic, rotations, Euler angles → inertia → the free body → integrators → the heavy top and the pendulum
+→ the events of their motions and the history of stepped ones; a module imports only modules of its own layer's package or of the layers before it."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("physics.free_body", "physics.free_body_motion", "physics.free_body_trajectory"),
     ("physics.integrators",),
     ("physics.heavy_top", "physics.heavy_body", "physics.pendulum", "physics.gyro"),
+    ("physics.events", "physics.history"),
 )
 
 
