@@ -13,7 +13,8 @@
 - no ``Any`` for a context, app, client, server, simulation, scene or session anywhere in ``app/``; no class
   outside ``app/guards/`` forwards unknown attributes (``__getattr__``); mypy checks ``app/`` as strictly as
   ``physics/``;
-- no comment or docstring cites an issue by number (it says why in words).
+- no comment or docstring cites an issue by number (it says why in words);
+- tests/app/ mirrors app/'s packages.
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
 modules) for a closing note.
@@ -493,6 +494,24 @@ def test_no_comment_cites_an_issue_number() -> None:
 def test_the_issue_check_can_fail() -> None:
     source = 'x = 1\n# as issue 15 asked\n"""(Issue #3, item 2)"""\n# an issue with 2 parts\n'
     assert issue_citations(source) == [2, 3]
+
+
+def unmirrored(tests: Path, source: Path) -> list[str]:
+    """The sub-folders of ``tests`` (tests/app) that name no package of ``source`` (app/)."""
+    packages = {p.name for p in source.iterdir() if (p / "__init__.py").exists()}
+    return sorted(p.name for p in tests.iterdir() if p.is_dir() and p.name != "__pycache__" and p.name not in packages)
+
+
+def test_tests_of_app_mirror_its_packages() -> None:
+    """tests/app/<package>/ holds the tests of app/<package>/; a test of the whole app stays at tests/app/."""
+    assert unmirrored(ROOT / "tests" / "app", ROOT / "app") == []
+
+
+def test_the_mirror_check_can_fail(tmp_path: Path) -> None:
+    for folder in ("source/serving", "tests/serving", "tests/servng"):
+        (tmp_path / folder).mkdir(parents=True)
+    (tmp_path / "source" / "serving" / "__init__.py").write_text("")
+    assert unmirrored(tmp_path / "tests", tmp_path / "source") == ["servng"]
 
 
 if __name__ == "__main__":

@@ -41,7 +41,7 @@ OKABE_ITO: dict[str, tuple[int, int, int]] = {
 colour-vision deficiency. Every quantity below takes one of them; the body and the guides are greys."""
 
 # One colour per quantity, the same in every scene (RGB 0-255); the legend shows exactly these, and
-# tests/app/test_palette.py checks that every node a scene sends is drawn in one of them.
+# tests/app/drawing/test_palette.py checks that every node a scene sends is drawn in one of them.
 COLOURS: dict[str, tuple[int, int, int]] = {
     "L": OKABE_ITO["orange"],  # angular momentum
     "omega": OKABE_ITO["blue"],  # angular velocity

@@ -9,7 +9,7 @@ showing: values in and out of range, the largest integers msgpack carries, ±1e3
 short and long, None, lists and dicts, valid and invalid dropdown options, button presses, rapid scene
 switches through the picker and presets. They upload files to the inertia explorer the way its page does
 (tests/harness.py's ``send_upload``): garbage bytes under a mesh's name, an announce of more than the
-20 MB limit, a 1 MB GLB of 20,000 instanced nodes (tests/app/test_upload_limits.py's builder), and a
+20 MB limit, a 1 MB GLB of 20,000 instanced nodes (tests/app/uploads/test_upload_limits.py's builder), and a
 good box now and then. Afterwards: the server logged no uncaught exception, every client still connected
 hears the server, and in every simulation the fuzz met (the shared one, explorers' copies, private
 sessions, those of browsers that left included) no scene was paused by a failure, no callback failed,

@@ -17,7 +17,7 @@ import pytest
 
 from app.panel.access import KEYS
 from app.scenes.free_fall import FreeFall
-from tests.app.test_motion_words import heavy_top_says
+from tests.app.scenes.test_motion_words import heavy_top_says
 from tests.harness import FRAME, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser

@@ -16,7 +16,7 @@ pytestmark = pytest.mark.browser
 
 PIN = "2718"
 SMALL = {"width": 720, "height": 640}
-# The shipped lecture's racket step (tests/app/test_questions.py checks the shipped questions): one step
+# The shipped lecture's racket step (tests/app/teaching/test_questions.py checks the shipped questions): one step
 # loads faster than twelve.
 LECTURE = """title = "One question"
 [[step]]

@@ -22,7 +22,7 @@ from app.teaching.pin_gate import PinGate
 from app.teaching.teacher import MAX_NAME, Row, clean_name, table_html
 from app.teaching.teacher_panel import WATCHED
 from tests.app.reading import received_until
-from tests.app.test_serving_modes import command
+from tests.app.serving.test_serving_modes import command
 from tests.harness import (
     FRAME,
     click_button,

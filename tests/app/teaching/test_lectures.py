@@ -324,7 +324,7 @@ def test_a_wheel_installs_the_lectures_and_the_command_line_finds_them(tmp_path)
     import zipfile
     from pathlib import Path
 
-    root = Path(__file__).resolve().parents[2]
+    root = Path(__file__).resolve().parents[3]
     source = tmp_path / "source"
     source.mkdir()
     for name in ("pyproject.toml", "README.md", "LICENSE"):

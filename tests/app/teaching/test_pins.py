@@ -15,7 +15,7 @@ from app.rooms.config import PIN_VARIABLE
 from app.teaching.pin_gate import ADDRESS_ATTEMPTS, ATTEMPTS, CLASS_ATTEMPTS, GUESSER
 from app.teaching.voters import COOKIE
 from tests.app.reading import received_until
-from tests.app.test_serving_modes import command
+from tests.app.serving.test_serving_modes import command
 from tests.harness import click_button, raw_client, running_app, send_value, wait_for
 
 PIN = "Lab2718"
