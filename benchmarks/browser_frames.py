@@ -118,6 +118,81 @@ def frames_per_second(browser: object, scene: str, seconds: float, prefill: int)
         app.stop()
 
 
+def _hide_by_name(app: object, name: str) -> None:
+    """Hide the scene node ``name`` by adding an empty, hidden node in its place (public API only)."""
+    app.server.scene.add_frame(name, show_axes=False, visible=False)  # type: ignore[attr-defined]
+
+
+def _hide_arrows(scene: object) -> None:
+    """Hide the heavy top's arrows and their labels (an arrow resends its visibility only when it changes)."""
+    for arrow in (scene.L_arrow, scene.omega_arrow, scene.torque_arrow):  # type: ignore[attr-defined]
+        arrow.handle.visible = False
+        if arrow.label is not None:
+            arrow.label.visible = False
+
+
+BREAKDOWN = [
+    ("the trace", lambda app: app.scene.trace.clear()),
+    ("the faint sphere", lambda app: _hide_by_name(app, "/scene/sphere")),
+    ("its equator", lambda app: _hide_by_name(app, "/scene/sphere_equator")),
+    ("the grid", lambda app: _hide_by_name(app, "/grid")),
+    ("L, ω, τ and labels", lambda app: _hide_arrows(app.scene)),
+    ("the top", lambda app: setattr(app.scene.body.handle, "visible", False)),
+]
+"""What the heavy top's page draws, in the order :func:`breakdown` takes it away (the trace, cleared, is cleared
+again after every frame: the top goes on moving)."""
+
+
+def breakdown(browser: object, seconds: float, prefill: int) -> list[tuple[str, float, float]]:
+    """The heavy top's page at 1280×800 while playing: renders/s and Chromium CPU ms a render with everything,
+    then with each of :data:`BREAKDOWN` taken away in turn (cumulatively)."""
+    from app.serving.app import App
+
+    app = App(host="127.0.0.1", port=_free_port(), scene="heavy_top", start_loop=False)
+    stop, hidden = threading.Event(), []
+
+    def play() -> None:
+        while not stop.is_set():
+            with app.lock:
+                app.frame(1.0 / 60.0)
+                if "the trace" in hidden:
+                    app.scene.trace.clear()  # it would fill again as the top moves on
+            time.sleep(1.0 / 60.0)
+
+    player = threading.Thread(target=play, daemon=True)
+    context = None
+    rows = []
+    try:
+        app.set_playing(True)
+        for _ in range(prefill):
+            app.frame(1.0 / 60.0)
+        context = browser.new_context(viewport=VIEWPORT)  # type: ignore[attr-defined]
+        context.add_init_script(COUNT_RENDERS)
+        page = context.new_page()
+        page.goto(f"{app.url}/?fixedDpr=1", wait_until="domcontentloaded")
+        page.wait_for_selector("canvas", timeout=120_000)
+        player.start()
+        for label, take_away in [("nothing (all drawn)", None), *BREAKDOWN]:
+            if take_away is not None:
+                with app.lock:
+                    take_away(app)
+                hidden.append(label)
+            page.evaluate(RENDERS_IN, 1500)
+            cpu = chromium_seconds()
+            frames, ms = page.evaluate(RENDERS_IN, seconds * 1000)
+            frames = max(frames, 1)
+            rows.append((label, 1000.0 * frames / ms, 1000.0 * (chromium_seconds() - cpu) / frames))
+            print(f"without {label:<22} {rows[-1][1]:6.2f} renders/s {rows[-1][2]:6.0f} CPU ms a render", flush=True)
+    finally:
+        stop.set()
+        if player.is_alive():
+            player.join()
+        if context is not None:
+            context.close()
+        app.stop()
+    return rows
+
+
 def write(results: dict[str, dict[str, dict[str, float]]], note: str) -> str:
     """The markdown table of every label's renders/s and Chromium CPU ms a render by scene, and a bar chart of
     the CPU a render beside it."""
@@ -167,8 +242,32 @@ def main(argv: list[str] | None = None) -> str:
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--prefill", type=int, default=1800, help="frames played headless before the page opens")
     parser.add_argument("--scenes", nargs="*", default=SCENES)
+    parser.add_argument("--breakdown", action="store_true", help="the heavy top's nodes taken away one by one")
     args = parser.parse_args(argv)
     from playwright.sync_api import sync_playwright
+
+    if args.breakdown:
+        with sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+            try:
+                rows = breakdown(browser, args.seconds, args.prefill)
+            finally:
+                with contextlib.suppress(Exception):
+                    browser.close()
+        text = "\n".join(
+            [
+                "# What a render of the heavy top costs in headless Chromium (software rendering), 1280×800",
+                "",
+                "Playing, `?fixedDpr=1`; each row takes one more thing away (cumulative). "
+                "`python -m benchmarks.browser_frames --breakdown`.",
+                "",
+                "| without | renders/s | Chromium CPU ms a render |",
+                "|---|---:|---:|",
+                *(f"| {label} | {fps:.2f} | {cpu:.0f} |" for label, fps, cpu in rows),
+            ]
+        )
+        (RESULTS / "browser_frames_breakdown.md").write_text(text + "\n", encoding="utf-8")
+        return text
 
     store = RESULTS / "browser_frames.json"
     results = json.loads(store.read_text(encoding="utf-8")) if store.is_file() else {}
