@@ -22,7 +22,9 @@ import platform
 import socket
 import threading
 import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 RESULTS = Path(__file__).resolve().parent / "results"
 CHROMIUM = "/usr/bin/chromium"
@@ -76,10 +78,11 @@ def chromium_seconds() -> float:
     return total
 
 
-def frames_per_second(browser: object, scene: str, seconds: float, prefill: int) -> tuple[float, float]:
-    """One run: renders per second a fresh page draws of ``scene`` while the app plays at 60 frames/s, and
-    Chromium's CPU milliseconds a render (all its processes: on a shared machine the frame rate depends on the
-    load, the CPU a render costs much less)."""
+@contextlib.contextmanager
+def watched(browser: Any, scene: str, prefill: int, after_frame: Callable[[Any], None] | None = None) -> Iterator[Any]:
+    """An app on 127.0.0.1 showing ``scene`` after ``prefill`` frames played headless, then playing at 60 frames
+    a second of wall time (``after_frame(app)`` after each, under the app's lock), and a page showing it at
+    1280×800 that counts its renders; yields ``(app, page)``, everything stopped afterwards."""
     from app.serving.app import App
 
     app = App(host="127.0.0.1", port=_free_port(), scene=scene, start_loop=False)
@@ -87,7 +90,10 @@ def frames_per_second(browser: object, scene: str, seconds: float, prefill: int)
 
     def play() -> None:
         while not stop.is_set():
-            app.frame(1.0 / 60.0)
+            with app.lock:
+                app.frame(1.0 / 60.0)
+                if after_frame is not None:
+                    after_frame(app)
             time.sleep(1.0 / 60.0)
 
     player = threading.Thread(target=play, daemon=True)
@@ -96,19 +102,15 @@ def frames_per_second(browser: object, scene: str, seconds: float, prefill: int)
         app.set_playing(True)
         for _ in range(prefill):
             app.frame(1.0 / 60.0)
-        context = browser.new_context(viewport=VIEWPORT)  # type: ignore[attr-defined]
+        context = browser.new_context(viewport=VIEWPORT)
         context.add_init_script(COUNT_RENDERS)
         page = context.new_page()
-        # One pixel per CSS pixel throughout: viser's adaptive resolution would otherwise change what a frame
+        # One pixel per CSS pixel throughout: viser's adaptive resolution would otherwise change what a render
         # costs while it is measured.
         page.goto(f"{app.url}/?fixedDpr=1", wait_until="domcontentloaded")
         page.wait_for_selector("canvas", timeout=120_000)
         player.start()
-        page.evaluate(RENDERS_IN, 3000)  # the scene's nodes arrive and compile first
-        cpu = chromium_seconds()
-        frames, ms = page.evaluate(RENDERS_IN, seconds * 1000)
-        frames = max(frames, 1)
-        return 1000.0 * frames / ms, 1000.0 * (chromium_seconds() - cpu) / frames
+        yield app, page
     finally:
         stop.set()
         if player.is_alive():
@@ -116,6 +118,23 @@ def frames_per_second(browser: object, scene: str, seconds: float, prefill: int)
         if context is not None:
             context.close()
         app.stop()
+
+
+def rate_and_cost(page: Any, seconds: float, settle: float) -> tuple[float, float]:
+    """After ``settle`` s, the page's renders a second over ``seconds`` s and Chromium's CPU ms a render."""
+    page.evaluate(RENDERS_IN, settle * 1000)
+    cpu = chromium_seconds()
+    frames, ms = page.evaluate(RENDERS_IN, seconds * 1000)
+    frames = max(frames, 1)
+    return 1000.0 * frames / ms, 1000.0 * (chromium_seconds() - cpu) / frames
+
+
+def frames_per_second(browser: Any, scene: str, seconds: float, prefill: int) -> tuple[float, float]:
+    """One run: renders per second a fresh page draws of ``scene`` while the app plays at 60 frames/s, and
+    Chromium's CPU milliseconds a render (all its processes: on a shared machine the frame rate depends on the
+    load, the CPU a render costs much less)."""
+    with watched(browser, scene, prefill) as (_, page):
+        return rate_and_cost(page, seconds, settle=3.0)  # the scene's nodes arrive and compile first
 
 
 def _hide_by_name(app: object, name: str) -> None:
@@ -143,53 +162,24 @@ BREAKDOWN = [
 again after every frame: the top goes on moving)."""
 
 
-def breakdown(browser: object, seconds: float, prefill: int) -> list[tuple[str, float, float]]:
+def breakdown(browser: Any, seconds: float, prefill: int) -> list[tuple[str, float, float]]:
     """The heavy top's page at 1280×800 while playing: renders/s and Chromium CPU ms a render with everything,
     then with each of :data:`BREAKDOWN` taken away in turn (cumulatively)."""
-    from app.serving.app import App
+    hidden: list[str] = []
 
-    app = App(host="127.0.0.1", port=_free_port(), scene="heavy_top", start_loop=False)
-    stop, hidden = threading.Event(), []
+    def keep_the_trace_empty(app: Any) -> None:
+        if "the trace" in hidden:
+            app.scene.trace.clear()  # it would fill again as the top moves on
 
-    def play() -> None:
-        while not stop.is_set():
-            with app.lock:
-                app.frame(1.0 / 60.0)
-                if "the trace" in hidden:
-                    app.scene.trace.clear()  # it would fill again as the top moves on
-            time.sleep(1.0 / 60.0)
-
-    player = threading.Thread(target=play, daemon=True)
-    context = None
     rows = []
-    try:
-        app.set_playing(True)
-        for _ in range(prefill):
-            app.frame(1.0 / 60.0)
-        context = browser.new_context(viewport=VIEWPORT)  # type: ignore[attr-defined]
-        context.add_init_script(COUNT_RENDERS)
-        page = context.new_page()
-        page.goto(f"{app.url}/?fixedDpr=1", wait_until="domcontentloaded")
-        page.wait_for_selector("canvas", timeout=120_000)
-        player.start()
+    with watched(browser, "heavy_top", prefill, keep_the_trace_empty) as (app, page):
         for label, take_away in [("nothing (all drawn)", None), *BREAKDOWN]:
             if take_away is not None:
                 with app.lock:
                     take_away(app)
                 hidden.append(label)
-            page.evaluate(RENDERS_IN, 1500)
-            cpu = chromium_seconds()
-            frames, ms = page.evaluate(RENDERS_IN, seconds * 1000)
-            frames = max(frames, 1)
-            rows.append((label, 1000.0 * frames / ms, 1000.0 * (chromium_seconds() - cpu) / frames))
+            rows.append((label, *rate_and_cost(page, seconds, settle=1.5)))
             print(f"without {label:<22} {rows[-1][1]:6.2f} renders/s {rows[-1][2]:6.0f} CPU ms a render", flush=True)
-    finally:
-        stop.set()
-        if player.is_alive():
-            player.join()
-        if context is not None:
-            context.close()
-        app.stop()
     return rows
 
 
