@@ -86,11 +86,13 @@ def watched(browser: Any, scene: str, prefill: int, after_frame: Callable[[Any],
     from app.serving.app import App
 
     app = App(host="127.0.0.1", port=_free_port(), scene=scene, start_loop=False)
+    shared = app.shared  # the one simulation every page follows: its lock is the frame loop's
+    assert shared is not None
     stop = threading.Event()
 
     def play() -> None:
         while not stop.is_set():
-            with app.lock:
+            with shared.lock:
                 app.frame(1.0 / 60.0)
                 if after_frame is not None:
                     after_frame(app)
@@ -151,12 +153,12 @@ def _hide_arrows(scene: object) -> None:
 
 
 BREAKDOWN = [
-    ("the trace", lambda app: app.scene.trace.clear()),
+    ("the trace", lambda app: app.shared.scene.trace.clear()),
     ("the faint sphere", lambda app: _hide_by_name(app, "/scene/sphere")),
     ("its equator", lambda app: _hide_by_name(app, "/scene/sphere_equator")),
     ("the grid", lambda app: _hide_by_name(app, "/grid")),
-    ("L, ω, τ and labels", lambda app: _hide_arrows(app.scene)),
-    ("the top", lambda app: setattr(app.scene.body.handle, "visible", False)),
+    ("L, ω, τ and labels", lambda app: _hide_arrows(app.shared.scene)),
+    ("the top", lambda app: setattr(app.shared.scene.body.handle, "visible", False)),
 ]
 """What the heavy top's page draws, in the order :func:`breakdown` takes it away (the trace, cleared, is cleared
 again after every frame: the top goes on moving)."""
@@ -169,13 +171,13 @@ def breakdown(browser: Any, seconds: float, prefill: int) -> list[tuple[str, flo
 
     def keep_the_trace_empty(app: Any) -> None:
         if "the trace" in hidden:
-            app.scene.trace.clear()  # it would fill again as the top moves on
+            app.shared.scene.trace.clear()  # it would fill again as the top moves on
 
     rows = []
     with watched(browser, "heavy_top", prefill, keep_the_trace_empty) as (app, page):
         for label, take_away in [("nothing (all drawn)", None), *BREAKDOWN]:
             if take_away is not None:
-                with app.lock:
+                with app.shared.lock:
                     take_away(app)
                 hidden.append(label)
             rows.append((label, *rate_and_cost(page, seconds, settle=1.5)))
