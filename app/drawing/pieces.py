@@ -298,7 +298,8 @@ class Trace:
     ----------
     capacity : int
         Number of points kept (the oldest drop out); :meth:`resize` changes it. The drawing shows at
-        least the last ``capacity`` points and at most :data:`TRACE_CHUNK` − 1 more.
+        least the last ``capacity`` points and fewer than 2 × :data:`TRACE_CHUNK` more (the chunks are whole:
+        the oldest holds up to a chunk's worth the capacity does not need, the newest fills before it goes).
     min_step : float
         A new point closer than this (m) to the last one replaces nothing and is skipped, so a paused or
         slow motion does not fill the buffer with duplicates.

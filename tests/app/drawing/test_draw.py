@@ -76,6 +76,22 @@ def test_trace_sends_one_chunk_a_point_not_the_whole_trace(app):
     trace.remove()
 
 
+def test_a_full_trace_drops_its_oldest_chunk_and_keeps_its_segments_joined(app):
+    """Around the ring: the chunk that empties to become the newest drops out in the same frame, so the
+    nodes always draw the last ``capacity`` points, fewer than 2 × TRACE_CHUNK more (whole chunks, the
+    newest filling), joined in order."""
+    trace = draw.Trace(app.server, "/test_trace_ring", capacity=300)  # 11 chunks, turned many times
+    for i in range(1500):
+        trace.append([0.01 * i, 0.0, 0.0])
+        segs = trace.drawn_segments()
+        kept = min(i, 299)
+        assert kept <= len(segs) < kept + 2 * draw.TRACE_CHUNK, (i, len(segs))
+        if len(segs):
+            assert segs[-1, 1, 0] == pytest.approx(0.01 * i, abs=1e-5)
+            np.testing.assert_allclose(segs[1:, 0], segs[:-1, 1])  # each segment starts where the last ended
+    trace.remove()
+
+
 @pytest.mark.parametrize("dark", [False, True])
 def test_a_trace_fades_toward_the_background_with_age_and_recolours_only_what_changed(app, dark):
     """Old loops recede: the newest quarter of the chunks in the trace's own colour, each older quarter blended
