@@ -13,19 +13,20 @@ import viser
 from app.guards.handles import uuid_of
 from app.panel import look
 from app.panel.access import keys_markdown
-from app.panel.export_folder import ExportFolder, ExportRun
 from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
     from app.serving.simulation import Simulation
 
-__all__ = ["LAST_ORDER", "SimulationPanel"]
+__all__ = ["EXPORT_ORDER", "LAST_ORDER", "SimulationPanel"]
 
 PROJECTOR_HINT = "Projector mode: the panel a slim bar, the caption and the key plot large over the view"
 
 LAST_ORDER = 1e6
 """viser's panel order of what comes after the scene's folder (legend, state, export)."""
+EXPORT_ORDER = LAST_ORDER + 2
+"""The Export folder's place (:mod:`app.recording.export_folder`): after the State folder, before Keyboard."""
 
 
 class SimulationPanel:
@@ -38,10 +39,6 @@ class SimulationPanel:
         ``state_text``, ``open_state``, ``notify``, ``pick``).
     titles : dict
         Scene title -> scene name, in picker order.
-    export : ExportRun
-        What the Export button runs.
-    auto_close_seconds : float
-        How long the Export folder's final note stays.
     share, dark : bool
         viser's share button; the dark look (:mod:`app.panel.look`).
     """
@@ -50,8 +47,6 @@ class SimulationPanel:
         self,
         sim: Simulation,
         titles: dict[str, str],
-        export: ExportRun,
-        auto_close_seconds: float,
         *,
         share: bool,
         dark: bool,
@@ -92,13 +87,12 @@ class SimulationPanel:
             self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
         self.copy_state_button.on_click(sim.guarded(self.on_copy_state))
         self.open_state_button.on_click(sim.guarded(self.on_open_state))
-        self.export_folder = ExportFolder(sim, export, auto_close_seconds, order=LAST_ORDER + 2)
         with gui.add_folder("Keyboard", expand_by_default=False, order=LAST_ORDER + 3) as keyboard:
             gui.add_markdown(keys_markdown())
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
         self.handles: list[Any] = [style, title, self.scene_picker, self.words, self.projector_button, clock, state]
-        self.handles += [self.export_folder.folder, keyboard]
+        self.handles += [keyboard]
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:

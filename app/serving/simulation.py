@@ -23,10 +23,10 @@ from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
-from app.panel.export_folder import ExportRun
 from app.panel.projector import Projector
-from app.panel.simulation_panel import SimulationPanel
+from app.panel.simulation_panel import EXPORT_ORDER, SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
+from app.recording.export_folder import ExportFolder, ExportRun
 from app.scenes import REGISTRY, Scene, load_all, scene_names
 from app.serving import snapshot as snapshots
 from app.serving.clock import Clock
@@ -65,7 +65,7 @@ class Simulation:
     scene : str, optional
         Name of the first scene (default: the first in the picker).
     export : callable
-        What the panel's Export button runs (:data:`app.panel.export_folder.ExportRun`).
+        What the panel's Export button runs (:data:`app.recording.export_folder.ExportRun`).
     fps : float
         Frames per second of the loop that drives it.
     share : bool
@@ -134,12 +134,14 @@ class Simulation:
             )
             # No public tunnel unless asked for: viser's share button would publish this server to the world.
             titles = {REGISTRY[n].title: n for n in names}
-            self.panel = SimulationPanel(self, titles, export, NOTIFY_SECONDS, share=share, dark=dark)
+            self.panel = SimulationPanel(self, titles, share=share, dark=dark)
             # The panel's handles, by the names scenes and tests use.
             self.scene_picker, self.play_button = self.panel.scene_picker, self.panel.play_button
             self.speed_slider, self.time_text = self.panel.speed_slider, self.panel.time_text
             self.state_box, self.status, self.legend = self.panel.state_box, self.panel.status, self.panel.legend
-            self.export_folder = self.panel.export_folder
+            # The Export folder is recording's, placed in the panel after its State folder.
+            self.export_folder = ExportFolder(self, export, NOTIFY_SECONDS, order=EXPORT_ORDER)
+            self.panel.handles.append(self.export_folder.folder)
             self.projector = Projector(self.server.gui, self.guarded(self._projector_press))
             self.panel.projector_button.on_click(self.guarded(lambda _: self.set_projector(not self.projector.on)))
             own = not isinstance(self.server, viser.ViserServer)

@@ -269,7 +269,7 @@ class _Client:
 def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, outcome, title: str) -> None:
     """The progress note ends as "Exported", "Export refused" or "Export failed", not loading, and closes after
     NOTIFY_SECONDS like every other notification (it stayed open until clicked)."""
-    from app.panel.export_folder import ExportFolder
+    from app.recording.export_folder import ExportFolder
     from app.serving.notices import NOTIFY_SECONDS
 
     def fake_export(text, seconds, progress):
@@ -294,8 +294,8 @@ def test_an_export_whose_browser_left_stops_at_its_next_frame() -> None:
     stopped at its next frame), instead of holding it for the minutes a long export takes."""
     from types import SimpleNamespace
 
-    from app.panel.export_folder import ExportFolder
     from app.recording.export import one_at_a_time
+    from app.recording.export_folder import ExportFolder
     from app.serving.notices import NOTIFY_SECONDS
 
     client = _Client()
