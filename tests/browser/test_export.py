@@ -21,9 +21,14 @@ from PIL import Image
 
 from app.serving.app import export
 from app.serving.notices import NOTIFY_SECONDS
-from tests.harness import click, free_port, image_difference, image_stats, open_page, running_app, wait_for
+from tests.harness import click, click_until, free_port, image_difference, image_stats, open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser
+
+SCROLL_TO_EXPORT = """() => {
+  const button = [...document.querySelectorAll("button")].find((b) => b.textContent.trim() === "Export");
+  if (button) button.scrollIntoView({ block: "center" });
+}"""
 
 
 def _screenshot(page) -> np.ndarray:
@@ -61,8 +66,18 @@ def test_the_panel_export_button_downloads_a_zip(chromium) -> None:
     with running_app("pendulum") as app:
         page, _ = open_page(chromium, app)
         click(page.get_by_text("Export a recording").first)
+        folder = app.simulation.export_folder
+        # The opened folder's button sits at the panel's bottom edge, half clipped by the panel's scroll:
+        # scrolled to the middle first (one evaluation in the page), or a click at its centre hits the edge.
+        page.evaluate(SCROLL_TO_EXPORT)
         with page.expect_download(timeout=60_000) as download:
-            click(page.get_by_role("button", name="Export", exact=True))  # not the folder "Export a recording"
+            # Not the folder "Export a recording"; a click lost to a panel that re-laid itself out is pressed
+            # again, as a user would, until the server has started the export.
+            click_until(
+                page.get_by_role("button", name="Export", exact=True),
+                lambda: folder.running is not None,
+                what="the export to start",
+            )
         # The note says so with the download; it closes by itself after NOTIFY_SECONDS, so it is looked for
         # before the archive is read: on a loaded machine, waiting for the saved file can outlast it.
         exported = page.get_by_text("Exported").first
