@@ -14,11 +14,14 @@ slash, with the subprotocol ``viser-v1.1.1``):
   ``/NAME/`` (a relative redirect, right behind any further proxy).
 * Websockets are upgraded (``Upgrade``/``Connection`` passed on, HTTP/1.1), ``Sec-WebSocket-Protocol``
   is passed through both ways like any header, and idle timeouts are an hour (a lecture).
-* A private pool is sticky by a cookie, not by address: the first visit without the room's cookie gets
-  one (``$request_id``, random), and the pool is chosen by ``hash $cookie consistent``. A browser keeps
-  its process when it reconnects, while a lecture hall behind one NAT address still spreads. A process
-  that refuses connections is skipped for a few seconds (``max_fails=1``), so a browser that joins while
-  it restarts lands on a living one.
+* A private pool spreads browsers fairly and keeps each on its process. A first visit (no room cookie,
+  or one naming no process of the pool) goes to the pool's least-loaded process (``least_conn``, its
+  counts shared by nginx's workers through a ``zone``: a browser's websocket is its one long connection),
+  and the response sets the room's cookie to that process's number. Every later request with the cookie
+  goes to that process, from any address, so a lecture hall behind one NAT address still spreads. When
+  that process is down, the request falls back to the least-loaded living one (``error_page 502``) and
+  the cookie is set anew: a process that dies loses only its own browsers, which land on the survivors.
+  A process that refuses connections is skipped for a few seconds (``max_fails=1``).
 * ``/`` is the landing page (:mod:`app.rooms.landing`); anything else is 404.
 """
 
@@ -129,40 +132,58 @@ def rooms_conf(department: Department, *, backend_header: bool = False) -> str:
 
 
 def _cookie_maps(private: list[Room]) -> list[str]:
-    """Per pool: the hash key (the cookie, or a fresh ``$request_id`` on a first visit) and the Set-Cookie
-    header to send when the browser has none yet (empty: nginx sends no header)."""
+    """Per pool: where the room's cookie routes a request (a process of the pool by its number, or the
+    least-loaded one), and the Set-Cookie header naming the process that answered when the browser's cookie
+    does not already name it (empty: nginx sends no header)."""
     lines = ["# The room's cookie as the access log shows it (private pools only)."]
-    lines += ["map $uri $rbl_room_cookie {", '    default "-";']
+    lines += ["map $request_uri $rbl_room_cookie {", '    default "-";']
     for room in private:
-        lines += [f"    ~^/{room.name}(/|$) $cookie_{room.ident};"]
+        lines += [f"    ~^/{room.name}([/?]|$) $cookie_{room.ident};"]
     lines += ["}", ""]
     for room in private:
         ident = room.ident
-        cookie = f"{ident}=$request_id; Path=/{room.name}; HttpOnly; SameSite=Lax"
         lines += [
-            f"# {room.name}: sticky by cookie {ident} (one per browser), not by address.",
-            f"map $cookie_{ident} ${ident}_key {{",
-            '    ""      $request_id;',
-            f"    default $cookie_{ident};",
+            f"# {room.name}: a browser stays on the process its cookie {ident} names; a first visit (or a cookie",
+            "# naming no process of the pool) goes to the least-loaded one.",
+            f"map $cookie_{ident} ${ident}_route {{",
+            f"    default {ident};",
+            *[f'    "{k}" {ident}_{k};' for k in range(len(room.backends))],
             "}",
-            f"map $cookie_{ident} ${ident}_set_cookie {{",
-            f'    ""      "{cookie}";',
+            f"# The process that answered (the last of $upstream_addr), named in {ident} unless it is already.",
+            f'map "$cookie_{ident}@$upstream_addr" ${ident}_set_cookie {{',
             '    default "";',
-            "}",
-            "",
         ]
+        for k, backend in enumerate(room.backends):
+            address = _regex(backend.address)
+            lines.append(f'    "~^{k}@(.*[ ,:] )?{address}$" "";')
+        for k, backend in enumerate(room.backends):
+            cookie = f"{ident}={k}; Path=/{room.name}; HttpOnly; SameSite=Lax"
+            lines.append(f'    "~(^|@|[ ,:] ){_regex(backend.address)}$" "{cookie}";')
+        lines += ["}", ""]
     return lines
+
+
+def _regex(address: str) -> str:
+    """``address`` (host:port) as a literal in an nginx regular expression."""
+    return "".join(f"\\{c}" if c in ".[]()" else c for c in address)
 
 
 def _upstream(room: Room) -> list[str]:
     lines = [f"upstream {room.ident} {{"]
     if room.mode == "private" and len(room.backends) > 1:
-        lines.append(f"    hash ${room.ident}_key consistent;")
+        # The least-loaded process for a first visit; the counts shared by every nginx worker.
+        lines += [f"    zone {room.ident} 64k;", "    least_conn;"]
         options = f" max_fails=1 fail_timeout={FAIL_TIMEOUT}s"
     else:
         options = ""  # one process: nginx never marks the only server down
     lines += [f"    server {backend.address}{options};" for backend in room.backends]
-    return [*lines, "}", ""]
+    lines += ["}", ""]
+    if room.mode == "private" and len(room.backends) > 1:
+        # One group per process, for the browsers its number routes there (a name, not an address, so that
+        # proxy_pass with a variable needs no resolver for hosts given by name).
+        for k, backend in enumerate(room.backends):
+            lines += [f"upstream {room.ident}_{k} {{", f"    server {backend.address};", "}", ""]
+    return lines
 
 
 def _server(department: Department, backend_header: bool) -> list[str]:
@@ -197,18 +218,25 @@ def _server(department: Department, backend_header: bool) -> list[str]:
         "    }",
     ]
     for room in department.rooms:
-        headers = []
+        lines += _room_locations(room, backend_header)
+    return [*lines, "}"]
+
+
+def _room_locations(room: Room, backend_header: bool) -> list[str]:
+    """``/NAME`` (the websocket) and ``/NAME/`` (the page and its files) of one room, prefix stripped."""
+    headers = []
+    if backend_header:
+        headers.append(f"        add_header {BACKEND_HEADER} $upstream_addr always;")
+    redirect = ['        if ($http_upgrade = "") {', f"            return 301 /{room.name}/;", "        }"]
+    comment = f"    # {room.name}: {room.mode}, {len(room.backends)} process(es)"
+    if room.mode != "private" or len(room.backends) == 1:
         if room.mode == "private":
             headers.append(f"        add_header Set-Cookie ${room.ident}_set_cookie always;")
-        if backend_header:
-            headers.append(f"        add_header {BACKEND_HEADER} $upstream_addr always;")
-        lines += [
+        return [
             "",
-            f"    # {room.name}: {room.mode}, {len(room.backends)} process(es)",
+            comment,
             f"    location = /{room.name} {{",
-            '        if ($http_upgrade = "") {',
-            f"            return 301 /{room.name}/;",
-            "        }",
+            *redirect,
             f"        proxy_pass http://{room.ident}/;",
             *headers,
             "    }",
@@ -217,4 +245,25 @@ def _server(department: Department, backend_header: bool) -> list[str]:
             *headers,
             "    }",
         ]
-    return [*lines, "}"]
+    # A pool: proxied to the process the cookie names (a variable, so the prefix is stripped by a rewrite);
+    # that process down, to the least-loaded living one.
+    headers.append(f"        add_header Set-Cookie ${room.ident}_set_cookie always;")
+    fallback = f"@{room.ident}_any"
+    routed = [f"        proxy_pass http://${room.ident}_route;", f"        error_page 502 504 = {fallback};", *headers]
+    return [
+        "",
+        comment,
+        f"    location = /{room.name} {{",
+        *redirect,
+        "        rewrite ^ / break;",
+        *routed,
+        "    }",
+        f"    location /{room.name}/ {{",
+        f"        rewrite ^/{room.name}/(.*)$ /$1 break;",
+        *routed,
+        "    }",
+        f"    location {fallback} {{",
+        f"        proxy_pass http://{room.ident};",
+        *headers,
+        "    }",
+    ]

@@ -127,23 +127,30 @@ def test_a_private_pool_keeps_a_browser_by_its_cookie_and_spreads_browsers_behin
     backends = Counter()
     for _ in range(16):  # sixteen browsers, all from 127.0.0.1 (one NAT address)
         cookie, first = room_cookie(department.port, "homework")
-        assert re.fullmatch(r"rbl_homework=[0-9a-f]{32}", cookie)
+        assert re.fullmatch(r"rbl_homework=[01]", cookie)  # the number of the process that answered
         for _ in range(2):  # the page's websocket, then a reconnect: the same process each time
             with proxied(department.port, "homework", cookie) as ws:
                 assert backend_of(ws) == first
                 assert ws.recv(timeout=20)
         backends[first] += 1
     assert set(backends) == set(pool(department)), backends  # both processes took browsers
-    # A cookie the browser already has is kept, not replaced.
-    again = get(department.port, "/homework/rooms-probe", cookie="rbl_homework=" + "ab" * 16)
+    # A cookie that names the process is kept, not replaced; one that names none gets a process's number.
+    again = get(department.port, "/homework/rooms-probe", cookie=cookie)
     assert again.getheader("Set-Cookie") is None
+    forged = get(department.port, "/homework/rooms-probe", cookie="rbl_homework=" + "ab" * 16)
+    assert re.match(r"rbl_homework=[01];", forged.getheader("Set-Cookie") or ""), forged.getheaders()
 
 
 @pytest.mark.browser
 def test_chromium_opens_a_room_under_its_prefix(department: RunningDepartment, chromium: Any) -> None:
     """The real page at /homework: redirected to /homework/, its script opens viser's websocket at
     /homework (relative to the page, in a web worker) through the proxy with the room's cookie, and the
-    room's panel comes. nginx's access log shows the upgrade (101) with that cookie, on the page's process."""
+    room's panel comes. nginx's access log shows the upgrade (101) with that cookie, on the page's process
+    (the one the cookie names)."""
+    folder = re.search(r"nginx configuration and logs in (\S+)", department.log())
+    assert folder is not None
+    access = Path(folder.group(1)) / "logs" / "access.log"
+    before = len(access.read_text().splitlines())  # this page's lines are the ones after
     context = chromium.new_context(viewport={"width": 640, "height": 480})
     try:
         page = context.new_page()
@@ -158,18 +165,19 @@ def test_chromium_opens_a_room_under_its_prefix(department: RunningDepartment, c
         value = cookies["rbl_homework"]["value"]
     finally:
         context.close()  # nginx logs a websocket when it closes
-    folder = re.search(r"nginx configuration and logs in (\S+)", department.log())
-    assert folder is not None
-    access = Path(folder.group(1)) / "logs" / "access.log"
 
-    def lines(request: str) -> list[str]:
-        return [line for line in access.read_text().splitlines() if request in line and f"room_cookie={value}" in line]
+    def lines(request: str, cookie: str | None = None) -> list[str]:
+        ours = access.read_text().splitlines()[before:]
+        return [line for line in ours if request in line and (cookie is None or f"room_cookie={cookie}" in line)]
 
-    upgraded = wait_for(lambda: lines('"GET /homework HTTP/1.1" 101'), timeout=10, what="the websocket's log line")
-    page_line = lines('"GET /homework/ HTTP/1.1" 200')
+    upgraded = wait_for(
+        lambda: lines('"GET /homework HTTP/1.1" 101', value), timeout=10, what="the websocket's log line"
+    )
+    page_line = lines('"GET /homework/ HTTP/1.1" 200')  # the first visit: no cookie yet, the answer sets it
     assert len(upgraded) == 1 and len(page_line) == 1
     upstream = re.compile(r"upstream=(\S+)")
     assert upstream.search(upgraded[0]).group(1) == upstream.search(page_line[0]).group(1)  # type: ignore[union-attr]
+    assert upstream.search(upgraded[0]).group(1) == pool(department)[int(value)]  # type: ignore[union-attr]
 
 
 def test_a_killed_pool_process_is_restarted_and_joins_meanwhile_land_on_the_living(

@@ -59,15 +59,15 @@ def test_nginx_accepts_the_written_configuration(written: Path) -> None:
     broken.mkdir()
     (broken / "logs").mkdir()
     (broken / "nginx.conf").write_text((written / "nginx.conf").read_text())
-    (broken / "rooms.conf").write_text((written / "rooms.conf").read_text().replace("hash ", "hsah ", 1))
+    (broken / "rooms.conf").write_text((written / "rooms.conf").read_text().replace("least_conn", "least_cnno", 1))
     refused = subprocess.run(nginx_command(nginx, broken, test=True), capture_output=True, text=True, timeout=30)
-    assert refused.returncode != 0 and "hsah" in refused.stderr
+    assert refused.returncode != 0 and "least_cnno" in refused.stderr
 
 
 def test_remote_hosts_are_backends_of_the_pool(written: Path) -> None:
     conf = (written / "rooms.conf").read_text()
     pool = conf[conf.index("upstream rbl_homework {") :].split("}", 1)[0]
-    assert "hash $rbl_homework_key consistent;" in pool
+    assert "least_conn;" in pool and "zone rbl_homework 64k;" in pool
     for address in ("10.0.0.5:8101", "10.0.0.6:8101", "127.0.0.1:8101"):
         assert f"server {address} max_fails=1" in pool
     assert "listen 0.0.0.0:8080;" in conf
