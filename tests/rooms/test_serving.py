@@ -8,6 +8,7 @@ restarted after SIGKILL, and the clean stop (last: it stops the department).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import signal
@@ -139,6 +140,26 @@ def test_a_private_pool_keeps_a_browser_by_its_cookie_and_spreads_browsers_behin
     assert again.getheader("Set-Cookie") is None
     forged = get(department.port, "/homework/rooms-probe", cookie="rbl_homework=" + "ab" * 16)
     assert re.match(r"rbl_homework=[01];", forged.getheader("Set-Cookie") or ""), forged.getheaders()
+
+
+def test_a_pool_spreads_forty_browsers_twenty_and_twenty_and_keeps_each_over_reconnects(
+    department: RunningDepartment,
+) -> None:
+    """Forty browsers from one address join one after another, each keeping its websocket open (a student's
+    tab): the least-loaded process takes each first visit, so each process has twenty; a browser that
+    reconnects (a reload) comes back to its own process, by its cookie."""
+    processes = pool(department)
+    with contextlib.ExitStack() as tabs:
+        joined = []
+        for _ in range(40):
+            cookie, first = room_cookie(department.port, "homework")
+            ws = tabs.enter_context(proxied(department.port, "homework", cookie))
+            assert backend_of(ws) == first
+            joined.append((cookie, first))
+        assert Counter(backend for _, backend in joined) == {processes[0]: 20, processes[1]: 20}
+        for cookie, first in joined:
+            with proxied(department.port, "homework", cookie) as again:
+                assert backend_of(again) == first
 
 
 @pytest.mark.browser
