@@ -14,15 +14,26 @@ from viser.infra import _messages
 
 __all__ = ["kept_form", "kept_count", "serialize_once"]
 
-_KEPT: dict[int, tuple[weakref.ref[Any], dict[str, Any] | bool]] = {}
-"""Each message's wire form by the message's id, for as long as the message lives (False: it carries binary
-buffers, never kept). Kept here, not on viser's message: a message is not hashable, and ours stays ours."""
+
+class _Kept(weakref.ref):  # type: ignore[type-arg]
+    """A weak reference to a message that carries the message's wire form (False: it carries binary buffers,
+    never kept) and the id it is filed under."""
+
+    __slots__ = ("form", "key")
+
+    form: dict[str, Any] | bool
+    key: int
+
+
+_KEPT: dict[int, _Kept] = {}
+"""Each message's wire form by the message's id, for as long as the message lives. Kept here, not on viser's
+message: a message is not hashable, and ours stays ours."""
 
 
 def kept_form(message: Any) -> dict[str, Any] | bool | None:
     """The wire form kept for ``message`` (False: never kept, it carries buffers; None: not serialized yet)."""
-    entry = _KEPT.get(id(message))
-    return entry[1] if entry is not None and entry[0]() is message else None
+    kept = _KEPT.get(id(message))
+    return kept.form if kept is not None and kept() is message else None
 
 
 def kept_count() -> int:
@@ -30,10 +41,16 @@ def kept_count() -> int:
     return len(_KEPT)
 
 
+def _forget(kept: _Kept) -> None:
+    """The message has gone (before its id can be reused): its entry goes too."""
+    if _KEPT.get(kept.key) is kept:
+        del _KEPT[kept.key]
+
+
 def _keep(message: Any, form: dict[str, Any] | bool) -> None:
-    key = id(message)
-    # The entry goes when the message does (before its id can be reused).
-    _KEPT[key] = (weakref.ref(message, lambda _ref: _KEPT.pop(key, None)), form)
+    kept = _Kept(message, _forget)
+    kept.form, kept.key = form, id(message)
+    _KEPT[kept.key] = kept
 
 
 _viser_form = _messages.Message.as_serializable_dict
