@@ -16,6 +16,7 @@ from viser import _messages, infra
 
 from app.contracts import ClientId
 from app.guards.uploads import guard_uploads
+from app.language.words import english_option
 
 __all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
 
@@ -103,6 +104,8 @@ def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) 
         if len(value) > MAX_TEXT:
             raise InputRefused(f"{what} takes at most {MAX_TEXT} characters, got {len(value)}")
         options = getattr(props, "options", None)
+        if options is not None:
+            value = english_option(value, tuple(options))  # a translated dropdown's choice, read back
         if options is not None and value not in options:
             raise InputRefused(f"{what} has no option {_short(value)}")
         return {"value": value}

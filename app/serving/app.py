@@ -20,12 +20,15 @@ from app.contracts import ClientId, Sessions
 from app.guards.admission import Admission, Caps, install_admission
 from app.guards.event_loop import confine_events
 from app.guards.gate import install_gate
+from app.guards.language import Languages
 from app.guards.prop_hints import cache_prop_hints
-from app.guards.responses import peer_address
+from app.guards.responses import peer_address, request_headers
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
+from app.language.catalogs import SOURCE, negotiate
 from app.panel import look
+from app.panel.language_picker import LanguagePicker
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
 from app.scenes.base import Scene
 from app.serving.addresses import is_loopback
@@ -117,6 +120,7 @@ class App:
         lecture: str | None = None,
         answers: str | Path | None = None,
         caps: Caps | None = None,
+        lang: str = SOURCE,
     ) -> None:
         if state is not None:
             scene = parse_state(state)["scene"]  # refused here, before anything starts
@@ -137,6 +141,10 @@ class App:
         self.gate = install_gate(server)  # only the message types a page sends reach viser
         # Checked first, as a websocket opens: connections and sessions per address and per process.
         self.admission = install_admission(server, Admission(caps or Caps(), sessions_per_connection=private))
+        # Before anything is sent: each browser's messages pass through its language on the way out.
+        self.languages = Languages(server, lang)
+        server.on_client_connect(self._greet)
+        server.on_client_disconnect(lambda client: self.languages.forget(client.client_id))
         serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
         cache_prop_hints()  # a handle's type hints are looked up once per kind of handle, not per handle
         self.server = server
@@ -254,6 +262,14 @@ class App:
         return Simulation(
             target, self._first, export=export_zip, fps=self.fps, share=self.share, dark=self.dark, **kwargs
         )
+
+    def _greet(self, client: viser.ClientHandle) -> None:
+        """A browser reads the language it prefers (its Accept-Language) if we speak it, else ``--lang``;
+        its panel gets its own Language dropdown."""
+        headers = request_headers(self.server, client.client_id)
+        preferred = None if headers is None else headers.get("Accept-Language")
+        self.languages.choose(client.client_id, negotiate(preferred, self.languages.default))
+        LanguagePicker(client, self.languages)
 
     # ------------------------------------------------------------------ presenter mode
     @property

@@ -1,0 +1,127 @@
+"""The words the app shows: marked for the catalogs in English, translated for each reader.
+
+A fixed text is marked with :func:`mark` where it is written (Babel's extractor finds it; gettext's ``N_``);
+a text with values in it is made with :func:`say`, which returns the English and remembers how it was made,
+so that :func:`translate` can make it again in another language with the values written as that
+language writes numbers (``0,517 rad/s``). Texts that are neither (a student's name, a file's) pass
+through :func:`translate` unchanged.
+"""
+
+from __future__ import annotations
+
+import functools
+import string
+import threading
+from collections import OrderedDict
+
+from babel.messages.pofile import read_po
+from babel.numbers import get_decimal_symbol, get_group_symbol
+
+from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO, SOURCE, babel_locale, catalog, check_language
+from app.language.pseudo import pseudo
+
+__all__ = ["REMEMBERED", "english_option", "mark", "say", "template_ids", "translate"]
+
+REMEMBERED = 20_000
+"""How many texts made by :func:`say` are remembered (the newest; a readout makes a new one each frame, and
+is translated as soon as it is sent)."""
+
+_FORMATTER = string.Formatter()
+_SAID: OrderedDict[str, tuple[str, tuple[tuple[str, object], ...]]] = OrderedDict()
+_LOCK = threading.Lock()
+
+
+def mark(text: str) -> str:
+    """``text`` unchanged, marked for the catalogs (a label, a button, a caption)."""
+    return text
+
+
+def say(template: str, /, **values: object) -> str:
+    """``template`` filled with ``values`` in English, remembered so it can be translated.
+
+    Parameters
+    ----------
+    template : str
+        English with ``{name}`` or ``{name:.3f}`` fields (Python's format syntax), the catalogs' message id.
+    **values
+        A number is written as each language writes it (decimal comma, group separator) with the field's
+        format; a text is itself translated (a word made with :func:`mark` or :func:`say`).
+
+    Returns
+    -------
+    str
+        The English text.
+    """
+    text = template.format(**values)
+    if values:
+        with _LOCK:
+            _SAID[text] = (template, tuple(values.items()))
+            _SAID.move_to_end(text)
+            if len(_SAID) > REMEMBERED:
+                _SAID.popitem(last=False)
+    return text
+
+
+@functools.cache
+def template_ids() -> frozenset[str]:
+    """Every message id of the catalogs' template (``locale/rigid_body_lab.pot``)."""
+    with (LOCALE_DIR / f"{DOMAIN}.pot").open("rb") as fp:
+        return frozenset(str(m.id) for m in read_po(fp) if m.id)
+
+
+def _number(value: float | int, spec: str, lang: str) -> str:
+    english = format(value, spec)
+    locale = babel_locale(lang)
+    decimal, group = get_decimal_symbol(locale), get_group_symbol(locale)
+    return "".join(decimal if c == "." else group if c == "," else c for c in english)
+
+
+def _fill(template: str, values: tuple[tuple[str, object], ...], lang: str) -> str:
+    given = dict(values)
+    out = []
+    for literal, field, spec, conversion in _FORMATTER.parse(template):
+        out.append(literal)
+        if field is None:
+            continue
+        value = given[field]
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and conversion is None:
+            out.append(_number(value, spec or "", lang))
+        elif isinstance(value, str) and conversion is None:
+            out.append(format(translate(value, lang), spec or ""))
+        else:
+            out.append(_FORMATTER.format_field(_FORMATTER.convert_field(value, conversion), spec or ""))
+    return "".join(out)
+
+
+def _template(english: str, lang: str) -> str:
+    if lang == PSEUDO:
+        return pseudo(english) if english in template_ids() else english
+    return catalog(lang).gettext(english)
+
+
+def translate(text: str, lang: str) -> str:
+    """``text`` as a reader of ``lang`` reads it (unchanged in English, or if the app did not write it)."""
+    if lang == SOURCE or not text:
+        return text
+    check_language(lang)
+    with _LOCK:
+        made = _SAID.get(text)
+    if made is None:
+        return _template(text, lang)
+    template, values = made
+    try:
+        return _fill(_template(template, lang), values, lang)
+    except (KeyError, IndexError, ValueError):  # a translation whose fields do not match: the English form
+        return _fill(template, values, lang)
+
+
+def english_option(value: str, options: tuple[str, ...]) -> str:
+    """The English option that ``value``, chosen in a browser reading a translated dropdown, stands for
+    (``value`` itself if it is an option, or stands for none)."""
+    if value in options:
+        return value
+    for lang in [*LANGUAGES, PSEUDO]:
+        for option in options:
+            if translate(option, lang) == value:
+                return option
+    return value
