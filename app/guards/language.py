@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import threading
 import weakref
+from collections import OrderedDict
 from collections.abc import AsyncGenerator, Callable
 from typing import Any
 
@@ -24,7 +25,8 @@ from viser import _messages
 from viser.infra import _infra
 
 from app.contracts import ClientId
-from app.language.catalogs import SOURCE, check_language
+from app.guards.responses import request_headers
+from app.language.catalogs import SOURCE, check_language, negotiate
 from app.language.words import translate
 
 __all__ = ["LANG_MARKER", "Languages", "lang_marker"]
@@ -63,12 +65,23 @@ class Languages:
         Installed before any browser connects.
     default : str
         The language of a browser that has not chosen one (``rigid-body-lab --lang``).
+
+    Attributes
+    ----------
+    identity : callable(client_id) -> str or None, or None
+        Names the browser a client is (``app.teaching.voters.Voters.browser``: its cookie; None for a
+        client without one), so that a choice is remembered when the page is loaded again.
     """
+
+    REMEMBERED = 10_000
+    """Browsers whose choice is remembered (the newest)."""
 
     def __init__(self, server: viser.ViserServer, default: str = SOURCE) -> None:
         self.default = check_language(default)
+        self.identity: Callable[[ClientId], str | None] | None = None
         self._server = server
         self._langs: dict[ClientId, str] = {}
+        self._chosen: OrderedDict[str, str] = OrderedDict()  # a browser's identity -> its choice
         self._choices: set[str] = set()  # uuids of dropdowns and button groups
         self._copies: dict[int, _Copies] = {}
         self._lock = threading.Lock()
@@ -76,14 +89,37 @@ class Languages:
 
     # ------------------------------------------------------------------ asked from any thread
     def language(self, client_id: ClientId) -> str:
-        """The language a browser reads."""
-        return self._langs.get(client_id, self.default)  # one dict read: atomic, and asked for every message
+        """The language a browser reads: chosen, or else the one its ``Accept-Language`` prefers among ours,
+        or else :attr:`default` (decided as its first message is sent, before viser's connect callbacks,
+        which run later on a thread)."""
+        lang = self._langs.get(client_id)  # one dict read: atomic, and asked for every message
+        if lang is None:
+            lang = self._remembered(client_id) or self._preferred(client_id)
+            with self._lock:
+                lang = self._langs.setdefault(client_id, lang)
+        return lang
+
+    def _remembered(self, client_id: ClientId) -> str | None:
+        who = self.identity(client_id) if self.identity is not None else None
+        with self._lock:
+            return self._chosen.get(who) if who is not None else None
+
+    def _preferred(self, client_id: ClientId) -> str:
+        headers = request_headers(self._server, client_id)
+        preferred = None if headers is None else headers.get("Accept-Language")
+        return negotiate(preferred if isinstance(preferred, str) else None, self.default)
 
     def choose(self, client_id: ClientId, lang: str) -> None:
         """A browser reads ``lang`` from now on (ValueError for a language the app does not speak)."""
         lang = check_language(lang)
+        who = self.identity(client_id) if self.identity is not None else None
         with self._lock:
             self._langs[client_id] = lang
+            if who is not None:  # a browser with a cookie: its next page too
+                self._chosen[who] = lang
+                self._chosen.move_to_end(who)
+                while len(self._chosen) > self.REMEMBERED:
+                    self._chosen.popitem(last=False)
 
     def forget(self, client_id: ClientId) -> None:
         """The browser has gone."""

@@ -6,6 +6,7 @@ and whether the panel holds a language that writes longer than English (German r
 
 from __future__ import annotations
 
+import math
 import re
 
 __all__ = ["GROWTH", "OPEN", "CLOSE", "pseudo"]
@@ -27,7 +28,7 @@ def pseudo(text: str) -> str:
     """``text`` in the pseudo-locale: letters accented, outside placeholders and markup; bracketed; padded.
 
     >>> pseudo("Spin {omega} rad/s")
-    '⟦Šƥîñ {omega} ŕàđ/š·····⟧'
+    '⟦Šƥîñ {omega} ŕàđ/š······⟧'
     """
     if not text.strip():
         return text
@@ -42,5 +43,5 @@ def pseudo(text: str) -> str:
     stripped = body.strip()
     lead = body[: len(body) - len(body.lstrip())]
     trail = body[len(body.rstrip()) :]
-    padding = "·" * max(1, round(GROWTH * len(text.strip())) - 2)
+    padding = "·" * max(1, math.ceil(GROWTH * len(text)) - len(OPEN + CLOSE))
     return f"{lead}{OPEN}{stripped}{padding}{CLOSE}{trail}"

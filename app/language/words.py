@@ -15,12 +15,12 @@ import threading
 from collections import OrderedDict
 
 from babel.messages.pofile import read_po
-from babel.numbers import get_decimal_symbol, get_group_symbol
+from babel.numbers import get_decimal_symbol, get_group_symbol, get_minus_sign_symbol
 
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO, SOURCE, babel_locale, catalog, check_language
 from app.language.pseudo import pseudo
 
-__all__ = ["REMEMBERED", "english_option", "mark", "say", "template_ids", "translate"]
+__all__ = ["REMEMBERED", "english_option", "mark", "remembered_count", "say", "template_ids", "translate"]
 
 REMEMBERED = 20_000
 """How many texts made by :func:`say` are remembered (the newest; a readout makes a new one each frame, and
@@ -57,9 +57,15 @@ def say(template: str, /, **values: object) -> str:
         with _LOCK:
             _SAID[text] = (template, tuple(values.items()))
             _SAID.move_to_end(text)
-            if len(_SAID) > REMEMBERED:
+            while len(_SAID) > REMEMBERED:
                 _SAID.popitem(last=False)
     return text
+
+
+def remembered_count() -> int:
+    """How many texts made by :func:`say` are remembered now (at most :data:`REMEMBERED`)."""
+    with _LOCK:
+        return len(_SAID)
 
 
 @functools.cache
@@ -72,8 +78,8 @@ def template_ids() -> frozenset[str]:
 def _number(value: float | int, spec: str, lang: str) -> str:
     english = format(value, spec)
     locale = babel_locale(lang)
-    decimal, group = get_decimal_symbol(locale), get_group_symbol(locale)
-    return "".join(decimal if c == "." else group if c == "," else c for c in english)
+    symbols = {".": get_decimal_symbol(locale), ",": get_group_symbol(locale), "-": get_minus_sign_symbol(locale)}
+    return "".join(symbols.get(c, c) for c in english)
 
 
 def _fill(template: str, values: tuple[tuple[str, object], ...], lang: str) -> str:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import viser
 
 from app.guards.callbacks import shielded_handler
+from app.guards.inputs import guard_inputs
 from app.guards.language import LANG_MARKER, Languages
 from app.language.catalogs import LANGUAGES, PSEUDO
 from app.language.words import mark
@@ -42,6 +43,8 @@ class LanguagePicker:
             mark("Language"), options=tuple(names.values()), initial_value=names[lang], order=PICKER_ORDER
         )
         self.dropdown.on_update(shielded_handler(self._chosen, _tell))
+        # The browser's own panel takes values as the shared one does: checked, refused to its sender.
+        guard_inputs(client.gui, lambda _, reason: _tell(client, mark("Refused"), reason))
 
     def _chosen(self, _: object) -> None:
         code = self._codes.get(str(self.dropdown.value))

@@ -22,11 +22,11 @@ from app.guards.event_loop import confine_events
 from app.guards.gate import install_gate
 from app.guards.language import Languages
 from app.guards.prop_hints import cache_prop_hints
-from app.guards.responses import peer_address, request_headers
+from app.guards.responses import peer_address
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
-from app.language.catalogs import SOURCE, negotiate
+from app.language.catalogs import SOURCE
 from app.panel import look
 from app.panel.language_picker import LanguagePicker
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
@@ -143,13 +143,12 @@ class App:
         self.admission = install_admission(server, Admission(caps or Caps(), sessions_per_connection=private))
         # Before anything is sent: each browser's messages pass through its language on the way out.
         self.languages = Languages(server, lang)
-        server.on_client_connect(self._greet)
-        server.on_client_disconnect(lambda client: self.languages.forget(client.client_id))
         serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
         cache_prop_hints()  # a handle's type hints are looked up once per kind of handle, not per handle
         self.server = server
         self.host, self.port = host, server.get_port()
         self.voters = Voters(server)  # one identity per browser, kept across reconnects (PINs, votes)
+        self.languages.identity = self.voters.browser  # a browser's choice of language, kept likewise
         self.sessions: Sessions[Simulation] = Sessions()
         self.shared: Simulation | None = None
         self.classroom: Classroom | None = None
@@ -186,6 +185,8 @@ class App:
         except ValueError:
             server.stop()
             raise
+        server.on_client_connect(self._greet)
+        server.on_client_disconnect(lambda client: self.languages.forget(client.client_id))
         if start_loop:
             self.start()
 
@@ -264,12 +265,11 @@ class App:
         )
 
     def _greet(self, client: viser.ClientHandle) -> None:
-        """A browser reads the language it prefers (its Accept-Language) if we speak it, else ``--lang``;
-        its panel gets its own Language dropdown."""
-        headers = request_headers(self.server, client.client_id)
-        preferred = None if headers is None else headers.get("Accept-Language")
-        self.languages.choose(client.client_id, negotiate(preferred, self.languages.default))
-        LanguagePicker(client, self.languages)
+        """A browser's panel gets its own Language dropdown (it reads the language its Accept-Language
+        prefers if we speak it, else ``--lang``: :meth:`app.guards.language.Languages.language`); a private
+        session's is added with its simulation."""
+        if not self.private:
+            LanguagePicker(client, self.languages)
 
     # ------------------------------------------------------------------ presenter mode
     @property
@@ -327,6 +327,8 @@ class App:
                 session.load_lecture(self._lecture, check=False)
             if self.projector:
                 session.set_projector(True)
+            # After the scene is built: its own controls (the teacher's parameters) are known without it.
+            LanguagePicker(client, self.languages)
         except Exception:
             if departed(client):
                 return  # it left while its session was being built
