@@ -10,6 +10,7 @@ no worker), then read by :func:`app.uploads.reading.body_from_parsed_upload` (a 
 
 from __future__ import annotations
 
+import errno
 import multiprocessing
 import threading
 from collections.abc import Callable
@@ -52,16 +53,23 @@ def _fit(conn: Connection, filename: str, content: bytes, chosen: int | None, me
     _run(conn, filename, memory, lambda: ("done", fit_toss_upload(filename, content, chosen)))
 
 
+def _memory_text(n_bytes: int) -> str:
+    return f"{n_bytes / 2**30:.0f} GB" if n_bytes >= 2**30 else f"{n_bytes / 2**20:.0f} MB"
+
+
 def _run(conn: Connection, filename: str, memory: int, work: Callable[[], tuple[Any, ...]]) -> None:
     import resource
 
     resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
     name = PurePath(filename or "upload").name
     outcome: tuple[Any, ...]
+    too_big = f"{name} needs more than {_memory_text(memory)} of memory to read; simplify it."
     try:
         outcome = work()
     except MemoryError:
-        outcome = _refusal(f"{name} needs more than {memory / 2**30:.0f} GB of memory to read; simplify it.")
+        outcome = _refusal(too_big)
+    except OSError as exc:  # the memory limit met by the operating system (a temporary file, a thread)
+        outcome = _refusal(too_big if exc.errno == errno.ENOMEM else f"{name} could not be read ({exc}).")
     except ValueError as exc:
         outcome = _refusal(str(exc))
     except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable file"
@@ -169,7 +177,7 @@ def _read_in_worker(
             outcome: tuple[Any, ...] = receiver.recv()
         except EOFError:
             raise ValueError(
-                f"{name} needs more than {memory_limit / 2**30:.0f} GB of memory to read; simplify it."
+                f"{name} needs more than {_memory_text(memory_limit)} of memory to read; simplify it."
             ) from None
     finally:
         receiver.close()
