@@ -17,7 +17,7 @@ import viser
 from app import controls, draw
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
-from app.scenes.base import Scene, register
+from app.scenes.base import Answer, Scene, register
 from app.scenes.tennis_racket import box_for_moments
 from app.scenes.wording import amount
 from app.uploads.gyro import EXAMPLE_NAME, TossFit, example_csv, fit_toss_upload
@@ -70,6 +70,14 @@ class PhoneToss(Scene):
     camera = ((2.4, -2.6, 2.4), (0.0, 0.0, 1.0))
     view = (1.9, 1.9)  # the phone (1.2 m long) turning about its centre, and its arrows
     key_plot = "plot"  # ω measured and fitted: the flips, one component changing sign
+    # Whether it flips: the axis and the half turns in the panel, the plot that shows them, the caption.
+    answers = (
+        Answer(
+            "flip",
+            readouts=("flip_axis_readout", "half_turns_readout"),
+            hidden=("plot", "caption_markdown"),
+        ),
+    )
     centre = np.array([0.0, 0.0, 1.0])
 
     def build(self) -> None:
@@ -283,6 +291,11 @@ class PhoneToss(Scene):
 
     def describe(self, state: dict[str, Any]) -> str:
         fit = self.result.fit
+        if "flip" in self.held:  # a class question asks what the phone does in the air
+            return (
+                f"Phone toss, {self.result.source}: {len(self.result.fitted)} toss(es) recorded; what the phone "
+                "does in the air is the class question."
+            )
         return (
             f"Phone toss, {self.result.source}: {len(self.result.fitted)} toss(es) fitted, moments "
             f"I_x : I_y : I_z = {' : '.join(f'{m:.3g}' for m in fit.moments)}; it flips about its "
