@@ -179,6 +179,13 @@ def test_the_shipped_captions_state_what_each_step_shows():
         assert all(h.predicted.size == h.measured.size == 2 for h in fit.half_turn_times)
         assert "2 half turns in each toss" in captions[12]
         assert f"|L| down {fit.momentum_loss(0):.1%} in the first" in captions[12]
+        # ω_x reverses at each half turn, ω_z keeps its sign and is largest where ω_x crosses zero.
+        assert "ω_x, the spin about the middle axis" in captions[12] and "ω_z" in captions[12]
+        for k, seg in enumerate(fit.segments):
+            w = fit.predict(seg.times, k)
+            assert w[:, 0].min() < 0.0 < w[:, 0].max() and (w[:, 2].min() > 0.0 or w[:, 2].max() < 0.0)
+            crossing = int(np.argmin(np.abs(w[:, 0])))
+            assert abs(w[crossing, 2]) > 0.9 * np.max(np.abs(w[:, 2]))
 
 
 BAD_FILES = {
