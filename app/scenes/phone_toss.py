@@ -98,7 +98,7 @@ class PhoneToss(Scene):
             mime_type=".csv,.zip",
         )
         # Not guarded: the file is read and fitted in a worker outside the simulation lock.
-        self.upload.on_upload(self._on_upload)
+        controls.take_uploads(self.ctx, self.upload, self.load_upload, self._refuse)
         self.toss = gui.add_dropdown("Toss", options=(ALL_TOSSES,), initial_value=ALL_TOSSES)
         self.toss.on_update(self._on_toss)
         self.ratios_readout = controls.Readout(self.ctx, "fitted moments I_x : I_y : I_z (largest 1, ± σ)", fmt="{}")
@@ -178,17 +178,6 @@ class PhoneToss(Scene):
         self.ctx.restart()
 
     # -- uploads and the toss chosen (read and fitted in a worker, adopted under the lock) ------------
-    def _on_upload(self, event: Any) -> None:
-        client = getattr(event, "client", None)
-        # Who may drive is asked first: a follower's file is refused before anything reads it.
-        reason = self.ctx.refusal(client.client_id) if client is not None else None
-        if reason is not None:
-            with self.ctx.lock:
-                self._refuse(reason, client)
-            return
-        file = self.upload.value
-        self.load_upload(file.name, file.content, client=client)
-
     def load_upload(self, filename: str, content: bytes, client: viser.ClientHandle | None = None) -> bool:
         """Read and fit an uploaded recording (all its tosses) in a worker; on success show it, on refusal keep
         what is shown and tell only the browser that sent it why."""

@@ -13,6 +13,7 @@ from app.scenes.phone_toss import ratios_text
 from app.uploads.gyro import recording_csv
 from physics.gyro import Toss, synthetic_recording
 from tests.harness import open_page, running_app, wait_for
+from tests.uploading import upload
 
 pytestmark = pytest.mark.browser
 
@@ -41,13 +42,6 @@ def page(toss_app, chromium):
     page, _ = open_page(chromium, toss_app)
     yield page
     page.close()
-
-
-def upload(page, name: str, content: bytes) -> None:
-    """Send a file through the scene's upload button (its hidden <input type=file>)."""
-    page.locator("input[type=file]").first.set_input_files(
-        {"name": name, "mimeType": "application/octet-stream", "buffer": content}
-    )
 
 
 def _recording() -> bytes:

@@ -5,9 +5,6 @@ that reach only the browser that sent the file, uploads fitted outside the lock,
 
 from __future__ import annotations
 
-import io
-import threading
-import zipfile
 from types import SimpleNamespace
 
 import numpy as np
@@ -19,6 +16,7 @@ from app.uploads.gyro import EXAMPLE_MOMENTS, example_csv, recording_csv
 from app.uploads.limits import MAX_BYTES
 from physics.gyro import Toss, fit_free_body, free_flights, read_gyroscope, synthetic_recording
 from tests.harness import FRAME, open_scene, raw_client, running_app, wait_for
+from tests.uploading import lock_is_free, zip_bytes
 
 # A phone unlike the bundled one (x intermediate still), two tosses with a flip each, drag and noise as real.
 MOMENTS = (0.75, 0.25, 1.0)
@@ -32,14 +30,6 @@ def _recording() -> tuple[np.ndarray, np.ndarray]:
 
 def _csv() -> bytes:
     return recording_csv(*_recording())
-
-
-def _zip(files: dict[str, bytes], method: int = zipfile.ZIP_DEFLATED) -> bytes:
-    out = io.BytesIO()
-    with zipfile.ZipFile(out, "w", method) as archive:
-        for name, data in files.items():
-            archive.writestr(name, data)
-    return out.getvalue()
 
 
 def _physics_fit(tmp_path, content: bytes, chosen: int | None = None):
@@ -113,7 +103,7 @@ def test_choosing_one_toss_fits_it_alone(app, tmp_path):
 def test_a_zip_as_phyphox_shares_it_is_read_with_its_device(app):
     sc = open_scene(app, "phone_toss")
     meta = b'"property","value"\n"deviceModel","iPhone14,5"\n'
-    content = _zip({"Toss/Raw Data.csv": _csv(), "Toss/meta/device.csv": meta})
+    content = zip_bytes({"Toss/Raw Data.csv": _csv(), "Toss/meta/device.csv": meta})
     assert sc.load_upload("toss.zip", content)
     assert sc.result.device == "iPhone14,5" and "iPhone14,5" in sc.note.content
 
@@ -135,7 +125,7 @@ def _short_recording() -> bytes:
 
 def _bomb() -> bytes:
     # 60 MB of one character packs to about 60 kB: a thousand times over.
-    return _zip({"Raw Data.csv": b"0" * (60 * 1024 * 1024)})
+    return zip_bytes({"Raw Data.csv": b"0" * (60 * 1024 * 1024)})
 
 
 HEADER = '"Time (s)","Gyroscope x (rad/s)","Gyroscope y (rad/s)","Gyroscope z (rad/s)"\n'
@@ -153,9 +143,9 @@ BAD_FILES = [
     ("binary.csv", bytes(range(256)) * 4, "not text"),
     ("huge.csv", b"0" * (MAX_BYTES + 1), "Record a shorter stretch"),
     ("bomb.zip", _bomb(), "times over"),
-    ("many.zip", _zip({f"f{i}.csv": b"x" for i in range(100)}), "holds 100 files"),
+    ("many.zip", zip_bytes({f"f{i}.csv": b"x" for i in range(100)}), "holds 100 files"),
     ("broken.zip", b"PK\x03\x04 this is no zip at all", "not a zip archive"),
-    ("no-raw-data.zip", _zip({"notes.txt": b"hello"}), "holds no 'Raw Data.csv'"),
+    ("no-raw-data.zip", zip_bytes({"notes.txt": b"hello"}), "holds no 'Raw Data.csv'"),
     ("slow.csv", _slow_recording(), "no toss found"),
     ("short.csv", _short_recording(), "no toss found"),
     ("clipped.csv", _clipped_recording(), "mostly clipped"),
@@ -200,29 +190,16 @@ def test_the_upload_is_fitted_outside_the_lock_and_adopted_under_it(app, monkeyp
     sc = open_scene(app, "phone_toss")
     seen = {}
 
-    def lock_is_free() -> bool:
-        got = []
-
-        def probe() -> None:
-            got.append(app.simulation.lock.acquire(timeout=0.5))
-            if got[-1]:
-                app.simulation.lock.release()
-
-        thread = threading.Thread(target=probe)
-        thread.start()
-        thread.join()
-        return got[0]
-
     real_fit = toss_module.toss_fit_in_worker
 
     def fit(filename, content, chosen=None):
-        seen["free while fitting"] = lock_is_free()
+        seen["free while fitting"] = lock_is_free(app.simulation.lock)
         return real_fit(filename, content, chosen)
 
     real_adopt = sc.adopt
 
     def adopt(result, content=None):
-        seen["held while adopting"] = not lock_is_free()
+        seen["held while adopting"] = not lock_is_free(app.simulation.lock)
         real_adopt(result, content)
 
     monkeypatch.setattr(toss_module, "toss_fit_in_worker", fit)

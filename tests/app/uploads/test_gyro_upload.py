@@ -3,7 +3,6 @@ and fit in the worker (CSV, phyphox's zip, one toss or all), and refusals that s
 
 from __future__ import annotations
 
-import io
 import zipfile
 
 import numpy as np
@@ -14,6 +13,7 @@ from app.uploads import limits
 from app.uploads.gyro import MAX_FITTED, fit_recording, fit_toss_upload, recording_csv
 from app.uploads.worker import toss_fit_in_worker
 from physics.gyro import Toss, fit_free_body, free_flights, read_gyroscope, synthetic_recording
+from tests.uploading import zip_bytes
 
 MOMENTS = (0.8, 0.21, 1.0)
 
@@ -26,14 +26,6 @@ def recording():
     return rec, windows
 
 
-def _zip(files: dict[str, bytes], method: int = zipfile.ZIP_DEFLATED) -> bytes:
-    out = io.BytesIO()
-    with zipfile.ZipFile(out, "w", method) as archive:
-        for name, data in files.items():
-            archive.writestr(name, data)
-    return out.getvalue()
-
-
 def test_a_csv_and_a_zip_in_a_folder_give_physics_own_fit(recording, tmp_path):
     rec, windows = recording
     content = recording_csv(rec.times, rec.omega)
@@ -41,7 +33,7 @@ def test_a_csv_and_a_zip_in_a_folder_give_physics_own_fit(recording, tmp_path):
     flights = free_flights(read_gyroscope(tmp_path / "Raw Data.csv"))
     fit = fit_free_body(flights)
     np.testing.assert_allclose(fit.moments, MOMENTS, atol=2e-3)  # the model's own, to the noise's bias
-    for name, data in (("Raw Data.csv", content), ("shared.zip", _zip({"Toss 1/Raw Data.csv": content}))):
+    for name, data in (("Raw Data.csv", content), ("shared.zip", zip_bytes({"Toss 1/Raw Data.csv": content}))):
         result = fit_toss_upload(name, data)
         # The same samples through the same functions: the same numbers, to round-off.
         np.testing.assert_allclose(result.fit.moments, fit.moments, rtol=1e-12)
@@ -94,13 +86,13 @@ def test_all_tosses_fits_at_most_max_fitted_and_says_which_were_left_out(monkeyp
 
 
 def test_a_zip_bomb_and_a_crowded_zip_are_refused_before_a_worker_reads_them():
-    bomb = _zip({"Raw Data.csv": b"0" * (8 * 1024 * 1024)})
+    bomb = zip_bytes({"Raw Data.csv": b"0" * (8 * 1024 * 1024)})
     assert len(bomb) < 64 * 1024  # packed about 1000 times over
     with pytest.raises(ValueError, match=r"times over \(a recording packs at most 100 times\)"):
         limits.check_upload("bomb.zip", bomb)
     with pytest.raises(ValueError, match="holds 65 files"):
-        limits.check_upload("crowd.zip", _zip({f"{i}.csv": b"" for i in range(65)}))
-    stored = _zip({"Raw Data.csv": b"1" * 100, "b": b""}, zipfile.ZIP_STORED)
+        limits.check_upload("crowd.zip", zip_bytes({f"{i}.csv": b"" for i in range(65)}))
+    stored = zip_bytes({"Raw Data.csv": b"1" * 100, "b": b""}, zipfile.ZIP_STORED)
     limits.check_upload("ok.zip", stored)  # a small honest zip passes
     with pytest.raises(ValueError, match="not a zip archive"):
         limits.check_upload("fake.zip", b"PK\x03\x04" + b"\0" * 100)
@@ -109,7 +101,7 @@ def test_a_zip_bomb_and_a_crowded_zip_are_refused_before_a_worker_reads_them():
 def test_a_zip_that_declares_more_than_the_limit_unpacked_is_refused(monkeypatch):
     monkeypatch.setattr(limits, "MAX_UNPACKED", 1000)
     with pytest.raises(ValueError, match="unpacks to 2 kB; the limit is 1 kB"):
-        limits.check_upload("big.zip", _zip({"Raw Data.csv": bytes(range(256)) * 8}, zipfile.ZIP_STORED))
+        limits.check_upload("big.zip", zip_bytes({"Raw Data.csv": bytes(range(256)) * 8}, zipfile.ZIP_STORED))
 
 
 def test_the_size_refusal_advises_for_what_the_file_is():
