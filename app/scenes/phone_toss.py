@@ -237,7 +237,10 @@ class PhoneToss(Scene):
 
     # -- copies (presenter mode's "Explore on my own") ------------------------------------------------
     def snapshot(self) -> dict[str, Any]:
-        # The recording is not in the controls: a copy needs the fit and the file (a state text refuses it).
+        # An uploaded recording is not in the controls: a copy needs the fit and the file (a state text refuses
+        # it). The bundled one is every scene's: the Toss dropdown says which of its tosses is fitted.
+        if self.result.source == EXAMPLE_NAME + ".csv":
+            return {}
         return {"uploaded": (self.result, self.source_content)}
 
     def prepare(self, motion: dict[str, Any]) -> None:

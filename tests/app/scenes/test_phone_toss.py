@@ -12,10 +12,11 @@ import pytest
 from viser import UploadedFile
 
 import app.scenes.phone_toss as toss_module
+from app.teaching.states import state_text
 from app.uploads.gyro import EXAMPLE_MOMENTS, example_csv, recording_csv
 from app.uploads.limits import MAX_BYTES
 from physics.gyro import Toss, fit_free_body, free_flights, read_gyroscope, synthetic_recording
-from tests.harness import FRAME, open_scene, raw_client, running_app, wait_for
+from tests.harness import FRAME, click_button, open_scene, raw_client, running_app, wait_for
 from tests.uploading import lock_is_free, zip_bytes
 
 # A phone unlike the bundled one (x intermediate still), two tosses with a flip each, drag and noise as real.
@@ -265,3 +266,33 @@ def test_the_description_and_export_columns_state_the_fit(app):
     assert all(name.endswith(")") for name in columns) and all(np.isfinite(list(columns.values())))
     # The replay at 0.2×: scene time 1 s is 0.2 s of flight.
     assert state["flight_time"] == pytest.approx(toss_module.SLOW * 1.0, abs=0.002)
+
+
+def test_a_students_own_copy_shows_the_lecturers_recording_and_its_state_text_is_refused():
+    with running_app("phone_toss", presenter=True, pin="8642") as app:
+        assert app.scene.load_upload("Raw Data.csv", _csv())
+        app.scene.toss.value = app.scene.toss.options[2]  # the lecturer shows the second toss alone
+        shown = app.scene.result
+        assert shown.chosen == 1
+        before = set(app.server.get_clients())
+        with raw_client(app) as student:
+            (cid,) = wait_for(lambda: set(app.server.get_clients()) - before, what="the student")
+            wait_for(lambda: cid in app.classroom._panels, what="the student's panel")
+            click_button(student, app.classroom._panels[cid].explore._impl.uuid)
+            wait_for(lambda: cid in app.sessions, what="the student's own copy")
+            copy = app.sessions[cid]
+            wait_for(lambda: copy.scene is not None and copy.scene.result is shown, what="the recording copied")
+            assert copy.scene.toss.value == app.scene.toss.value and copy.scene.source_content == _csv()
+            assert not [b for t, b in copy.messages if t.startswith(("Refused", "Recording refused"))], copy.messages
+        with pytest.raises(ValueError, match="uploaded mesh or recording"):
+            state_text(app.simulation.snapshot())
+
+
+def test_the_bundled_tosses_state_text_opens_on_the_same_toss():
+    with running_app("phone_toss", start_loop=False) as app:
+        app.scene.toss.value = app.scene.toss.options[1]
+        assert app.scene.result.chosen == 0
+        text = app.state_text()
+    with running_app(state=text, start_loop=False) as again:
+        assert again.scene.name == "phone_toss" and again.scene.result.chosen == 0
+        assert again.scene.result.source.startswith("example toss")
