@@ -88,6 +88,7 @@ class PhoneToss(Scene):
         self.closed = False  # set by teardown: a fit finished after a scene switch is dropped
         self._request = 0  # the newest fit asked for: an older one finishing later is dropped
         self._request_lock = threading.Lock()
+        self._adopting = False  # adopt is setting the Toss dropdown
         self.body = draw.BodyMesh(server, root + "/body", box_for_moments(np.array([0.8, 0.2, 1.0])))
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
@@ -159,8 +160,14 @@ class PhoneToss(Scene):
         self.omega_scale = 0.55 * PHONE_LENGTH / float(np.max(np.linalg.norm(result.omega_space, axis=1)))
         labels = (ALL_TOSSES, *(_toss_label(k, w) for k, w in enumerate(result.windows)))
         self._shown_choice = ALL_TOSSES if result.chosen is None else labels[result.chosen + 1]
-        self.toss.options = labels
-        self.toss.value = self._shown_choice  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
+        # viser sets a dropdown's value to its first option when the old one is gone, and runs its callback:
+        # not a student's choice, nothing to fit.
+        self._adopting = True
+        try:
+            self.toss.options = labels
+            self.toss.value = self._shown_choice  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
+        finally:
+            self._adopting = False
         self.ratios_readout.set(ratios_text(result))
         self.flip_axis_readout.set(AXIS_NAMES[fit.axes[1]])
         relative = float(np.median(fit.relative_residuals))
@@ -185,8 +192,8 @@ class PhoneToss(Scene):
 
     def _on_toss(self, event: Any) -> None:
         choice = self.toss.value
-        if choice == self._shown_choice:
-            return  # the choice just adopted (adopt sets it), or nothing changed
+        if self._adopting or choice == self._shown_choice:
+            return  # set by adopt, or nothing changed
         client = getattr(event, "client", None)
         reason = self.ctx.refusal(client.client_id) if client is not None else None
         options = tuple(self.toss.options)

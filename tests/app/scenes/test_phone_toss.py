@@ -13,7 +13,7 @@ from viser import UploadedFile
 
 import app.scenes.phone_toss as toss_module
 from app.teaching.states import state_text
-from app.uploads.gyro import EXAMPLE_MOMENTS, example_csv, recording_csv
+from app.uploads.gyro import EXAMPLE_MOMENTS, example_csv, fit_toss_upload, recording_csv
 from app.uploads.limits import MAX_BYTES
 from physics.gyro import Toss, fit_free_body, free_flights, read_gyroscope, synthetic_recording
 from tests.harness import FRAME, click_button, open_scene, raw_client, running_app, wait_for
@@ -296,3 +296,17 @@ def test_the_bundled_tosses_state_text_opens_on_the_same_toss():
     with running_app(state=text, start_loop=False) as again:
         assert again.scene.name == "phone_toss" and again.scene.result.chosen == 0
         assert again.scene.result.source.startswith("example toss")
+
+
+def test_adopting_a_fit_whose_tosses_differ_does_not_fit_again_when_viser_resets_the_dropdown(app, monkeypatch):
+    sc = open_scene(app, "phone_toss")
+    sc.toss.value = sc.toss.options[2]  # the bundled second toss, alone
+    assert sc.result.chosen == 1
+    fits = []
+    monkeypatch.setattr(toss_module, "toss_fit_in_worker", lambda *args: fits.append(args))
+    # A copy adopts another recording's second toss (prepare): the bundled "toss 2: …" is not among its
+    # options, so viser puts the dropdown on its first option, and runs the callback, before adopt sets it.
+    other = fit_toss_upload("Raw Data.csv", _csv(), 1)
+    with app.simulation.lock:
+        sc.adopt(other, _csv())
+    assert fits == [] and sc.result is other and sc.toss.value == sc.toss.options[2]
