@@ -86,3 +86,22 @@ def test_a_file_that_is_not_gyroscope_data_is_refused_in_the_page(toss_app, page
     page.get_by_text("Recording refused").first.wait_for(timeout=60_000)
     page.get_by_text("not gyroscope data").first.wait_for(timeout=60_000)
     assert scene.result.source == "Raw Data.csv"  # the previous recording stays
+
+
+def test_a_refusal_shows_only_in_the_page_that_sent_the_file(toss_app, page, chromium):
+    other, _ = open_page(chromium, toss_app)
+    try:
+        other.get_by_text("Upload a phyphox recording (CSV, ZIP)").first.wait_for(timeout=60_000)
+        scene = toss_app.scene
+        refusals = scene.upload_refusals
+        upload(page, "nan.csv", b'"Time (s)","x (rad/s)","y (rad/s)","z (rad/s)"\n0,1,2,3\n0.01,nan,2,3\n')
+        wait_for(lambda: scene.upload_refusals == refusals + 1, 120, what="the refusal")
+        page.get_by_text("NaN or infinity").first.wait_for(timeout=60_000)
+        # A notice to every page, sent after the refusal: once the other page shows it, it has taken every
+        # message sent to it before, and the refusal was not among them.
+        toss_app.simulation.notify("Everyone", "a notice for the whole class")
+        other.get_by_text("a notice for the whole class").first.wait_for(timeout=60_000)
+        assert other.get_by_text("NaN or infinity").count() == 0
+        assert other.get_by_text("Recording refused").count() == 0
+    finally:
+        other.close()
