@@ -9,6 +9,7 @@ the replay (attitudes, ω and L in space), so that the server only draws it.
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import tempfile
 from dataclasses import dataclass
@@ -263,8 +264,9 @@ def recording_csv(times: Floats, omega: Floats) -> bytes:
     return out.getvalue().encode("utf-8")
 
 
+@functools.cache
 def example_csv() -> bytes:
     """The bundled example: two tosses of a bare phone made by the project's own model
-    (:func:`physics.gyro.synthetic_recording`, a fixed seed), as phyphox's CSV."""
+    (:func:`physics.gyro.synthetic_recording`, a fixed seed), as phyphox's CSV (made once per process)."""
     recording, _ = synthetic_recording(EXAMPLE_MOMENTS, EXAMPLE_TOSSES, drag=EXAMPLE_DRAG, seed=EXAMPLE_SEED)
     return recording_csv(recording.times, recording.omega)
