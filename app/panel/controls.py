@@ -27,6 +27,7 @@ __all__ = [
     "Presets",
     "Gauge",
     "refusable_dropdown",
+    "take_uploads",
     "folded",
 ]
 
@@ -389,3 +390,27 @@ def refusable_dropdown(
 
     handle.on_update(ctx.guarded(on_update))
     return handle
+
+
+def take_uploads(
+    ctx: SceneContext,
+    button: Any,
+    load: Callable[[str, bytes, viser.ClientHandle | None], object],
+    refuse: Callable[[str, viser.ClientHandle | None], object],
+) -> None:
+    """Hand every file uploaded through ``button`` (a viser upload button) to ``load(name, content, client)``,
+    outside the simulation's lock (it reads the file in a worker and takes the lock to adopt it). Who may drive
+    is asked first: a follower's file is refused, ``refuse(reason, client)`` under the lock, before anything
+    reads it."""
+
+    def on_upload(event: Any) -> None:
+        client = getattr(event, "client", None)
+        reason = ctx.refusal(client.client_id) if client is not None else None
+        if reason is not None:
+            with ctx.lock:
+                refuse(reason, client)
+            return
+        file = button.value
+        load(file.name, file.content, client)
+
+    button.on_upload(on_upload)

@@ -156,7 +156,7 @@ class InertiaExplorer(Scene):
             mime_type=".stl,.obj,.ply,.glb",
         )
         # Not guarded: the file is parsed outside the simulation lock (load_upload takes it to swap the body in).
-        self.upload.on_upload(self._on_upload)
+        controls.take_uploads(self.ctx, self.upload, self.load_upload, self._refuse)
         self.hull_button = gui.add_button("Use its convex hull instead", visible=False)
         self.hull_button.on_click(self.ctx.guarded(self._use_hull))
         self.spin_button = gui.add_button("Spin it (torque-free)")
@@ -229,17 +229,6 @@ class InertiaExplorer(Scene):
         self.ctx.request_redraw()
 
     # -- uploads -----------------------------------------------------------------------------------
-    def _on_upload(self, event: Any) -> None:
-        client = getattr(event, "client", None)
-        # Who may drive is asked first: a follower's file is refused before anything reads it.
-        reason = self.ctx.refusal(client.client_id) if client is not None else None
-        if reason is not None:
-            with self.ctx.lock:
-                self._refuse(reason, client)
-            return
-        file = self.upload.value
-        self.load_upload(file.name, file.content, client=client)
-
     def load_upload(self, filename: str, content: bytes, client: viser.ClientHandle | None = None) -> bool:
         """Check an uploaded file; on success show it, on refusal keep the previous body and say why.
 

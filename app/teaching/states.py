@@ -30,7 +30,7 @@ def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None =
     Raises
     ------
     ValueError
-        If the scene holds a body handed over from another scene (a mesh: it has no short text).
+        If the scene holds a body handed over from another scene, or an uploaded file (neither has a short text).
     """
     if snapshot.get("payload") is not None:
         raise ValueError(
@@ -39,8 +39,8 @@ def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None =
         )
     if "uploaded" in (snapshot.get("motion") or {}):
         raise ValueError(
-            "this scene shows an uploaded mesh; a state text cannot carry a mesh (upload the file again "
-            "where the state is opened)"
+            "this scene shows an uploaded mesh or recording; a state text cannot carry a file (upload the file "
+            "again where the state is opened)"
         )
     state = {
         "scene": snapshot["scene"],

@@ -30,6 +30,7 @@ PIN = "4321"
 RACKET = 6  # the shipped lecture's steps (0-based) with a question
 PENDULUM = 2
 STEADY = 9
+PHONE = 12
 
 
 # ------------------------------------------------------------------ the model
@@ -97,8 +98,9 @@ def test_a_lecture_with_a_bad_question_is_refused_naming_the_step_and_the_key(tm
 def test_the_shipped_lecture_asks_the_precession_the_flip_and_the_centre_of_percussion():
     steps = read_lecture("rigid-body-motion").steps
     asked = {k: step.ask for k, step in enumerate(steps) if step.ask is not None}
-    assert set(asked) == {PENDULUM, RACKET, 7, STEADY}
+    assert set(asked) == {PENDULUM, RACKET, 7, STEADY, PHONE}
     assert asked[RACKET].choices[asked[RACKET].answer - 1] == "flips over and back, again and again"
+    assert asked[PHONE].choices[asked[PHONE].answer - 1].startswith("turns over") and asked[PHONE].about == ("flip",)
     assert "sense of the spin" in asked[7].choices[asked[7].answer - 1]
     assert (asked[PENDULUM].truth, asked[PENDULUM].unit, asked[PENDULUM].range) == (
         "centre_of_percussion",
