@@ -20,7 +20,7 @@ from babel.numbers import get_decimal_symbol, get_group_symbol
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO, SOURCE, babel_locale, catalog, check_language
 from app.language.pseudo import pseudo
 
-__all__ = ["REMEMBERED", "english_option", "mark", "say", "template_ids", "translate"]
+__all__ = ["REMEMBERED", "english_option", "keep", "mark", "say", "template_ids", "translate"]
 
 REMEMBERED = 20_000
 """How many texts made by :func:`say` are remembered (the newest; a readout makes a new one each frame, and
@@ -28,6 +28,7 @@ is translated as soon as it is sent)."""
 
 _FORMATTER = string.Formatter()
 _SAID: OrderedDict[str, tuple[str, tuple[tuple[str, object], ...]]] = OrderedDict()
+_KEPT: dict[str, tuple[str, tuple[tuple[str, object], ...]]] = {}
 _LOCK = threading.Lock()
 
 
@@ -59,6 +60,18 @@ def say(template: str, /, **values: object) -> str:
             _SAID.move_to_end(text)
             if len(_SAID) > REMEMBERED:
                 _SAID.popitem(last=False)
+    return text
+
+
+def keep(text: str) -> str:
+    """``text``, made by :func:`say`, kept translatable as long as the process runs (not only among the
+    :data:`REMEMBERED` newest): a text made once and shown for ever, such as a caption with a number in it.
+    A text :func:`say` made without values (a message id itself) needs no keeping and is returned as it is.
+    """
+    with _LOCK:
+        made = _SAID.get(text)
+        if made is not None:
+            _KEPT[text] = made
     return text
 
 
@@ -105,7 +118,7 @@ def translate(text: str, lang: str) -> str:
         return text
     check_language(lang)
     with _LOCK:
-        made = _SAID.get(text)
+        made = _SAID.get(text) or _KEPT.get(text)
     if made is None:
         return _template(text, lang)
     template, values = made
