@@ -54,7 +54,7 @@ def say(template: str, /, **values: object) -> str:
         The English text.
     """
     text = template.format(**values)
-    if values:
+    if values and text not in values.values():  # a text that is its own value would translate for ever
         with _LOCK:
             _SAID[text] = (template, tuple(values.items()))
             _SAID.move_to_end(text)
