@@ -12,7 +12,7 @@ import numpy as np
 import viser
 from numpy.typing import ArrayLike
 
-from app.language.words import keep, mark, say
+from app.language.words import joined, keep, mark, say
 
 __all__ = [
     "OKABE_ITO",
@@ -155,12 +155,9 @@ def legend_html(quantities: tuple[str, ...] | list[str], dark: bool = False) -> 
             else ""
         )
         rows.append(say(_ROW, style=swatch + opacity, label=LABELS[key]))
-    # One text made of said parts (a row joined to the rows before it), so that each name is translated
-    # on the wire; kept: a legend lives as long as its scene, and there are few of them.
-    joined = rows[0] if rows else ""
-    for row in rows[1:]:
-        joined = say(_PAIR, before=joined, row=row)
-    return keep(say(_LEGEND, rows=joined))
+    # One text made of said parts, so that each name is translated on the wire; kept: a legend lives as long
+    # as its scene, and there are few of them.
+    return keep(say(_LEGEND, rows=joined(rows)))
 
 
 # Markup alone (not for the translators): the names inside are the values, each translated.
@@ -169,7 +166,6 @@ _ROW = (
     '<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{style}">'
     "</span>{label}</div>"
 )
-_PAIR = "{before}{row}"
 _LEGEND = '<div class="rbl-legend">{rows}</div>'
 
 

@@ -20,7 +20,7 @@ from babel.numbers import get_decimal_symbol, get_group_symbol
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO, SOURCE, babel_locale, catalog, check_language
 from app.language.pseudo import pseudo
 
-__all__ = ["REMEMBERED", "english_option", "keep", "mark", "say", "template_ids", "translate"]
+__all__ = ["REMEMBERED", "english_option", "joined", "keep", "mark", "say", "template_ids", "translate"]
 
 REMEMBERED = 20_000
 """How many texts made by :func:`say` are remembered (the newest; a readout makes a new one each frame, and
@@ -63,15 +63,35 @@ def say(template: str, /, **values: object) -> str:
     return text
 
 
+_JOIN = "{before}{separator}{after}"
+"""Two texts joined (markup alone, not a message of the catalogs): each part translated as a value."""
+
+
+def joined(parts: list[str] | tuple[str, ...], separator: str = "") -> str:
+    """``separator.join(parts)``, made with :func:`say` so that each part (a word made with :func:`mark` or
+    :func:`say`) is still translated in the joined text: a list whose length varies (a legend's rows, a
+    chart's bars). The separator is translated too if it is a word of the catalogs."""
+    if not parts:
+        return ""
+    text = parts[0]
+    for part in parts[1:]:
+        text = say(_JOIN, before=text, separator=separator, after=part)
+    return text
+
+
 def keep(text: str) -> str:
     """``text``, made by :func:`say`, kept translatable as long as the process runs (not only among the
     :data:`REMEMBERED` newest): a text made once and shown for ever, such as a caption with a number in it.
     A text :func:`say` made without values (a message id itself) needs no keeping and is returned as it is.
     """
     with _LOCK:
-        made = _SAID.get(text)
-        if made is not None:
-            _KEPT[text] = made
+        waiting = [text]
+        while waiting:  # the text and every said text it was made of (a legend's rows)
+            part = waiting.pop()
+            made = _SAID.get(part)
+            if made is not None and part not in _KEPT:
+                _KEPT[part] = made
+                waiting += [value for _, value in made[1] if isinstance(value, str)]
     return text
 
 
