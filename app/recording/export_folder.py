@@ -108,10 +108,11 @@ class ExportFolder:
             archive = self.export(text, seconds, progress)
             if departed(client):
                 return  # it left as the export ended: nobody to send it to
-            client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
+            file = f"rigid-body-lab-{name}.zip"
+            client.send_file_download(file, archive, save_immediately=True)
             final = (
                 mark("Exported"),
-                say("{file} ({kilobytes} kB)", file=f"rigid-body-lab-{name}.zip", kilobytes=len(archive) // 1024),
+                say("{file!s} ({kilobytes} kB)", file=file, kilobytes=len(archive) // 1024),
                 "green",
             )
         except _Left:

@@ -48,10 +48,12 @@ class Wobble(Scene):
     title = mark("Torque-free wobble")
     order = 20
     quantities: ClassVar[tuple[str, ...]] = ("L", "omega", "body_cone", "space_cone", "trace", "axes", "ghost")
+    # "&lt;", as the panel shows it: the caption is sanitised as Markdown (app.guards.text.lecturer_markdown),
+    # which writes a "<" so, and the text shown must be the catalogs' message to be translated.
     caption = mark(
         "**Torque-free symmetric body.** L is fixed in space. In the body, ω turns about the symmetry axis "
         "at Ω = ω₃ (I₁ − I₃)/I₁; in space the axis turns about L at φ̇ = L/I₁. The body cone (about the "
-        "axis) rolls on the space cone (about L) along ω. I₃/I₁ < 1: prolate (rod-like), > 1: oblate (disc). "
+        "axis) rolls on the space cone (about L) along ω. I₃/I₁ &lt; 1: prolate (rod-like), > 1: oblate (disc). "
         "The arrows L and ω keep their lengths (|L| and |ω| are constant here): both are drawn 1.1 m long."
     )
     camera = ((2.2, -2.2, 1.9), (0.0, 0.0, 1.15))
