@@ -21,6 +21,8 @@ from physics.free_body import FreeBody
 from physics.inertia import validate_moments
 from physics.rotations import frame_from_axis
 
+_MOMENTS = "{I1:.4g}, {I3:.4g}"  # numbers alone: written per locale, nothing to translate
+
 
 def cylinder_for_ratio(ratio: float, size: float) -> tuple[float, float]:
     """Radius and length (m) of a solid cylinder with I3/I1 = ``ratio`` whose larger dimension is ``size``.
@@ -135,7 +137,7 @@ class Wobble(Scene):
         rates = model.precession_rates(omega0)
         self.Omega_readout.set(rates.body)
         self.phidot_readout.set(rates.space)
-        self.moments_readout.set(say("{I1:.4g}, {I3:.4g}", I1=moments[0], I3=moments[2]))
+        self.moments_readout.set(say(_MOMENTS, I1=moments[0], I3=moments[2]))
         self.ctx.restart()
 
     # -- the state
