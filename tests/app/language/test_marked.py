@@ -13,12 +13,16 @@ import string
 from pathlib import Path
 
 import pytest
+import viser
 from babel.messages.extract import extract_from_dir
 from babel.messages.frontend import parse_mapping_cfg
 from babel.messages.pofile import read_po
+from viser import _messages
 
+from app.contracts import ClientId
 from app.drawing.palette import legend_html
 from app.guards.gate import close_reason
+from app.guards.language import Languages
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO
 from app.language.words import REMEMBERED, joined, keep, mark, say, template_ids, translate
 from app.panel.access import keys_markdown
@@ -26,7 +30,7 @@ from app.panel.simulation_panel import PROJECTOR_HINT
 from app.rooms.config import Backend, Department, Room
 from app.rooms.landing import landing_html
 from app.scenes import scene_names
-from tests.harness import open_scene, running_app
+from tests.harness import free_port, open_scene, running_app
 
 ROOT = Path(__file__).resolve().parents[3]
 APP = ROOT / "app"
@@ -192,3 +196,19 @@ def test_a_close_reason_fits_a_close_frame_in_any_script() -> None:
     assert len(cut.encode()) <= 123 and chinese.startswith(cut) and len(cut) == 41
     english = "Refused: " + "x" * 200
     assert close_reason(english) == english[:120]
+
+
+def test_a_label_in_the_3d_scene_reaches_its_readers_language() -> None:
+    """The scene's labels ("centre of mass", "strike point") travel as a LabelMessage's ``text``: translated
+    for a browser reading another language, as it is for one reading English."""
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        languages = Languages(server)
+        languages.choose(ClientId(5), PSEUDO)
+        handle = server.scene.add_label("/label", mark("centre of mass"))
+        message = _messages.LabelMessage("/label", handle._impl.props)
+        assert languages.translated(message, ClientId(5)).props.text == translate("centre of mass", PSEUDO)
+        assert languages.translated(message, ClientId(6)).props.text == "centre of mass"
+        assert translate("centre of mass", PSEUDO) != "centre of mass"
+    finally:
+        server.stop()
