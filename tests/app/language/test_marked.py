@@ -30,6 +30,8 @@ from app.panel.simulation_panel import PROJECTOR_HINT
 from app.rooms.config import Backend, Department, Room
 from app.rooms.landing import landing_html
 from app.scenes import scene_names
+from app.teaching.question_panel import count_text, mine_text, results_html
+from app.teaching.questions import Ask, Poll, VoteRefused
 from tests.harness import free_port, open_scene, running_app
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -212,3 +214,32 @@ def test_a_label_in_the_3d_scene_reaches_its_readers_language() -> None:
         assert translate("centre of mass", PSEUDO) != "centre of mass"
     finally:
         server.stop()
+
+
+def test_the_question_panels_words_and_chart_reach_another_language() -> None:
+    """The count, a follower's own answer and the chart (its bars, its words for a screen reader) are said
+    texts: every word in them is translated, the lecturer's question and the numbers stay."""
+    poll = Poll()
+    poll.ask(Ask("Flip?", ("steady", "flips"), 2), "step 7")
+    poll.vote("a", "B")
+    question = poll.current
+    assert question is not None
+    for text in (count_text(question, 1), mine_text(question, "B"), mine_text(question, None)):
+        assert translate(text, PSEUDO) != text
+    poll.reveal()
+    chart = results_html(question)
+    pseudo = translate(chart, PSEUDO)
+    assert "ŕîĝĥţ àñšŵéŕ" in pseudo and "1 answer" not in pseudo
+    assert "steady" in pseudo and "flips" in pseudo  # the lecturer's choices stay as they are written
+    poll.ask(Ask("Rate?", unit="rad/s", range=(0.0, 2.0)), "step 10", true=0.5278654505337458)
+    poll.vote("a", 0.5)
+    poll.reveal()
+    numbers = poll.current
+    assert numbers is not None
+    pseudo = translate(results_html(numbers), PSEUDO)
+    assert "Ţŕûé ṽàĺûé" in pseudo and "0.5279" in pseudo and "rad/s" in pseudo
+    assert pseudo.count("<div") == results_html(numbers).count("<div")
+    with pytest.raises(VoteRefused) as refused:
+        poll.ask(Ask("Rate?", unit="rad/s", range=(0.0, 2.0)), "step 11")
+        poll.vote("b", 7.0)
+    assert translate(str(refused.value), PSEUDO) != str(refused.value)
