@@ -20,14 +20,20 @@ from babel.numbers import get_decimal_symbol, get_group_symbol
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO, SOURCE, babel_locale, catalog, check_language
 from app.language.pseudo import pseudo
 
-__all__ = ["REMEMBERED", "english_option", "joined", "keep", "mark", "say", "template_ids", "translate"]
+__all__ = ["PER_TEMPLATE", "REMEMBERED", "english_option", "joined", "keep", "mark", "say", "template_ids", "translate"]
 
 REMEMBERED = 20_000
 """How many texts made by :func:`say` are remembered (the newest; a readout makes a new one each frame, and
 is translated as soon as it is sent)."""
 
+PER_TEMPLATE = 1_000
+"""How many of those one template may hold (its newest): a readout rewritten every frame (a friction top's
+tilt, in every private session) forgets its own older texts, not the other templates' texts that are still
+on screen (a stability readout set once, a session's number)."""
+
 _FORMATTER = string.Formatter()
 _SAID: OrderedDict[str, tuple[str, tuple[tuple[str, object], ...]]] = OrderedDict()
+_BY_TEMPLATE: dict[str, OrderedDict[str, None]] = {}  # template -> its remembered texts, oldest first
 _KEPT: dict[str, tuple[str, tuple[tuple[str, object], ...]]] = {}
 _LOCK = threading.Lock()
 
@@ -56,11 +62,36 @@ def say(template: str, /, **values: object) -> str:
     text = template.format(**values)
     if values and text not in values.values():  # a text that is its own value would translate for ever
         with _LOCK:
-            _SAID[text] = (template, tuple(values.items()))
-            _SAID.move_to_end(text)
-            if len(_SAID) > REMEMBERED:
-                _SAID.popitem(last=False)
+            _remember(text, template, tuple(values.items()))
     return text
+
+
+def _remember(text: str, template: str, values: tuple[tuple[str, object], ...]) -> None:
+    """Remember ``text`` as the newest, forgetting the oldest of its template past :data:`PER_TEMPLATE` and
+    the oldest of all past :data:`REMEMBERED` (the caller holds the lock)."""
+    before = _SAID.get(text)
+    if before is not None and before[0] != template:  # the same English made by another template now
+        _forget(text)
+    _SAID[text] = (template, values)
+    _SAID.move_to_end(text)
+    own = _BY_TEMPLATE.setdefault(template, OrderedDict())
+    own[text] = None
+    own.move_to_end(text)
+    if len(own) > PER_TEMPLATE:
+        _forget(next(iter(own)))
+    if len(_SAID) > REMEMBERED:
+        _forget(next(iter(_SAID)))
+
+
+def _forget(text: str) -> None:
+    made = _SAID.pop(text, None)
+    if made is None:
+        return
+    own = _BY_TEMPLATE.get(made[0])
+    if own is not None:
+        own.pop(text, None)
+        if not own:
+            del _BY_TEMPLATE[made[0]]
 
 
 _JOIN = "{before}{separator}{after}"

@@ -24,7 +24,7 @@ from app.drawing.palette import legend_html
 from app.guards.gate import close_reason
 from app.guards.language import Languages
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO
-from app.language.words import REMEMBERED, joined, keep, mark, say, template_ids, translate
+from app.language.words import PER_TEMPLATE, REMEMBERED, joined, keep, mark, say, template_ids, translate
 from app.panel.access import keys_markdown
 from app.panel.simulation_panel import PROJECTOR_HINT
 from app.rooms.config import Backend, Department, Room
@@ -150,11 +150,24 @@ def test_a_kept_text_outlives_the_remembered_newest() -> None:
     assert template in template_ids()
     kept = keep(say(template, title=mark("Heavy top"), wobble=say("tilted {tilt}", tilt="4°")))
     forgotten = say(template, title=mark("Heavy top"), wobble="never kept")
-    for k in range(REMEMBERED + 1):
-        say("{n} answers", n=k)  # each a text of its own
+    for k in range(REMEMBERED + PER_TEMPLATE):  # each a text of its own, of more templates than fit
+        say("{n} answers" + " " * (k // PER_TEMPLATE), n=k)
     assert translate(kept, PSEUDO) != kept
     assert "Ĥéàṽý" in translate(kept, PSEUDO) and "ţîĺţéđ" in translate(kept, PSEUDO)  # its parts too
     assert translate(forgotten, PSEUDO) == forgotten  # the newest are remembered, not every text ever made
+
+
+def test_a_template_rewritten_every_frame_forgets_its_own_texts_only() -> None:
+    """A friction top's tilt readout makes a text a frame in every session: the texts of other templates
+    still on screen (a stability readout set once) stay translatable."""
+    once = say("{kind} (flips)", kind=mark("unstable"))
+    tilt = "{tilt:.4g}, lying on the table"
+    for k in range(5 * PER_TEMPLATE):
+        say(tilt, tilt=k / 7.0)
+    assert translate(once, PSEUDO) != once
+    newest = say(tilt, tilt=(5 * PER_TEMPLATE - 1) / 7.0)
+    oldest = tilt.format(tilt=0.0)
+    assert translate(newest, PSEUDO) != newest and translate(oldest, PSEUDO) == oldest
 
 
 def test_a_joined_list_keeps_each_part_translatable() -> None:
