@@ -6,6 +6,7 @@ More in docs/app-notes.md (``app.panel.controls``).
 from __future__ import annotations
 
 import math
+import re
 import unicodedata
 import weakref
 from collections.abc import Callable
@@ -206,7 +207,7 @@ class Readout:
 
     def __init__(self, ctx: SceneContext, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
         self.fmt = fmt
-        self._said = fmt.replace("{", "{value", 1)  # ``{:.4g}`` as a template of one named field, for say()
+        self._said = re.sub(r"\{\d*", "{value", fmt, count=1)  # ``{:.4g}``, ``{0:.4g}``: one named field, for say()
         self.handle = ctx.server.gui.add_text(label, initial_value="—", disabled=True, hint=hint)
         self.value_text = "—"  # the text it states (shown unless held back)
         self.held = False
