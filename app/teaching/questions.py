@@ -10,6 +10,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import re
 import threading
 import time
 from collections.abc import Callable, Hashable
@@ -371,11 +372,21 @@ class Poll:
         return out.getvalue()
 
 
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,(\d{1,2}|\d{4,})")
+
+
+def _decimal_point(text: str) -> str:
+    """A number typed with a decimal comma, as a German or Spanish reader writes it (``0,5``), with a
+    point; a comma before exactly three digits (``1,500``: a thousand and a half, or one and a half?) is
+    left, and the answer is refused as before."""
+    return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
+
+
 def _answer(ask: Ask, value: Any) -> str | float:
     if ask.range is not None:
         if isinstance(value, str):
             try:
-                value = float(value.strip().replace("−", "-"))
+                value = float(_decimal_point(value.strip().replace("−", "-")))
             except ValueError:
                 raise VoteRefused(say("the answer is a number, got {value!r}", value=value[:20])) from None
         if not _finite(value):
