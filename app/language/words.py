@@ -20,14 +20,32 @@ from babel.numbers import get_decimal_symbol, get_group_symbol, get_minus_sign_s
 from app.language.catalogs import DOMAIN, LANGUAGES, LOCALE_DIR, PSEUDO, SOURCE, babel_locale, catalog, check_language
 from app.language.pseudo import pseudo
 
-__all__ = ["REMEMBERED", "english_option", "mark", "remembered_count", "say", "template_ids", "translate"]
+__all__ = [
+    "PER_TEMPLATE",
+    "REMEMBERED",
+    "english_option",
+    "joined",
+    "keep",
+    "mark",
+    "remembered_count",
+    "say",
+    "template_ids",
+    "translate",
+]
 
 REMEMBERED = 20_000
 """How many texts made by :func:`say` are remembered (the newest; a readout makes a new one each frame, and
 is translated as soon as it is sent)."""
 
+PER_TEMPLATE = 1_000
+"""How many of those one template may hold (its newest): a readout rewritten every frame (a friction top's
+tilt, in every private session) forgets its own older texts, not the other templates' texts that are still
+on screen (a stability readout set once, a session's number)."""
+
 _FORMATTER = string.Formatter()
 _SAID: OrderedDict[str, tuple[str, tuple[tuple[str, object], ...]]] = OrderedDict()
+_BY_TEMPLATE: dict[str, OrderedDict[str, None]] = {}  # template -> its remembered texts, oldest first
+_KEPT: dict[str, tuple[str, tuple[tuple[str, object], ...]]] = {}
 _LOCK = threading.Lock()
 
 
@@ -53,12 +71,69 @@ def say(template: str, /, **values: object) -> str:
         The English text.
     """
     text = template.format(**values)
-    if values:
+    if values and text not in values.values():  # a text that is its own value would translate for ever
         with _LOCK:
-            _SAID[text] = (template, tuple(values.items()))
-            _SAID.move_to_end(text)
-            while len(_SAID) > REMEMBERED:
-                _SAID.popitem(last=False)
+            _remember(text, template, tuple(values.items()))
+    return text
+
+
+def _remember(text: str, template: str, values: tuple[tuple[str, object], ...]) -> None:
+    """Remember ``text`` as the newest, forgetting the oldest of its template past :data:`PER_TEMPLATE` and
+    the oldest of all past :data:`REMEMBERED` (the caller holds the lock)."""
+    before = _SAID.get(text)
+    if before is not None and before[0] != template:  # the same English made by another template now
+        _forget(text)
+    _SAID[text] = (template, values)
+    _SAID.move_to_end(text)
+    own = _BY_TEMPLATE.setdefault(template, OrderedDict())
+    own[text] = None
+    own.move_to_end(text)
+    while len(own) > PER_TEMPLATE:
+        _forget(next(iter(own)))
+    while len(_SAID) > REMEMBERED:
+        _forget(next(iter(_SAID)))
+
+
+def _forget(text: str) -> None:
+    made = _SAID.pop(text, None)
+    if made is None:
+        return
+    own = _BY_TEMPLATE.get(made[0])
+    if own is not None:
+        own.pop(text, None)
+        if not own:
+            del _BY_TEMPLATE[made[0]]
+
+
+_JOIN = "{before}{separator}{after}"
+"""Two texts joined (markup alone, not a message of the catalogs): each part translated as a value."""
+
+
+def joined(parts: list[str] | tuple[str, ...], separator: str = "") -> str:
+    """``separator.join(parts)``, made with :func:`say` so that each part (a word made with :func:`mark` or
+    :func:`say`) is still translated in the joined text: a list whose length varies (a legend's rows, a
+    chart's bars). The separator is translated too if it is a word of the catalogs."""
+    if not parts:
+        return ""
+    text = parts[0]
+    for part in parts[1:]:
+        text = say(_JOIN, before=text, separator=separator, after=part)
+    return text
+
+
+def keep(text: str) -> str:
+    """``text``, made by :func:`say`, kept translatable as long as the process runs (not only among the
+    :data:`REMEMBERED` newest): a text made once and shown for ever, such as a caption with a number in it.
+    A text :func:`say` made without values (a message id itself) needs no keeping and is returned as it is.
+    """
+    with _LOCK:
+        waiting = [text]
+        while waiting:  # the text and every said text it was made of (a legend's rows)
+            part = waiting.pop()
+            made = _SAID.get(part)
+            if made is not None and part not in _KEPT:
+                _KEPT[part] = made
+                waiting += [value for _, value in made[1] if isinstance(value, str)]
     return text
 
 
@@ -111,7 +186,7 @@ def translate(text: str, lang: str) -> str:
         return text
     check_language(lang)
     with _LOCK:
-        made = _SAID.get(text)
+        made = _SAID.get(text) or _KEPT.get(text)
     if made is None:
         return _template(text, lang)
     template, values = made

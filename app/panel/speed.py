@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+from app.language.words import say
+
 __all__ = [
     "SPEED_MIN",
     "SPEED_MAX",
@@ -37,5 +39,4 @@ def position_of(speed: float) -> float:
 
 def speed_label(speed: float) -> str:
     """The slider's label: two significant digits, e.g. ``Speed 0.032×``, ``Speed 1×``, ``Speed 3.2×``."""
-    text = f"{speed:.2g}"
-    return f"Speed {text}×"
+    return say("Speed {speed:.2g}×", speed=speed)

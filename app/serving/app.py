@@ -27,6 +27,7 @@ from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
 from app.language.catalogs import SOURCE
+from app.language.words import mark, say
 from app.panel import look
 from app.panel.language_picker import LanguagePicker
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
@@ -293,9 +294,9 @@ class App:
         if client is None:
             return
         if simulation is not None:
-            simulation.notify("Refused", reason, client=client, error=True)
+            simulation.notify(mark("Refused"), reason, client=client, error=True)
         else:  # a private browser whose session is still being made: told all the same
-            client.add_notification("Refused", reason, color="red", auto_close_seconds=NOTIFY_SECONDS)
+            client.add_notification(mark("Refused"), reason, color="red", auto_close_seconds=NOTIFY_SECONDS)
 
     def _follows(self, client: viser.ClientHandle) -> bool:
         """Whether a browser is drawn the shared simulation (not one exploring a copy of its own)."""
@@ -307,7 +308,7 @@ class App:
         owners = list(self.sessions)
         refused = self.admission.session_refusal(client.client_id, owners)
         if refused is not None:
-            raise ValueError(f"no copy of your own: {refused}")
+            raise ValueError(say("no copy of your own: {refused}", refused=refused))
         snapshot = self.shared.snapshot()
         copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
         copy.restore(snapshot)

@@ -426,3 +426,16 @@ def test_a_scene_states_its_own_true_values_and_refuses_a_quantity_it_has_not():
             scene.truth("centre_of_percussion")
         app.switch_scene("pendulum")
         assert app.scene.truth("centre_of_percussion") == app.scene.model.effective_length
+
+
+def test_a_number_answer_may_be_typed_with_a_decimal_comma():
+    """A German or Spanish reader writes 0,5: taken as 0.5. A comma before three digits (1,500: a thousand
+    and a half, or one and a half?) is refused as before."""
+    poll = Poll()
+    poll.ask(Ask("Rate?", unit="rad/s", range=(-2.0, 2.0)), "step 10")
+    assert poll.vote("a", "0,5") == 0.5
+    assert poll.vote("b", " −1,25 ") == -1.25
+    with pytest.raises(VoteRefused, match="the answer is a number, got '1,500'"):
+        poll.vote("c", "1,500")
+    with pytest.raises(VoteRefused, match="the answer is a number"):
+        poll.vote("c", "1,2,3")
