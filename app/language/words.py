@@ -10,6 +10,7 @@ through :func:`translate` unchanged.
 from __future__ import annotations
 
 import functools
+import html
 import string
 import threading
 from collections import OrderedDict
@@ -24,6 +25,7 @@ __all__ = [
     "PER_TEMPLATE",
     "REMEMBERED",
     "english_option",
+    "escaped",
     "joined",
     "keep",
     "mark",
@@ -180,6 +182,20 @@ def _template(english: str, lang: str) -> str:
     return catalog(lang).gettext(english)
 
 
+_ESCAPED = "{html_escaped}"
+"""The template :func:`escaped` remembers its texts under: the value is translated, then escaped."""
+
+
+def escaped(text: str) -> str:
+    """``html.escape(text)``, still translatable: its translation is the translation of ``text``, escaped (a
+    said text with a file's name in it, say, shown in Html)."""
+    out = html.escape(text)
+    if out != text:
+        with _LOCK:
+            _remember(out, _ESCAPED, (("html_escaped", text),))
+    return out
+
+
 def translate(text: str, lang: str) -> str:
     """``text`` as a reader of ``lang`` reads it (unchanged in English, or if the app did not write it)."""
     if lang == SOURCE or not text:
@@ -190,6 +206,8 @@ def translate(text: str, lang: str) -> str:
     if made is None:
         return _template(text, lang)
     template, values = made
+    if template == _ESCAPED:
+        return html.escape(translate(str(values[0][1]), lang))
     try:
         return _fill(_template(template, lang), values, lang)
     except (KeyError, IndexError, ValueError):  # a translation whose fields do not match: the English form

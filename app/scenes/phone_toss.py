@@ -15,6 +15,7 @@ import numpy as np
 import viser
 
 from app import controls, draw
+from app.language.words import joined, mark, say
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Answer, Scene, register
@@ -27,11 +28,11 @@ __all__ = ["PhoneToss", "SLOW", "ALL_TOSSES", "example_fit", "ratios_text"]
 
 SLOW = 0.2
 """The replay's pace: a second of flight takes five (a flip lasts a few tenths of a second)."""
-ALL_TOSSES = "all tosses together"
+ALL_TOSSES = mark("all tosses together")
 PHONE_LENGTH = 1.2
 """m: the drawn phone's long side (its other sides from the fitted moments)."""
 COMPONENTS = (("x", "vermillion"), ("y", "bluish_green"), ("z", "blue"))
-AXIS_NAMES = {"x": "x, across the screen", "y": "y, along the phone", "z": "z, out of the screen"}
+AXIS_NAMES = {"x": mark("x, across the screen"), "y": mark("y, along the phone"), "z": mark("z, out of the screen")}
 
 
 @functools.cache
@@ -45,21 +46,23 @@ def ratios_text(result: TossFit) -> str:
     """The fitted moments along x, y, z with their standard deviations, e.g. ``0.7998 ± 0.0001 : … : 1``."""
     parts = []
     for value, sigma in zip(result.fit.moments, result.fit.moments_sigma, strict=True):
-        parts.append("1" if sigma == 0.0 and value == 1.0 else f"{value:.4f} ± {sigma:.4f}")
-    return " : ".join(parts)
+        parts.append(
+            "1" if sigma == 0.0 and value == 1.0 else say("{value:.4f} ± {sigma:.4f}", value=value, sigma=sigma)
+        )
+    return joined(parts, " : ")
 
 
 def _toss_label(k: int, window: tuple[float, float]) -> str:
-    return f"toss {k + 1}: {window[0]:.2f} to {window[1]:.2f} s"
+    return say("toss {number}: {start:.2f} to {end:.2f} s", number=k + 1, start=window[0], end=window[1])
 
 
 @register
 class PhoneToss(Scene):
     name = "phone_toss"
-    title = "Toss your phone: a measured flip"
+    title = mark("Toss your phone: a measured flip")
     order = 65  # after the tennis racket: the theory, then the measurement
     quantities = ("L", "omega")
-    caption = (
+    caption = mark(
         "**A measured flip.** A phone's gyroscope records ω in the phone's axes while it flies (phyphox, "
         '"Gyroscope (rotation rate)"). Tossed spinning about the axis across its screen, the intermediate one, '
         "it turns over in the air. The points are the samples, the lines the torque-free body with air drag "
@@ -93,28 +96,32 @@ class PhoneToss(Scene):
         self.L_arrow = draw.Arrow(server, root + "/L", "L", label="L")
         self.omega_arrow = draw.Arrow(server, root + "/omega", "omega", label="ω")
         self.upload = gui.add_upload_button(
-            "Upload a phyphox recording (CSV, ZIP)",
+            mark("Upload a phyphox recording (CSV, ZIP)"),
             icon=None,
-            hint="phyphox's Gyroscope (rotation rate): its Raw Data.csv or the .zip it shares; at most 20 MB",
+            hint=mark("phyphox's Gyroscope (rotation rate): its Raw Data.csv or the .zip it shares; at most 20 MB"),
             mime_type=".csv,.zip",
         )
         # Not guarded: the file is read and fitted in a worker outside the simulation lock.
         controls.take_uploads(self.ctx, self.upload, self.load_upload, self._refuse)
-        self.toss = gui.add_dropdown("Toss", options=(ALL_TOSSES,), initial_value=ALL_TOSSES)
+        self.toss = gui.add_dropdown(mark("Toss"), options=(ALL_TOSSES,), initial_value=ALL_TOSSES)
         self.toss.on_update(self._on_toss)
-        self.ratios_readout = controls.Readout(self.ctx, "fitted moments I_x : I_y : I_z (largest 1, ± σ)", fmt="{}")
-        self.flip_axis_readout = controls.Readout(self.ctx, "it flips about (the intermediate axis)", fmt="{}")
-        self.residual_readout = controls.Readout(self.ctx, "residual, rms of measured − fitted (rad/s)", fmt="{}")
-        self.half_turns_readout = controls.Readout(self.ctx, "half turns, fitted / measured (first toss)", fmt="{}")
-        self.drag_readout = controls.Readout(self.ctx, "|L| taken by air drag (first toss)", fmt="{}")
+        self.ratios_readout = controls.Readout(
+            self.ctx, mark("fitted moments I_x : I_y : I_z (largest 1, ± σ)"), fmt="{}"
+        )
+        self.flip_axis_readout = controls.Readout(self.ctx, mark("it flips about (the intermediate axis)"), fmt="{}")
+        self.residual_readout = controls.Readout(self.ctx, mark("residual, rms of measured − fitted (rad/s)"), fmt="{}")
+        self.half_turns_readout = controls.Readout(
+            self.ctx, mark("half turns, fitted / measured (first toss)"), fmt="{}"
+        )
+        self.drag_readout = controls.Readout(self.ctx, mark("|L| taken by air drag (first toss)"), fmt="{}")
         self.note = gui.add_markdown("")
         self.plot = gui.add_uplot(
             data=(np.zeros(2), *(np.zeros(2) for _ in range(6))),
             series=(
-                viser.uplot.Series(label="t (s)"),
+                viser.uplot.Series(label=mark("t (s)")),
                 *(
                     viser.uplot.Series(
-                        label=f"ω_{axis} measured",
+                        label=say("ω_{axis} measured", axis=axis),
                         stroke=plot_colour(draw.hex_colour(colour), self.ctx.dark),
                         width=0,
                         points=viser.uplot.Series_Points(
@@ -125,7 +132,7 @@ class PhoneToss(Scene):
                 ),
                 *(
                     viser.uplot.Series(
-                        label=f"ω_{axis} fitted",
+                        label=say("ω_{axis} fitted", axis=axis),
                         stroke=plot_colour(draw.hex_colour(colour), self.ctx.dark),
                         width=2,
                         points=viser.uplot.Series_Points(show=False),
@@ -133,7 +140,7 @@ class PhoneToss(Scene):
                     for axis, colour in COMPONENTS
                 ),
             ),
-            title="ω in the phone's axes (rad/s): points measured, lines fitted",
+            title=mark("ω in the phone's axes (rad/s): points measured, lines fitted"),
             axes=plot_axes(),
             scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
             aspect=1.6,
@@ -171,17 +178,28 @@ class PhoneToss(Scene):
         self.ratios_readout.set(ratios_text(result))
         self.flip_axis_readout.set(AXIS_NAMES[fit.axes[1]])
         relative = float(np.median(fit.relative_residuals))
-        self.residual_readout.set(f"{fit.residual:.3g} ({relative:.1%} of |ω|)")
-        halves = fit.half_turn_times[0]
-        self.half_turns_readout.set(f"{halves.predicted.size} / {halves.measured.size}")
-        self.drag_readout.set(f"{fit.momentum_loss(0):.1%}")
-        self.plot.data = (result.plot_times, *result.measured.T, *result.model.T)
-        device = f", {controls.markdown_text(result.device)}" if result.device else ""
-        left_out = f" Left out: {controls.markdown_text('; '.join(result.left_out))}." if result.left_out else ""
-        self.note.content = (
-            f"**{controls.markdown_text(result.source)}**{device}: {len(result.windows)} toss(es) found, "
-            f"{len(result.fitted)} fitted.{left_out}"
+        self.residual_readout.set(
+            say("{residual:.3g} ({percent:.1f}% of |ω|)", residual=fit.residual, percent=100 * relative)
         )
+        halves = fit.half_turn_times[0]
+        self.half_turns_readout.set(
+            say("{fitted} / {measured}", fitted=halves.predicted.size, measured=halves.measured.size)
+        )
+        self.drag_readout.set(say("{percent:.1f}%", percent=100 * fit.momentum_loss(0)))
+        self.plot.data = (result.plot_times, *result.measured.T, *result.model.T)
+        source = controls.markdown_text(result.source)
+        if result.device:
+            source = say("{file}, {device}", file=source, device=controls.markdown_text(result.device))
+        note = say(
+            "**{source}**: {found} toss(es) found, {fitted} fitted.",
+            source=source,
+            found=len(result.windows),
+            fitted=len(result.fitted),
+        )
+        if result.left_out:
+            left_out = joined([controls.markdown_text(reason) for reason in result.left_out], "; ")
+            note = say("{note} Left out: {reasons}.", note=note, reasons=left_out)
+        self.note.content = note
         self.ctx.restart()
 
     # -- uploads and the toss chosen (read and fitted in a worker, adopted under the lock) ------------
@@ -199,7 +217,7 @@ class PhoneToss(Scene):
         options = tuple(self.toss.options)
         if reason is not None or choice not in options:
             with self.ctx.lock:
-                self._refuse(reason or f"there is no {choice!r} in this recording", client)
+                self._refuse(reason or say("there is no {choice} in this recording", choice=repr(choice)), client)
                 self.toss.value = self._shown_choice  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
             return
         chosen = None if choice == ALL_TOSSES else options.index(choice) - 1
@@ -232,14 +250,20 @@ class PhoneToss(Scene):
         if isinstance(result, Exception):
             raise result
         self.adopt(result, content)
-        self.last_upload_message = f"{result.source}: {len(result.fitted)} toss(es) fitted"
-        self.ctx.notify("Recording fitted", f"{self.last_upload_message}; moments {ratios_text(result)}", client=client)
+        self.last_upload_message = say(
+            "{file}: {fitted} toss(es) fitted", file=result.source, fitted=len(result.fitted)
+        )
+        self.ctx.notify(
+            mark("Recording fitted"),
+            say("{fitted}; moments {ratios}", fitted=self.last_upload_message, ratios=ratios_text(result)),
+            client=client,
+        )
         return True
 
     def _refuse(self, message: str, client: viser.ClientHandle | None) -> bool:
         self.upload_refusals += 1
         self.last_upload_message = message
-        self.ctx.notify("Recording refused — the previous one stays", message, client=client, error=True)
+        self.ctx.notify(mark("Recording refused — the previous one stays"), message, client=client, error=True)
         return False
 
     # -- copies (presenter mode's "Explore on my own") ------------------------------------------------
@@ -291,13 +315,20 @@ class PhoneToss(Scene):
     def describe(self, state: dict[str, Any]) -> str:
         fit = self.result.fit
         if "flip" in self.held:  # a class question asks what the phone does in the air
-            return (
-                f"Phone toss, {self.result.source}: {len(self.result.fitted)} toss(es) recorded; what the phone "
-                "does in the air is the class question."
+            return say(
+                "Phone toss, {file}: {count} toss(es) recorded; what the phone does in the air is the class question.",
+                file=self.result.source,
+                count=len(self.result.fitted),
             )
-        return (
-            f"Phone toss, {self.result.source}: {len(self.result.fitted)} toss(es) fitted, moments "
-            f"I_x : I_y : I_z = {' : '.join(f'{m:.3g}' for m in fit.moments)}; it flips about its "
-            f"{fit.axes[1]} axis ({AXIS_NAMES[fit.axes[1]]}); the fit is off by {amount(fit.residual, 'rad/s')} rms; "
-            f"replayed at {SLOW:g}× the real pace."
+        moments = joined([say("{moment:.3g}", moment=float(m)) for m in fit.moments], " : ")
+        return say(
+            "Phone toss, {file}: {count} toss(es) fitted, moments I_x : I_y : I_z = {moments}; it flips about its "
+            "{axis} axis ({axis_name}); the fit is off by {residual} rms; replayed at {slow:g}× the real pace.",
+            file=self.result.source,
+            count=len(self.result.fitted),
+            moments=moments,
+            axis=fit.axes[1],
+            axis_name=AXIS_NAMES[fit.axes[1]],
+            residual=amount(fit.residual, "rad/s"),
+            slow=SLOW,
         )

@@ -63,3 +63,15 @@ def test_a_translated_choice_is_read_back_in_english() -> None:
 def test_an_unknown_language_is_a_valueerror_naming_the_choices() -> None:
     with pytest.raises(ValueError, match=r"expected a language among en, de, es, zh, en-XA, got 'fr'"):
         translate("Play", "fr")
+
+
+def test_an_escaped_text_is_translated_then_escaped() -> None:
+    """A said text holding a file's name with an apostrophe, shown in Html: the reader gets its translation,
+    escaped the same way (not the English, which no catalog would find once escaped)."""
+    from app.language.words import escaped
+
+    text = say("{action}: {file}", action=mark("Step"), file="the project's <file>")
+    shown = escaped(text)
+    assert shown == "Step: the project&#x27;s &lt;file&gt;"
+    assert translate(shown, "de") == "Schritt: the project&#x27;s &lt;file&gt;"
+    assert escaped("Step") == "Step" and translate(escaped("Step"), "zh") == "单步"
