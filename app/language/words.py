@@ -14,6 +14,7 @@ import html
 import string
 import threading
 from collections import OrderedDict
+from collections.abc import Callable
 
 from babel.messages.pofile import read_po
 from babel.numbers import get_decimal_symbol, get_group_symbol, get_minus_sign_symbol
@@ -26,12 +27,14 @@ __all__ = [
     "REMEMBERED",
     "english_option",
     "escaped",
+    "learn",
     "joined",
     "keep",
     "mark",
     "remembered_count",
     "say",
     "template_ids",
+    "transformed",
     "translate",
 ]
 
@@ -177,23 +180,50 @@ def _fill(template: str, values: tuple[tuple[str, object], ...], lang: str) -> s
 
 
 def _template(english: str, lang: str) -> str:
+    with _LOCK:
+        learnt = _LEARNT.get((lang, english))
+    if learnt is not None:
+        return learnt
     if lang == PSEUDO:
         return pseudo(english) if english in template_ids() else english
     return catalog(lang).gettext(english)
 
 
-_ESCAPED = "{html_escaped}"
-"""The template :func:`escaped` remembers its texts under: the value is translated, then escaped."""
+_DERIVED: OrderedDict[str, tuple[Callable[[str], str], str]] = OrderedDict()
+"""Texts made from a translatable text by a transformation (escaped, sanitized), newest last."""
+_LEARNT: dict[tuple[str, str], str] = {}
+"""Translations given at run time (a lecture file's own), by (language, English)."""
+
+
+def transformed(text: str, transform: Callable[[str], str]) -> str:
+    """``transform(text)``, still translatable: its translation is ``transform`` of the translation of
+    ``text`` (a said text escaped for Html, a lecturer's Markdown sanitized). ``transform`` must be pure."""
+    out = transform(text)
+    if out != text:
+        with _LOCK:
+            _DERIVED[out] = (transform, text)
+            _DERIVED.move_to_end(out)
+            while len(_DERIVED) > REMEMBERED:
+                _DERIVED.popitem(last=False)
+    return out
 
 
 def escaped(text: str) -> str:
-    """``html.escape(text)``, still translatable: its translation is the translation of ``text``, escaped (a
-    said text with a file's name in it, say, shown in Html)."""
-    out = html.escape(text)
-    if out != text:
-        with _LOCK:
-            _remember(out, _ESCAPED, (("html_escaped", text),))
-    return out
+    """``html.escape(text)``, still translatable (:func:`transformed`)."""
+    return transformed(text, html.escape)
+
+
+def learn(english: str, lang: str, text: str) -> None:
+    """Translate ``english`` as ``text`` for readers of ``lang`` from now on (a lecture file's own captions
+    and questions, which no catalog holds); the pseudo-locale then treats ``english`` as a message too."""
+    check_language(lang)
+    if not english:
+        return
+    with _LOCK:
+        if len(_LEARNT) >= REMEMBERED and (lang, english) not in _LEARNT:
+            raise ValueError(f"at most {REMEMBERED} texts may be given translations, got one more: {english[:40]!r}")
+        _LEARNT[(lang, english)] = text
+        _LEARNT[(PSEUDO, english)] = pseudo(english)
 
 
 def translate(text: str, lang: str) -> str:
@@ -203,11 +233,16 @@ def translate(text: str, lang: str) -> str:
     check_language(lang)
     with _LOCK:
         made = _SAID.get(text) or _KEPT.get(text)
+        derived = _DERIVED.get(text) if made is None else None
+        learnt = _LEARNT.get((lang, text))
+    if learnt is not None:
+        return learnt
+    if derived is not None:
+        transform, source = derived
+        return transform(translate(source, lang))
     if made is None:
         return _template(text, lang)
     template, values = made
-    if template == _ESCAPED:
-        return html.escape(translate(str(values[0][1]), lang))
     try:
         return _fill(_template(template, lang), values, lang)
     except (KeyError, IndexError, ValueError):  # a translation whose fields do not match: the English form
