@@ -6,7 +6,7 @@ of the Redis I/O, never the event loop nor a frame:
 
 * **publish**: this process's rows as one small JSON value under ``rbl:POOL:r:I`` (I: its place in the
   pool) with a time to live of :data:`TTL` s, written again when a row changes (looked at every
-  :data:`PERIOD` s) and at least every :data:`KEEPALIVE` s; a process that dies stops writing, and its
+  :data:`PERIOD` s; a running clock's time alone is not a change) and at least every :data:`KEEPALIVE` s; a process that dies stops writing, and its
   rows are gone from every table within :data:`TTL` + :data:`PERIOD` s;
 * **read**: while this process has a teacher (``watching``), the other processes' rows, every
   :data:`PERIOD` s; every value is untrusted text, checked field by field (:func:`decode_rows`);
@@ -34,7 +34,7 @@ import threading
 import time
 import traceback
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import redis
@@ -315,11 +315,13 @@ class PoolTable:
         """One turn of the thread: publish (if changed or due), read (if watched), then answer requests for
         up to ``wait`` s. Raises redis.RedisError or OSError when Redis does not answer."""
         place = self.place
-        value = encode_rows(self._local_rows())
+        rows = self._local_rows()
+        # What a change is: anything but a running clock's time, which the keep-alive carries once a second.
+        signature = encode_rows([replace(r, time=0.0) if r.playing else r for r in rows])
         now = time.monotonic()
-        if value != self._last or now - self._last_write >= KEEPALIVE:
-            self._redis.set(place.key("r", place.index), value, px=int(TTL * 1000))
-            self._last, self._last_write = value, now
+        if signature != self._last or now - self._last_write >= KEEPALIVE:
+            self._redis.set(place.key("r", place.index), encode_rows(rows), px=int(TTL * 1000))
+            self._last, self._last_write = signature, now
             self.writes += 1
         came_back = not self.available
         remote: dict[int, list[PoolRow]] = {}

@@ -42,7 +42,9 @@ class PanelReader:
     def _read(self) -> None:
         while not self.closed:
             try:
-                messages = received(self.ws, 0.1)
+                messages = received(self.ws)  # what has come, at once: a wait measures the server, not this
+                if not messages:
+                    messages = received(self.ws, 0.05)
             except (ConnectionClosed, OSError):
                 break
             with self.changed:
