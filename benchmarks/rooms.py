@@ -412,11 +412,18 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args(argv)
     if args.teacher_only:
+        load = os.getloadavg()
         with tempfile.TemporaryDirectory() as tmp:
             result = teacher_table(Path(tmp), args.sessions, args.changes, args.seconds, Clients)
         out = args.out or RESULTS.with_name("rooms_teacher.md")
         command = f"python -m benchmarks.rooms --teacher-only --sessions {args.sessions} --changes {args.changes}"
-        lines = ["# Rooms benchmark: the teacher's view of a pool", "", f"`{command}`.", *report_lines(result)]
+        machine = (
+            f"Machine: {os.cpu_count()} cores, shared with other work while this ran (load average 1, 5, 15 min: "
+            f"{' '.join(f'{x:.2f}' for x in load)} at the start, "
+            f"{' '.join(f'{x:.2f}' for x in os.getloadavg())} at the end)."
+        )
+        lines = ["# Rooms benchmark: the teacher's view of a pool", "", f"`{command}`.", "", machine]
+        lines += report_lines(result)
         out.write_text("\n".join(lines) + "\n")
         print("\n".join(lines))
         print(f"written {out}")

@@ -106,7 +106,7 @@ def teacher_table(
                 student.set(ANGLE, value)
                 teacher.wait(lambda shown=shown: shown.search(teacher.table()), timeout=30, what=f"angle {value:.0f}")
                 latencies.append(time.monotonic() - sent)
-                time.sleep(0.7)  # changes apart, at random phases of the processes' 0.25 s looks
+                time.sleep(0.7)  # changes apart, at random phases of the processes' 0.1 s looks
         finally:
             student.close()
             teacher.close()

@@ -65,7 +65,7 @@ REDIS_VARIABLE = "RBL_REDIS"
 POOL_VARIABLE = "RBL_POOL"
 """The environment variable naming the pool and this process's place in it: ``NAME INDEX SIZE``."""
 
-PERIOD = 0.25
+PERIOD = 0.1
 """Seconds between two looks at this process's rows (and, with a teacher here, two reads of the others')."""
 
 KEEPALIVE = 1.0
