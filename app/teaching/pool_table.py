@@ -54,6 +54,7 @@ __all__ = [
     "PoolPlace",
     "PoolRow",
     "PoolTable",
+    "SessionFields",
     "decode_rows",
     "encode_rows",
     "place_from_environment",
@@ -139,9 +140,8 @@ def place_from_environment(environ: Mapping[str, str] | None = None) -> PoolPlac
 
 
 @dataclass(frozen=True)
-class PoolRow:
-    """One session as the pool shares it (:class:`app.teaching.teacher.Row`'s fields; ``active_at`` is the
-    wall clock, s, of its student's last action, so an unchanged row is an unchanged value)."""
+class SessionFields:
+    """What the teacher's table says of one session, wherever it runs (see :class:`app.teaching.teacher.Row`)."""
 
     number: int
     name: str
@@ -149,6 +149,13 @@ class PoolRow:
     parameters: tuple[tuple[str, str], ...]
     time: float
     playing: bool
+
+
+@dataclass(frozen=True)
+class PoolRow(SessionFields):
+    """One session as the pool shares it; ``active_at`` is the wall clock, s, of its student's last action
+    (not the seconds since: an unchanged row is an unchanged value)."""
+
     active_at: float
 
 

@@ -26,7 +26,7 @@ from app.guards.callbacks import shielded_handler
 from app.guards.handles import is_removed
 from app.guards.wire import departed
 from app.teaching.pin_gate import PinGate
-from app.teaching.pool_table import PoolPlace, PoolRow, PoolTable, place_from_environment
+from app.teaching.pool_table import PoolPlace, PoolRow, PoolTable, SessionFields, place_from_environment
 from app.teaching.teacher_panel import TeacherPanel
 
 if TYPE_CHECKING:  # annotations only: the app and its simulations are above teaching/
@@ -100,7 +100,7 @@ def parameters(session: Simulation, count: int = MAIN_PARAMETERS) -> tuple[tuple
 
 
 @dataclass(frozen=True)
-class Row:
+class Row(SessionFields):
     """One session in the teacher's table.
 
     Attributes
@@ -121,12 +121,6 @@ class Row:
         Seconds since its student last did something (a control, the scene, the clock, the camera).
     """
 
-    number: int
-    name: str
-    scene: str
-    parameters: tuple[tuple[str, str], ...]
-    time: float
-    playing: bool
     idle: float
 
 
