@@ -296,9 +296,12 @@ class PoolTable:
     def _run(self) -> None:
         backoff = 0.5
         while not self._stop.is_set():
+            began = time.monotonic()
             try:
                 self.cycle()
                 backoff = 0.5
+                # A fixed pace of our own (a blocking pop's timeout would follow Redis's 10 Hz clock).
+                self._stop.wait(max(0.0, PERIOD - (time.monotonic() - began)))
             except (redis.RedisError, OSError) as exc:
                 if self.available:
                     print(f"the pool's table: Redis at {self.address} unreachable ({exc}); retrying", flush=True)
@@ -318,9 +321,9 @@ class PoolTable:
         if was:
             self._changed()
 
-    def cycle(self, wait: float = PERIOD) -> None:
-        """One turn of the thread: publish (if changed or due), read (if watched), then answer requests for
-        up to ``wait`` s. Raises redis.RedisError or OSError when Redis does not answer."""
+    def cycle(self) -> None:
+        """One turn of the thread: publish (if changed or due), read (if watched), answer the requests
+        waiting. Raises redis.RedisError or OSError when Redis does not answer."""
         place = self.place
         rows = self._local_rows()
         # What a change is: anything but a running clock's time, which the keep-alive carries once a second.
@@ -342,14 +345,11 @@ class PoolTable:
             self._remote, self.available = remote, True
         if moved:
             self._changed()
-        deadline = time.monotonic() + wait
-        while not self._stop.is_set():
-            left = deadline - time.monotonic()
-            if left <= 0.01:
+        for _ in range(MAX_REQUESTS):
+            request = self._redis.lpop(place.key("q", place.index))
+            if not isinstance(request, (bytes, str)):  # None: the queue is empty (a count was not asked)
                 break
-            popped = self._redis.blpop([place.key("q", place.index)], timeout=left)
-            if popped is not None:
-                self._serve(popped[1])
+            self._serve(request)
 
     def _serve(self, raw: bytes | str) -> None:
         """Answer one Spotlight request (untrusted: a malformed one is dropped)."""

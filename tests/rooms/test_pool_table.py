@@ -1,7 +1,7 @@
 """The pool's shared teacher's table (app.teaching.pool_table) against a real redis-server on loopback.
 
 Two or three :class:`PoolTable` objects stand in for the processes of a pool; most tests turn their
-cycles by hand (``cycle(wait=0)``), so what each one has read is known exactly; the tests of expiry,
+cycles by hand (``cycle()``), so what each one has read is known exactly; the tests of expiry,
 Spotlight requests and a Redis that dies run their threads and poll.
 """
 
@@ -128,18 +128,18 @@ def test_each_process_reads_the_others_rows_only_while_a_teacher_is_there(server
     two = Process(_place(server, 2), [_row(2, "Ann"), _row(4)])
     two.watching = False
     try:
-        two.table.cycle(wait=0)
-        one.table.cycle(wait=0)
-        two.table.cycle(wait=0)
+        two.table.cycle()
+        one.table.cycle()
+        two.table.cycle()
         assert one.table.available and _numbers(one.table) == [2, 4] and one.changes == 1
         assert _numbers(two.table) == []  # no teacher on process 2: it only publishes
         # A change is written at the next look; an unchanged table is not written again before the keep-alive.
         writes = two.table.writes
-        two.table.cycle(wait=0)
+        two.table.cycle()
         assert two.table.writes == writes
         two.rows[0] = _row(2, "Ann B")
-        two.table.cycle(wait=0)
-        one.table.cycle(wait=0)
+        two.table.cycle()
+        one.table.cycle()
         assert two.table.writes == writes + 1 and one.changes == 2
         assert [r.name for r in one.table.remote_rows()] == ["Ann B", ""]
         # Every key has a time to live: a dead process's rows cannot stay.
