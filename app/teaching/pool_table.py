@@ -8,8 +8,8 @@ of the Redis I/O, never the event loop nor a frame:
   pool) with a time to live of :data:`TTL` s, written again when a row changes (looked at every
   :data:`PERIOD` s; a running clock's time alone is not a change) and at least every :data:`KEEPALIVE` s; a process that dies stops writing, and its
   rows are gone from every table within :data:`TTL` + :data:`PERIOD` s;
-* **read**: while this process has a teacher (``watching``), the other processes' rows, every
-  :data:`PERIOD` s; every value is untrusted text, checked field by field (:func:`decode_rows`);
+* **read**: while this process has a teacher (``watching``), the other processes' versions
+  (``rbl:POOL:v:I``, a few bytes) every :data:`PERIOD` s, and their rows when a version moved; every value is untrusted text, checked field by field (:func:`decode_rows`);
 * **answer**: a Spotlight asked of this process (a request pushed on ``rbl:POOL:q:I``) with the state text
   the process already makes (:meth:`app.serving.simulation.Simulation.state_text`), pushed on the asker's
   reply key; :meth:`PoolTable.ask` is the asking side, with a timeout.
@@ -261,6 +261,8 @@ class PoolTable:
         self._thread: threading.Thread | None = None
         self._last: bytes | None = None
         self._last_write = 0.0
+        self._instance = secrets.token_hex(4)  # a restarted process's versions never repeat its predecessor's
+        self._seen: dict[int, Any] = {}  # the version of each other process's rows read last
 
     @property
     def address(self) -> str:
@@ -317,6 +319,7 @@ class PoolTable:
             was = self.available or bool(self._remote)
             self.available = False
             self._remote = {}
+            self._seen = {}
             self._last = None  # written again whole once Redis is back
         if was:
             self._changed()
@@ -330,16 +333,19 @@ class PoolTable:
         signature = encode_rows([replace(r, time=0.0) if r.playing else r for r in rows])
         now = time.monotonic()
         if signature != self._last or now - self._last_write >= KEEPALIVE:
-            self._redis.set(place.key("r", place.index), encode_rows(rows), px=int(TTL * 1000))
-            self._last, self._last_write = signature, now
             self.writes += 1
+            pipe = self._redis.pipeline(transaction=False)
+            pipe.set(place.key("r", place.index), encode_rows(rows), px=int(TTL * 1000))
+            # A short version beside it: a reader fetches the rows only when it moved.
+            pipe.set(place.key("v", place.index), f"{self._instance}.{self.writes}", px=int(TTL * 1000))
+            pipe.execute()
+            self._last, self._last_write = signature, now
         came_back = not self.available
         remote: dict[int, list[PoolRow]] = {}
         if self._watching():
-            others = [i for i in range(1, place.size + 1) if i != place.index]
-            values = self._redis.mget([place.key("r", i) for i in others]) if others else []
-            remote = {i: decode_rows(v, place, i) for i, v in zip(others, values, strict=True)}
-            remote = {i: rows for i, rows in remote.items() if rows}
+            remote = self._read_others()
+        else:
+            self._seen = {}
         with self._lock:
             moved = remote != self._remote or came_back
             self._remote, self.available = remote, True
@@ -350,6 +356,28 @@ class PoolTable:
             if not isinstance(request, (bytes, str)):  # None: the queue is empty (a count was not asked)
                 break
             self._serve(request)
+
+    def _read_others(self) -> dict[int, list[PoolRow]]:
+        """The other processes' rows: their versions read every cycle (a few bytes each), their rows only
+        when a version moved; a process whose version expired is gone."""
+        place = self.place
+        others = [i for i in range(1, place.size + 1) if i != place.index]
+        if not others:
+            return {}
+        versions = self._redis.mget([place.key("v", i) for i in others])
+        with self._lock:
+            remote = {i: rows for i, rows in self._remote.items() if i in others}
+        moved = [i for i, v in zip(others, versions, strict=True) if v is not None and self._seen.get(i) != v]
+        for i, v in zip(others, versions, strict=True):
+            if v is None:
+                remote.pop(i, None)
+                self._seen.pop(i, None)
+        if moved:
+            values = self._redis.mget([place.key("r", i) for i in moved])
+            for i, value in zip(moved, values, strict=True):
+                remote[i] = decode_rows(value, place, i)
+                self._seen[i] = versions[others.index(i)]
+        return {i: rows for i, rows in remote.items() if rows}
 
     def _serve(self, raw: bytes | str) -> None:
         """Answer one Spotlight request (untrusted: a malformed one is dropped)."""
