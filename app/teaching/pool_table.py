@@ -255,6 +255,7 @@ class PoolTable:
         )
         self.available = False
         self.writes = 0  # rows written, for tests and the benchmark
+        self.failures = 0  # cycles Redis did not answer
         self._remote: dict[int, list[PoolRow]] = {}
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -307,6 +308,7 @@ class PoolTable:
             except (redis.RedisError, OSError) as exc:
                 if self.available:
                     print(f"the pool's table: Redis at {self.address} unreachable ({exc}); retrying", flush=True)
+                self.failures += 1
                 self._lost()
                 self._stop.wait(backoff)
                 backoff = min(MAX_BACKOFF, backoff * 2.0)
@@ -333,12 +335,12 @@ class PoolTable:
         signature = encode_rows([replace(r, time=0.0) if r.playing else r for r in rows])
         now = time.monotonic()
         if signature != self._last or now - self._last_write >= KEEPALIVE:
-            self.writes += 1
             pipe = self._redis.pipeline(transaction=False)
             pipe.set(place.key("r", place.index), encode_rows(rows), px=int(TTL * 1000))
             # A short version beside it: a reader fetches the rows only when it moved.
-            pipe.set(place.key("v", place.index), f"{self._instance}.{self.writes}", px=int(TTL * 1000))
+            pipe.set(place.key("v", place.index), f"{self._instance}.{self.writes + 1}", px=int(TTL * 1000))
             pipe.execute()
+            self.writes += 1
             self._last, self._last_write = signature, now
         came_back = not self.available
         remote: dict[int, list[PoolRow]] = {}
