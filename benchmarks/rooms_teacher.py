@@ -39,9 +39,9 @@ TARGET = 1.0
 """s: the issue's bound on a change reaching the teacher's table."""
 
 
-def redis_stats(port: int) -> tuple[int, int, int]:
+def redis_stats(port: int, password: str | None = None) -> tuple[int, int, int]:
     """Redis's commands processed, bytes received and bytes sent since it started."""
-    client = redis.Redis(port=port, socket_timeout=5)
+    client = redis.Redis(port=port, password=password, socket_timeout=5)
     try:
         stats = client.info("stats")
     finally:
@@ -53,11 +53,11 @@ def redis_stats(port: int) -> tuple[int, int, int]:
     )
 
 
-def traffic(port: int, seconds: float) -> dict[str, float]:
+def traffic(port: int, seconds: float, password: str | None = None) -> dict[str, float]:
     """Redis's traffic per second over ``seconds`` (the INFO calls themselves taken out: 1 command each)."""
-    before, t0 = redis_stats(port), time.monotonic()
+    before, t0 = redis_stats(port, password), time.monotonic()
     time.sleep(seconds)
-    after, t1 = redis_stats(port), time.monotonic()
+    after, t1 = redis_stats(port, password), time.monotonic()
     span = t1 - t0
     return {
         "commands": (after[0] - before[0] - 1) / span,
@@ -66,10 +66,14 @@ def traffic(port: int, seconds: float) -> dict[str, float]:
     }
 
 
-def _redis_port(department: RunningDepartment) -> int:
-    found = re.search(r"started redis \(pid \d+\) on 127\.0\.0\.1:(\d+)", department.log())
+def redis_of(department: RunningDepartment) -> tuple[int, str]:
+    """The port and the password of the Redis server the department started (its configuration file is
+    the first argument of its command line, readable by the user who ran the department)."""
+    found = re.search(r"started redis \(pid (\d+)\) on 127\.0\.0\.1:(\d+)", department.log())
     assert found, department.log()
-    return int(found.group(1))
+    config = Path(f"/proc/{found.group(1)}/cmdline").read_bytes().split(b"\0")[1].decode()
+    password = Path(config).read_text().split()[1]  # "requirepass PASSWORD"
+    return int(found.group(2)), password
 
 
 def teacher_table(
@@ -84,7 +88,7 @@ def teacher_table(
         [{"name": "homework", "mode": "private", "scene": SCENE, "pin": PIN, "free_hosts": ["127.0.0.2", "127.0.0.3"]}],
     )
     with running_department(path, port, timeout=120) as department:
-        redis_port = _redis_port(department)
+        redis_port, password = redis_of(department)
         student = PanelReader(port, "homework", "rbl_homework=1")
         teacher = PanelReader(port, "homework", "rbl_homework=0")
         others = sessions - 1  # the student; the teacher is not in the table
@@ -93,11 +97,13 @@ def teacher_table(
         browsers = readers(port, plan, read_for, processes=2)
         try:
             number = student.session_number()
-            idle = traffic(redis_port, seconds)  # every session there; the processes publish, no teacher reads
+            idle = traffic(
+                redis_port, seconds, password
+            )  # every session there; the processes publish, no teacher reads
             teacher.open_teachers_view(PIN)
             teacher.wait(lambda: len(table_numbers(teacher.table())) == sessions, timeout=60, what=f"{sessions} rows")
             rows = len(table_numbers(teacher.table()))
-            watched = traffic(redis_port, seconds)
+            watched = traffic(redis_port, seconds, password)
             latencies = []
             for k in range(changes):
                 value = 31.0 + k

@@ -23,7 +23,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 from pathlib import Path
+from secrets import token_urlsafe
 from types import FrameType
 
 from app.rooms.config import (
@@ -37,7 +39,15 @@ from app.rooms.config import (
     read_rooms,
 )
 from app.rooms.nginx import NginxMissing, find_nginx, nginx_command, nginx_conf, rooms_conf
-from app.rooms.redis_server import REDIS_UNIT, RedisMissing, find_redis, redis_answers, redis_command, redis_unit
+from app.rooms.redis_server import (
+    REDIS_UNIT,
+    RedisMissing,
+    find_redis,
+    redis_answers,
+    redis_command,
+    redis_conf,
+    redis_unit,
+)
 from app.rooms.supervisor import ChildSpec, Supervisor, is_local_address, port_free
 from app.rooms.units import (
     PROXY_UNIT,
@@ -49,6 +59,7 @@ from app.rooms.units import (
     target_unit,
     unit_name,
 )
+from app.teaching.pool_table import PASSWORD_VARIABLE
 
 __all__ = ["READY", "check_ports", "main", "run", "write", "write_nginx", "write_private"]
 
@@ -130,10 +141,14 @@ def run(department: Department, nginx: str) -> int:
         log(f"nginx configuration and logs in {folder}")
         env = {"PYTHONPATH": os.pathsep.join(filter(None, [APP_ROOT, os.environ.get("PYTHONPATH")]))}
         rooms = []
+        password = os.environ.get(PASSWORD_VARIABLE)  # a Redis named in the file: its password, if any
         if redis_binary is not None and department.redis is not None:  # first: the pools' processes use it
             host, port = department.redis
-            command = tuple(redis_command(redis_binary, host, port))
-            rooms.append(supervisor.add(ChildSpec("redis", command, host, port, probe=redis_answers)))
+            password = token_urlsafe(24)  # this run's own server: a password of its own, in a 0600 file
+            write_private(folder / "redis.conf", redis_conf(password))
+            command = tuple(redis_command(redis_binary, host, port, str(folder / "redis.conf")))
+            probe = partial(redis_answers, password=password)
+            rooms.append(supervisor.add(ChildSpec("redis", command, host, port, probe=probe)))
         elif department.redis is not None:
             log(f"the teacher's table of private pools goes through the Redis at {department.redis_address}")
         for room, backend in local:
@@ -141,6 +156,8 @@ def run(department: Department, nginx: str) -> int:
             command = (sys.executable, "-m", "app", *app_arguments(room, backend))
             # The PIN in its environment: never on a command line; and where its pool shares its table.
             own = {**env, **pin_environment(room), **pool_environment(department, room, backend)}
+            if room.shares_table and password:
+                own[PASSWORD_VARIABLE] = password
             spec = ChildSpec(label, command, backend.host, backend.port, own, port_said=SERVING)
             rooms.append(supervisor.add(spec))
         for room in department.rooms:
@@ -181,8 +198,11 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
     where = machines(department)
     secrets = folder / "secrets"  # the PINs, for systemd (root) alone
     readable = [sys.base_prefix, sys.prefix, APP_ROOT]
+    password = token_urlsafe(24) if department.redis is not None else None  # the Redis unit's
     for room in department.rooms:
         pins = pin_environment(room)
+        if room.shares_table and password is not None:
+            pins[PASSWORD_VARIABLE] = password
         for backend in room.backends:
             name = unit_name(room, backend)
             environment_file = None
@@ -203,7 +223,7 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
             )
             path.write_text(text)
             path.chmod(0o644)  # no secret in it
-    redis_lines = _write_redis(department, units, where)
+    redis_lines = _write_redis(department, units, where, secrets, password)
     here = where.get("this machine", [])
     nginx_path = nginx or "/usr/sbin/nginx"
     (units / PROXY_UNIT).write_text(proxy_unit(nginx_path, folder, here))
@@ -239,27 +259,34 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
     write_private(folder / "README.txt", "\n".join(lines) + "\n")
 
 
-def _write_redis(department: Department, units: Path, where: dict[str, list[str]]) -> list[str]:
-    """Redis's unit, when a pool shares its teacher's table, added to the machine it runs on in ``where``;
-    the README's lines about it."""
-    if department.redis is None:
+def _write_redis(
+    department: Department, units: Path, where: dict[str, list[str]], secrets: Path, password: str | None
+) -> list[str]:
+    """Redis's unit, when a pool shares its teacher's table, added to the machine it runs on in ``where``,
+    and its password in ``secrets/redis.conf`` (0600); the README's lines about it."""
+    if department.redis is None or password is None:
         return []
+    secrets.mkdir(mode=0o700, exist_ok=True)
+    secrets.chmod(0o700)
+    write_private(secrets / "redis.conf", redis_conf(password))
     host, port = department.redis
     machine = "this machine" if is_loopback_host(host) else host
     try:
         binary = find_redis()
     except RedisMissing:
         binary = "/usr/bin/redis-server"  # Debian's, on the machine the unit is for
-    (units / REDIS_UNIT).write_text(redis_unit(binary, host, port, TARGET, where.get(machine, [])))
+    config = str(secrets / "redis.conf")
+    (units / REDIS_UNIT).write_text(redis_unit(binary, host, port, TARGET, where.get(machine, []), config))
     where.setdefault(machine, []).insert(0, REDIS_UNIT)
     lines = [
         "",
         f"The teacher's table of a private pool goes through Redis at {department.redis_address}:",
         f"{REDIS_UNIT} runs it on {machine} (sudo apt-get install redis-server there; Debian's own",
-        "redis-server.service can stay disabled). Every process of the pool connects to it.",
+        "redis-server.service can stay disabled). Every process of the pool connects to it with the",
+        f"password in {secrets}/redis.conf (copy it with the unit; the pool's secrets/*.env hold it too).",
     ]
     if machine != "this machine":
-        lines.append("It has no password: let only the pool's machines reach its port (a firewall rule).")
+        lines.append("Let only the pool's machines reach its port as well (a firewall rule).")
     return lines
 
 

@@ -23,6 +23,7 @@ __all__ = [
     "find_redis",
     "redis_answers",
     "redis_command",
+    "redis_conf",
     "redis_unit",
 ]
 
@@ -50,12 +51,19 @@ def find_redis(given: str | None = None) -> str:
     )
 
 
-def redis_command(binary: str, host: str, port: int) -> list[str]:
+def redis_conf(password: str) -> str:
+    """The server's configuration file: its password (a file readable by its owner alone, never a command
+    line, where ``ps`` shows it to every user of the machine)."""
+    return f"requirepass {password}\n"
+
+
+def redis_command(binary: str, host: str, port: int, config: str | None = None) -> list[str]:
     """``redis-server`` in the foreground on ``host:port``: no snapshot, no append-only file, at most
-    :data:`MAXMEMORY`, the keys closest to expiry evicted first."""
+    :data:`MAXMEMORY`, the keys closest to expiry evicted first; ``config``: the file of :func:`redis_conf`."""
     loopback = host.startswith("127.") or host in ("::1", "localhost")
     return [
         binary,
+        *([config] if config is not None else []),
         "--bind",
         host,
         "--port",
@@ -78,9 +86,11 @@ def redis_command(binary: str, host: str, port: int) -> list[str]:
     ]
 
 
-def redis_answers(host: str, port: int, timeout: float = 1.0) -> bool:
-    """Whether a Redis server answers PING at ``host:port``."""
-    client = redis.Redis(host=host, port=port, socket_timeout=timeout, socket_connect_timeout=timeout)
+def redis_answers(host: str, port: int, timeout: float = 1.0, password: str | None = None) -> bool:
+    """Whether a Redis server answers PING at ``host:port`` (with ``password``, if it has one)."""
+    client = redis.Redis(
+        host=host, port=port, password=password, socket_timeout=timeout, socket_connect_timeout=timeout
+    )
     try:
         return bool(client.ping())
     except (redis.RedisError, OSError):
@@ -89,9 +99,16 @@ def redis_answers(host: str, port: int, timeout: float = 1.0) -> bool:
         client.close()
 
 
-def redis_unit(binary: str, host: str, port: int, target: str, app_units: Sequence[str]) -> str:
-    """The Redis server's systemd unit (for the machine at ``host``), before the app units there."""
-    command = " ".join(shlex.quote(part) for part in redis_command(binary, host, port))
+def redis_unit(
+    binary: str, host: str, port: int, target: str, app_units: Sequence[str], config: str | None = None
+) -> str:
+    """The Redis server's systemd unit (for the machine at ``host``), before the app units there; ``config``:
+    the path of its :func:`redis_conf` (0600, root's), handed to the service as a credential."""
+    given = "${CREDENTIALS_DIRECTORY}/redis.conf" if config is not None else None
+    # systemd expands ${CREDENTIALS_DIRECTORY} in a word of its own: that one unquoted.
+    command = " ".join(
+        part if part == given else shlex.quote(part) for part in redis_command(binary, host, port, given)
+    )
     lines = [
         "[Unit]",
         f"Description=Rigid Body Lab rooms: Redis for the teacher's table of private pools, on {host}:{port}",
@@ -101,6 +118,7 @@ def redis_unit(binary: str, host: str, port: int, target: str, app_units: Sequen
         f"PartOf={target}",
         "",
         "[Service]",
+        *([f"LoadCredential=redis.conf:{config}"] if config is not None else []),
         f"ExecStart={command}",
         "Restart=always",
         "RestartSec=1",

@@ -20,7 +20,8 @@ the table comes back by itself. The footprint is bounded: at most :data:`MAX_ROW
 at most :data:`MAX_VALUE` bytes, every key with a time to live, a request queue of :data:`MAX_REQUESTS`.
 
 A process learns its pool from its environment (:func:`place_from_environment`): ``RBL_REDIS`` (the
-server, ``host:port``) and ``RBL_POOL`` (``NAME INDEX SIZE``), which ``rigid-body-lab rooms`` sets.
+server, ``host:port``), ``RBL_POOL`` (``NAME INDEX SIZE``) and ``RBL_REDIS_PASSWORD`` (the server's
+password, if it has one), which ``rigid-body-lab rooms`` sets.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ import threading
 import time
 import traceback
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import redis
@@ -48,6 +49,7 @@ __all__ = [
     "MAX_ROWS",
     "MAX_VALUE",
     "PERIOD",
+    "PASSWORD_VARIABLE",
     "POOL_VARIABLE",
     "REDIS_VARIABLE",
     "TTL",
@@ -62,6 +64,9 @@ __all__ = [
 
 REDIS_VARIABLE = "RBL_REDIS"
 """The environment variable naming the pool's Redis server, ``host:port``."""
+
+PASSWORD_VARIABLE = "RBL_REDIS_PASSWORD"
+"""The environment variable holding the Redis server's password (never on a command line)."""
 
 POOL_VARIABLE = "RBL_POOL"
 """The environment variable naming the pool and this process's place in it: ``NAME INDEX SIZE``."""
@@ -104,6 +109,7 @@ class PoolPlace:
     pool: str
     index: int
     size: int
+    password: str | None = field(default=None, repr=False)
 
     def owner(self, number: int) -> int:
         """The place of the process that numbers its sessions ``index, index + size, ...`` and so gave ``number``."""
@@ -136,7 +142,7 @@ def place_from_environment(environ: Mapping[str, str] | None = None) -> PoolPlac
     index, size = int(parts[1]), int(parts[2])
     if not 1 <= index <= size <= 1000:
         raise ValueError(f"{POOL_VARIABLE}: the place must be 1 to SIZE (at most 1000), got {index} of {size}")
-    return PoolPlace(host, int(port), parts[0], index, size)
+    return PoolPlace(host, int(port), parts[0], index, size, environ.get(PASSWORD_VARIABLE) or None)
 
 
 @dataclass(frozen=True)
@@ -248,6 +254,7 @@ class PoolTable:
         self._redis = redis.Redis(
             host=place.host,
             port=place.port,
+            password=place.password,
             socket_timeout=5.0,  # longer than any blocking pop below
             socket_connect_timeout=1.0,
             retry=Retry(NoBackoff(), 0),  # the thread's own back-off retries; a Spotlight fails at once

@@ -272,17 +272,21 @@ class RedisServer:
     """``redis-server`` on 127.0.0.1:``port`` as ``rigid-body-lab rooms`` starts it; it can be killed and
     started again on the same port."""
 
-    def __init__(self, port: int | None = None) -> None:
+    def __init__(self, port: int | None = None, config: Path | None = None, password: str | None = None) -> None:
         self.binary = redis_or_skip()
         self.port = port or _free_on("127.0.0.1")
+        self.config, self.password = config, password  # a redis_conf file and its password, or neither
         self.process: subprocess.Popen[bytes] | None = None
 
     def start(self, timeout: float = 20.0) -> None:
+        config = None if self.config is None else str(self.config)
         self.process = subprocess.Popen(
-            redis_command(self.binary, "127.0.0.1", self.port), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+            redis_command(self.binary, "127.0.0.1", self.port, config),
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
         )
         deadline = time.monotonic() + timeout
-        while not redis_answers("127.0.0.1", self.port):
+        while not redis_answers("127.0.0.1", self.port, password=self.password):
             if self.process.poll() is not None or time.monotonic() > deadline:
                 raise AssertionError(f"redis-server did not answer on 127.0.0.1:{self.port}")
             time.sleep(0.05)
@@ -294,9 +298,9 @@ class RedisServer:
 
 
 @contextlib.contextmanager
-def redis_server() -> Iterator[RedisServer]:
-    """A running :class:`RedisServer`, killed when the block ends."""
-    server = RedisServer()
+def redis_server(config: Path | None = None, password: str | None = None) -> Iterator[RedisServer]:
+    """A running :class:`RedisServer` (with the password ``config`` sets), killed when the block ends."""
+    server = RedisServer(config=config, password=password)
     server.start()
     try:
         yield server

@@ -10,10 +10,12 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 import redis
 
+from app.rooms.redis_server import redis_conf
 from app.teaching.pool_table import (
     MAX_REQUESTS,
     MAX_ROWS,
@@ -72,6 +74,7 @@ def test_the_place_comes_from_the_environment_or_a_precise_refusal() -> None:
     env = {"RBL_REDIS": "127.0.0.1:6390", "RBL_POOL": "homework 2 3"}
     place = place_from_environment(env)
     assert place == PoolPlace("127.0.0.1", 6390, "homework", 2, 3)
+    assert place_from_environment(env | {"RBL_REDIS_PASSWORD": "pw"}).password == "pw"  # type: ignore[union-attr]
     # Process 2 of 3 numbers its sessions 2, 5, 8, ...: every number names its process.
     assert [place.owner(n) for n in (1, 2, 3, 4, 5, 8)] == [1, 2, 3, 1, 2, 2]
     assert place_from_environment({}) is None and place_from_environment({"RBL_REDIS": "h:1"}) is None
@@ -209,5 +212,23 @@ def test_redis_killed_and_restarted_the_table_comes_back(server: RedisServer) ->
         wait_for(lambda: one.table.available and _numbers(one.table) == [2], what="the table back", timeout=20)
         assert one.table.ask(2, timeout=5) == "rbl1:state-of-2"
     finally:
+        one.table.stop()
+        two.table.stop()
+
+
+def test_a_server_with_a_password_takes_only_the_pools_processes(tmp_path: Path) -> None:
+    config = tmp_path / "redis.conf"
+    config.write_text(redis_conf("s3cret-of-the-pool"))
+    with redis_server(config, "s3cret-of-the-pool") as server:
+        right = PoolPlace("127.0.0.1", server.port, "homework", 1, 2, "s3cret-of-the-pool")
+        assert "s3cret" not in repr(right)  # never in a log line
+        one = Process(right, [_row(1)])
+        two = Process(PoolPlace("127.0.0.1", server.port, "homework", 2, 2), [_row(2)])  # no password
+        with pytest.raises(redis.AuthenticationError):
+            two.table.cycle()
+        one.table.cycle()
+        assert one.table.available and one.table.writes == 1
+        with pytest.raises(redis.AuthenticationError):
+            redis.Redis(port=server.port).get("rbl:homework:r:1")
         one.table.stop()
         two.table.stop()

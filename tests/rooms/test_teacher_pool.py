@@ -18,6 +18,7 @@ import time
 from collections.abc import Iterator
 
 import pytest
+import redis
 
 from tests.rooms.panel_reader import PanelReader, table_numbers
 from tests.rooms.running import (
@@ -82,6 +83,10 @@ def _backends(department: RunningDepartment) -> tuple[str, str]:
 
 def test_a_teacher_on_process_1_lists_and_spotlights_a_student_on_process_2(department: RunningDepartment) -> None:
     one, two = _backends(department)
+    # The department's own Redis takes no client without its password (which only its processes are given).
+    port = int(department.wait_line(r"started redis \(pid \d+\) on 127\.0\.0\.1:(\d+)", 5).group(1))
+    with pytest.raises(redis.AuthenticationError):
+        redis.Redis(port=port, socket_timeout=5).keys("rbl:*")
     with browser(department, ON_2) as student, browser(department, ON_1) as teacher:
         assert (student.backend, teacher.backend) == (two, one)
         number = student.session_number()
