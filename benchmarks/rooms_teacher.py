@@ -67,13 +67,13 @@ def traffic(port: int, seconds: float, password: str | None = None) -> dict[str,
 
 
 def redis_of(department: RunningDepartment) -> tuple[int, str]:
-    """The port and the password of the Redis server the department started (its configuration file is
-    the first argument of its command line, readable by the user who ran the department)."""
-    found = re.search(r"started redis \(pid (\d+)\) on 127\.0\.0\.1:(\d+)", department.log())
-    assert found, department.log()
-    config = Path(f"/proc/{found.group(1)}/cmdline").read_bytes().split(b"\0")[1].decode()
-    password = Path(config).read_text().split()[1]  # "requirepass PASSWORD"
-    return int(found.group(2)), password
+    """The port and the password of the Redis server the department started (its configuration file is in
+    the department's temporary folder, readable by the user who ran it)."""
+    found = re.search(r"started redis \(pid \d+\) on 127\.0\.0\.1:(\d+)", department.log())
+    folder = re.search(r"nginx configuration and logs in (\S+)", department.log())
+    assert found and folder, department.log()
+    password = (Path(folder.group(1)) / "redis.conf").read_text().split()[1]  # "requirepass PASSWORD"
+    return int(found.group(1)), password
 
 
 def teacher_table(
