@@ -9,7 +9,6 @@ More in docs/app-notes.md (``app.teaching.teacher``).
 from __future__ import annotations
 
 import copy
-import html
 import math
 import threading
 import time
@@ -25,6 +24,7 @@ from app.contracts import ClientId
 from app.guards.callbacks import shielded_handler
 from app.guards.handles import is_removed
 from app.guards.wire import departed
+from app.language.words import escaped, joined, mark, say
 from app.teaching.pin_gate import PinGate
 from app.teaching.pool_table import PoolPlace, PoolRow, PoolTable, SessionFields, place_from_environment
 from app.teaching.teacher_panel import TeacherPanel
@@ -60,7 +60,7 @@ MAX_TABLE = 1000
 SKIPPED = frozenset({"Preset"})
 """Controls that are not parameters (a preset's name says nothing once a slider has moved)."""
 
-WHERE = "The teacher PIN is the one given with --pin where the server was started."
+WHERE = mark("The teacher PIN is the one given with --pin where the server was started.")
 
 
 def clean_name(text: Any) -> str:
@@ -77,11 +77,11 @@ def clean_name(text: Any) -> str:
 
 def _value_text(value: Any) -> str:
     if isinstance(value, bool):
-        return "on" if value else "off"
+        return mark("on") if value else mark("off")
     if isinstance(value, float):
-        return f"{value:.3g}" if math.isfinite(value) else str(value)
+        return say("{value:.3g}", value=value) if math.isfinite(value) else str(value)
     if isinstance(value, (tuple, list)):
-        return ", ".join(_value_text(v) for v in value)
+        return joined([_value_text(v) for v in value], ", ")
     text = str(value)
     return text if len(text) <= 32 else text[:31] + "…"
 
@@ -126,10 +126,20 @@ class Row(SessionFields):
 
 def _idle_text(seconds: float) -> str:
     if seconds < 2.0:
-        return "now"
+        return mark("now")
     if seconds < 120.0:
-        return f"{seconds:.0f} s ago"
-    return f"{seconds / 60.0:.0f} min ago"
+        return say("{seconds:.0f} s ago", seconds=seconds)
+    return say("{minutes:.0f} min ago", minutes=seconds / 60.0)
+
+
+_HEADINGS = (mark("Session"), mark("Scene"), mark("Main parameters"), mark("Time"), mark("Last activity"))
+_HEAD = '<th scope="col">{heading}</th>'
+_ROW = '<tr><th scope="row">{who}</th><td>{scene}</td><td>{params}</td><td>{clock}</td><td>{idle}</td></tr>'
+_TABLE = (
+    '<table class="rbl-teacher" style="width:100%;font-size:0.8em;border-collapse:collapse;text-align:left">'
+    '<caption style="text-align:left">{caption}</caption><thead><tr>{head}</tr></thead>'
+    "<tbody>{body}</tbody></table>"
+)
 
 
 def table_html(rows: Sequence[Row], notice: str = "") -> str:
@@ -137,28 +147,37 @@ def table_html(rows: Sequence[Row], notice: str = "") -> str:
 
     ``notice``: a line shown above the table (plain text, escaped), e.g. that the pool's other processes
     cannot be reached."""
-    e = html.escape
-    head = "".join(
-        f'<th scope="col">{e(h)}</th>' for h in ("Session", "Scene", "Main parameters", "Time", "Last activity")
-    )
+    # Markup templates (not for the translators), filled with words that are: each translated on the wire.
+    e = escaped
+    head = joined([say(_HEAD, heading=h) for h in _HEADINGS])
     body = []
     for row in rows:
-        who = f"{row.number} · {e(row.name)}" if row.name else str(row.number)
-        params = "<br>".join(f"{e(label)} = {e(value)}" for label, value in row.parameters) or "—"
-        clock = f"{row.time:.1f} s" + ("" if row.playing else " (paused)")
-        body.append(
-            f'<tr><th scope="row">{who}</th><td>{e(row.scene)}</td><td>{params}</td>'
-            f"<td>{e(clock)}</td><td>{e(_idle_text(row.idle))}</td></tr>"
-        )
+        who = say("{number} · {name}", number=row.number, name=e(row.name)) if row.name else str(row.number)
+        pairs = [say("{label} = {value}", label=e(label), value=e(value)) for label, value in row.parameters]
+        params = joined(pairs, "<br>") or "—"
+        clock = say("{time:.1f} s", time=row.time) if row.playing else say("{time:.1f} s (paused)", time=row.time)
+        body.append(say(_ROW, who=who, scene=e(row.scene), params=params, clock=e(clock), idle=e(_idle_text(row.idle))))
     count = len(rows)
-    caption = f"{count} session{'' if count == 1 else 's'} connected" if count else "No student is connected yet"
+    if count == 0:
+        caption = mark("No student is connected yet")
+    else:
+        caption = (
+            say("{count} session connected", count=count)
+            if count == 1
+            else say("{count} sessions connected", count=count)
+        )
     if notice:
-        caption = f"{e(notice)}<br>{caption}"
-    return (
-        '<table class="rbl-teacher" style="width:100%;font-size:0.8em;border-collapse:collapse;text-align:left">'
-        f'<caption style="text-align:left">{caption}</caption><thead><tr>{head}</tr></thead>'
-        f"<tbody>{''.join(body)}</tbody></table>"
-    )
+        caption = say("{notice}<br>{caption}", notice=e(notice), caption=caption)
+    return say(_TABLE, caption=caption, head=head, body=joined(body))
+
+
+REFUSED = mark("Refused")
+
+
+def _spotlit(number: int, name: str, title: str, t: float) -> str:
+    """What the teacher is told when a session is copied into their view."""
+    who = say("Session {number} ({name})", number=number, name=name) if name else say("Session {number}", number=number)
+    return say("{who}: {title} at t = {t:.2f} s, now in your view.", who=who, title=title, t=t)
 
 
 @dataclass
@@ -334,9 +353,10 @@ class TeacherDesk:
         process's sessions only; otherwise ""."""
         if self.pool is None or self.pool.available:
             return ""
-        return (
-            f"The pool's shared table (Redis at {self.pool.address}) cannot be reached: only this process's "
-            "sessions are shown; trying again."
+        return say(
+            "The pool's shared table (Redis at {address}) cannot be reached: only this process's sessions are "
+            "shown; trying again.",
+            address=self.pool.address,
         )
 
     def _pool_rows(self) -> list[PoolRow]:
@@ -401,9 +421,11 @@ class TeacherDesk:
         spotlight.on_click(self._safely(lambda event: self.spotlight(event.client, seat.panel.choice.value)))
         self._tell(
             client,
-            "Teacher's view",
-            "The table lists every student's session, rewritten every second; Spotlight copies the one chosen "
-            "into your own view (theirs goes on untouched).",
+            mark("Teacher's view"),
+            mark(
+                "The table lists every student's session, rewritten every second; Spotlight copies the one chosen "
+                "into your own view (theirs goes on untouched)."
+            ),
         )
         return True
 
@@ -413,10 +435,15 @@ class TeacherDesk:
         Returns whether it was copied; a refusal is told to ``client`` only."""
         cid = client.client_id
         if cid not in self.teachers:
-            self._tell(client, "Refused", "Only the teacher's view can spotlight a session.", error=True)
+            self._tell(client, REFUSED, mark("Only the teacher's view can spotlight a session."), error=True)
             return False
         if not isinstance(choice, str) or not choice.isdigit() or len(choice) > 9:
-            self._tell(client, "Refused", f"Choose a session by its number, not {str(choice)[:20]!r}.", error=True)
+            self._tell(
+                client,
+                REFUSED,
+                say("Choose a session by its number, not {choice}.", choice=repr(str(choice)[:20])),
+                error=True,
+            )
             return False
         number = int(choice)
         with self._lock:
@@ -425,21 +452,36 @@ class TeacherDesk:
         if found is None and self.pool is not None and self.pool.place.owner(number) != self.pool.place.index:
             return self._spotlight_remote(client, number, self.pool)
         if teaching:
-            self._tell(client, "Refused", f"Session {number} is a teacher's view, not a student's.", error=True)
+            self._tell(
+                client,
+                REFUSED,
+                say("Session {number} is a teacher's view, not a student's.", number=number),
+                error=True,
+            )
             return False
         seat = found[1] if found is not None else None
         student = self.app.sessions.get(seat.client.client_id) if seat is not None else None
         own = self.app.sessions.get(cid)
         if seat is None or student is None:
-            self._tell(client, "Refused", f"Session {number} is not connected (it may just have left).", error=True)
+            self._tell(
+                client,
+                REFUSED,
+                say("Session {number} is not connected (it may just have left).", number=number),
+                error=True,
+            )
             return False
         if own is None:
-            self._tell(client, "Refused", "Your own session is not ready yet: try again in a moment.", error=True)
+            self._tell(client, REFUSED, mark("Your own session is not ready yet: try again in a moment."), error=True)
             return False
         try:
             state = student.snapshot()
         except ValueError as exc:
-            self._tell(client, "Refused", f"Session {number} has nothing to copy: {exc}", error=True)
+            self._tell(
+                client,
+                REFUSED,
+                say("Session {number} has nothing to copy: {reason}", number=number, reason=str(exc)),
+                error=True,
+            )
             return False
         payload = state.pop("payload")
         state = copy.deepcopy(state)  # nothing of the student's scene is shared but what it was handed
@@ -453,9 +495,8 @@ class TeacherDesk:
         own.restore(state)
         if view is not None:
             own.set_camera(*view)
-        who = f"Session {number}" + (f" ({seat.name})" if seat.name else "")
         title = own.scene.title if own.scene is not None else state["scene"]
-        self._tell(client, "Spotlight", f"{who}: {title} at t = {own.time:.2f} s, now in your view.")
+        self._tell(client, mark("Spotlight"), _spotlit(number, seat.name, title, own.time))
         return True
 
     def _spotlight_remote(self, client: viser.ClientHandle, number: int, pool: PoolTable) -> bool:
@@ -464,17 +505,16 @@ class TeacherDesk:
         any state text is (checked whole: it came from outside this process)."""
         own = self.app.sessions.get(client.client_id)
         if own is None:
-            self._tell(client, "Refused", "Your own session is not ready yet: try again in a moment.", error=True)
+            self._tell(client, REFUSED, mark("Your own session is not ready yet: try again in a moment."), error=True)
             return False
         try:
             own.open_state(pool.ask(number))
         except ValueError as exc:
-            self._tell(client, "Refused", f"Session {number}: {exc}", error=True)
+            self._tell(client, REFUSED, say("Session {number}: {reason}", number=number, reason=str(exc)), error=True)
             return False
         name = next((row.name for row in pool.remote_rows() if row.number == number), "")
-        who = f"Session {number}" + (f" ({name})" if name else "")
-        title = own.scene.title if own.scene is not None else "its scene"
-        self._tell(client, "Spotlight", f"{who}: {title} at t = {own.time:.2f} s, now in your view.")
+        title = own.scene.title if own.scene is not None else mark("its scene")
+        self._tell(client, mark("Spotlight"), _spotlit(number, name, title, own.time))
         return True
 
     def answer(self, number: int) -> str:
