@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from app.language.words import say
+from app.language.words import keep, say
 
 __all__ = [
     "SPEED_MIN",
@@ -22,7 +22,14 @@ __all__ = [
 SPEED_MIN, SPEED_MAX = 0.01, 10.0
 POSITION_STEP = 0.05  # 20 steps per decade on the slow half, 20 per decade on the fast half
 # Labelled at the ends and the middle (five labels overlap on a phone); ticks at 0.1× and 3.2×.
-POSITION_MARKS: tuple[float | tuple[float, str], ...] = ((-1.0, "0.01×"), -0.5, (0.0, "1×"), 0.5, (1.0, "10×"))
+# Said (kept for the process's life): a language writes 0,01× with its own decimal mark.
+POSITION_MARKS: tuple[float | tuple[float, str], ...] = (
+    (-1.0, keep(say("{speed:g}×", speed=0.01))),
+    -0.5,
+    (0.0, keep(say("{speed:g}×", speed=1))),
+    0.5,
+    (1.0, keep(say("{speed:g}×", speed=10))),
+)
 
 
 def speed_at(position: float) -> float:
