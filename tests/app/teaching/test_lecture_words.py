@@ -12,7 +12,7 @@ from app.language.catalogs import PSEUDO
 from app.language.words import translate
 from app.teaching.lectures import read_lecture
 
-LECTURE = '''
+LECTURE = """
 title = "Spinning tops"
 [de]
 title = "Kreisel"
@@ -34,7 +34,7 @@ caption = "It flips."
 [step.es]
 question = "¿Qué hace la raqueta alrededor de su eje intermedio?"
 choices = ["Gira de forma estable", "Da la vuelta"]
-'''
+"""
 
 
 def write(tmp_path: Path, text: str) -> str:
@@ -64,7 +64,7 @@ def test_a_steps_words_are_read_and_translated_for_each_reader(tmp_path: Path) -
     ("change", "message"),
     [
         ('[step.de]\ncaption = "x"\n[step.de.more]\nx = 1', r"step 1, de: unknown key 'more'"),
-        ('[step.de]\ncaption = 3', r"step 1, de, caption: text, got int"),
+        ("[step.de]\ncaption = 3", r"step 1, de, caption: text, got int"),
         ('[step.de]\nquestion = "Wie?"', r"step 1, de, question: the step asks no question"),
         ('[step.de]\nchoices = ["a"]', r"step 1, de, choices: the step's question has no choices"),
         ('[step.fr]\ncaption = "x"', r"step 1: unknown key 'fr'"),
