@@ -26,7 +26,7 @@ from viser.infra import _infra
 
 from app.contracts import ClientId
 from app.guards.responses import request_headers
-from app.language.catalogs import SOURCE, check_language, negotiate
+from app.language.catalogs import PSEUDO, SOURCE, check_language, negotiate
 from app.language.words import translate
 
 __all__ = ["LANG_MARKER", "Languages", "lang_marker"]
@@ -41,7 +41,7 @@ def lang_marker(lang: str) -> str:
     return LANG_MARKER.replace('"en"', f'"{check_language(lang)}"')
 
 
-_TEXT = frozenset({"label", "hint", "content", "_markdown", "options", "title", "body", "_tab_labels", "marks", "text"})
+_TEXT = frozenset({"label", "hint", "content", "_markdown", "options", "title", "body", "_tab_labels", "_marks", "text"})
 """Props and updates that hold words (a dropdown's ``value`` too, see :data:`_CHOICES`; ``text``: a label's in
 the 3D scene, such as "centre of mass")."""
 _CHOICES = (_messages.GuiDropdownMessage, _messages.GuiButtonGroupMessage)
@@ -106,6 +106,8 @@ class Languages:
             return self._chosen.get(who) if who is not None else None
 
     def _preferred(self, client_id: ClientId) -> str:
+        if self.default == PSEUDO:  # a translator's or a test's server: every page shows what is left
+            return PSEUDO
         headers = request_headers(self._server, client_id)
         preferred = None if headers is None else headers.get("Accept-Language")
         return negotiate(preferred if isinstance(preferred, str) else None, self.default)
