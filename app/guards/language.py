@@ -41,7 +41,9 @@ def lang_marker(lang: str) -> str:
     return LANG_MARKER.replace('"en"', f'"{check_language(lang)}"')
 
 
-_TEXT = frozenset({"label", "hint", "content", "_markdown", "options", "title", "body", "_tab_labels", "_marks", "text"})
+_TEXT = frozenset(
+    {"label", "hint", "content", "_markdown", "options", "title", "body", "_tab_labels", "_marks", "text"}
+)
 """Props and updates that hold words (a dropdown's ``value`` too, see :data:`_CHOICES`; ``text``: a label's in
 the 3D scene, such as "centre of mass")."""
 _CHOICES = (_messages.GuiDropdownMessage, _messages.GuiButtonGroupMessage)

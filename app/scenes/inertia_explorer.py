@@ -93,6 +93,10 @@ def _point_set(masses: np.ndarray, pos: np.ndarray, length: float) -> tuple[trim
     return mesh, props
 
 
+ABOUT_PIVOT = mark("Tensor about the pivot")
+ABOUT_CENTRE = mark("Tensor about the centre of mass")
+
+
 def tensor_markdown(tensor: np.ndarray, title: str) -> str:
     # Round-off-sized entries (1e-21 next to 1e-2) print as 0 so the structure reads at a glance.
     shown = np.where(np.abs(tensor) < 1e-12 * max(float(np.abs(tensor).max()), 1e-300), 0.0, tensor)
@@ -233,8 +237,8 @@ class InertiaExplorer(Scene):
         self.pivot_readout.set(say(_MOMENTS, I1=pivot_moments[0], I2=pivot_moments[1], I3=pivot_moments[2]))
         self.tensor_md.content = say(
             _TWO,
-            pivot=tensor_markdown(tensor_pivot, mark("Tensor about the pivot")),
-            centre=tensor_markdown(props.tensor, mark("Tensor about the centre of mass")),
+            pivot=tensor_markdown(tensor_pivot, ABOUT_PIVOT),
+            centre=tensor_markdown(props.tensor, ABOUT_CENTRE),
         )
         self.note.content = say(
             "**{label}**, {mass:.4g} kg; drawn at {scale:.4g}× its size. Pivot d = {d:.4g} m from the CM: M d² = "

@@ -256,3 +256,33 @@ def test_the_question_panels_words_and_chart_reach_another_language() -> None:
         poll.ask(Ask("Rate?", unit="rad/s", range=(0.0, 2.0)), "step 11")
         poll.vote("b", 7.0)
     assert translate(str(refused.value), PSEUDO) != str(refused.value)
+
+
+def marks_inside_marks(source: str) -> list[int]:
+    """Lines where ``mark("…")`` or ``say("…")`` sits inside another ``mark``/``say`` call: Babel's extractor
+    takes only the outer call's strings, so the inner text would never reach the catalogs."""
+    import ast
+
+    found: list[int] = []
+
+    def walk(node: ast.AST, inside: bool) -> None:
+        for child in ast.iter_child_nodes(node):
+            words = (
+                isinstance(child, ast.Call) and isinstance(child.func, ast.Name) and child.func.id in ("say", "mark")
+            )
+            if words and inside:
+                found.append(child.lineno)
+            walk(child, inside or words)
+
+    walk(ast.parse(source), False)
+    return found
+
+
+def test_no_marked_text_hides_inside_another_so_the_extractor_finds_every_one() -> None:
+    app = Path(__file__).resolve().parents[3] / "app"
+    nested = {str(p.relative_to(app)): marks_inside_marks(p.read_text()) for p in sorted(app.rglob("*.py"))}
+    assert {path: lines for path, lines in nested.items() if lines} == {}
+
+
+def test_the_check_sees_a_text_inside_another() -> None:
+    assert marks_inside_marks('say("{a}", a=mark("x"))\nmark("y")\n') == [1]
