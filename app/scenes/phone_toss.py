@@ -52,6 +52,11 @@ def ratios_text(result: TossFit) -> str:
     return joined(parts, " : ")
 
 
+def file_name(source: str) -> str:
+    """A recording's file name as the panel shows it: the bundled example's in the reader's language."""
+    return say("{name}.csv", name=EXAMPLE_NAME) if source == EXAMPLE_NAME + ".csv" else source
+
+
 def _toss_label(k: int, window: tuple[float, float]) -> str:
     return say("toss {number}: {start:.2f} to {end:.2f} s", number=k + 1, start=window[0], end=window[1])
 
@@ -187,7 +192,7 @@ class PhoneToss(Scene):
         )
         self.drag_readout.set(say("{percent:.1f}%", percent=100 * fit.momentum_loss(0)))
         self.plot.data = (result.plot_times, *result.measured.T, *result.model.T)
-        source = controls.markdown_text(result.source)
+        source = controls.markdown_text(file_name(result.source))
         if result.device:
             source = say("{file}, {device}", file=source, device=controls.markdown_text(result.device))
         note = say(
@@ -251,7 +256,7 @@ class PhoneToss(Scene):
             raise result
         self.adopt(result, content)
         self.last_upload_message = say(
-            "{file}: {fitted} toss(es) fitted", file=result.source, fitted=len(result.fitted)
+            "{file}: {fitted} toss(es) fitted", file=file_name(result.source), fitted=len(result.fitted)
         )
         self.ctx.notify(
             mark("Recording fitted"),
@@ -317,14 +322,14 @@ class PhoneToss(Scene):
         if "flip" in self.held:  # a class question asks what the phone does in the air
             return say(
                 "Phone toss, {file}: {count} toss(es) recorded; what the phone does in the air is the class question.",
-                file=self.result.source,
+                file=file_name(self.result.source),
                 count=len(self.result.fitted),
             )
         moments = joined([say("{moment:.3g}", moment=float(m)) for m in fit.moments], " : ")
         return say(
             "Phone toss, {file}: {count} toss(es) fitted, moments I_x : I_y : I_z = {moments}; it flips about its "
             "{axis} axis ({axis_name}); the fit is off by {residual} rms; replayed at {slow:g}× the real pace.",
-            file=self.result.source,
+            file=file_name(self.result.source),
             count=len(self.result.fitted),
             moments=moments,
             axis=fit.axes[1],

@@ -18,6 +18,7 @@ from pathlib import Path, PurePath
 import numpy as np
 from numpy.typing import NDArray
 
+from app.language.words import mark
 from app.uploads.limits import RECORDING_FORMATS
 from physics.gyro import (
     FreeBodyFit,
@@ -58,7 +59,7 @@ EXAMPLE_TOSSES = (Toss(1.0, 1.0, (18.0, 1.0, 0.6)), Toss(3.0, 0.9, (-22.0, 0.7, 
 EXAMPLE_DRAG = (0.1, 0.02, 0.05)
 """1/s on the scale of the largest moment: 6-10% of |L| in a toss, as real phones lose."""
 EXAMPLE_SEED = 2026
-EXAMPLE_NAME = "example toss (made by the project's model)"
+EXAMPLE_NAME = mark("example toss (made by the project's model)")
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,6 @@ from app.language.catalogs import PSEUDO
 from app.language.pseudo import CLOSE, OPEN
 from app.language.words import translate
 from app.scenes import REGISTRY, scene_names
-from tests.browser.axe_scan import axe_source, counts, scan
 from tests.harness import VIEWPORT, quiet, running_app, wait_for
 
 pytestmark = pytest.mark.browser
