@@ -15,6 +15,7 @@ from app.panel import look
 from app.panel.access import keys_markdown
 from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
+from app.panel.timeline_panel import TimelinePanel
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
     from app.serving.simulation import Simulation
@@ -35,7 +36,7 @@ class SimulationPanel:
     Parameters
     ----------
     sim : Simulation
-        What the controls drive (``guarded``, ``set_playing``, ``step``, ``restart``, ``set_speed``,
+        What the controls drive (``guarded``, ``set_playing``, ``step``, ``timeline``, ``restart``, ``set_speed``,
         ``state_text``, ``open_state``, ``notify``, ``pick``).
     titles : dict
         Scene title -> scene name, in picker order.
@@ -69,6 +70,9 @@ class SimulationPanel:
         self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
+            self.step_back_button = gui.add_button(
+                "Step back", icon=viser.Icon.PLAYER_TRACK_PREV, hint="Back one step (pauses); the ← key"
+            )
             self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
             self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
             # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
@@ -76,8 +80,10 @@ class SimulationPanel:
                 speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
             )
             self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
+            self.timeline = TimelinePanel(sim, gui)
         self.play_button.on_click(sim.guarded(lambda _: sim.set_playing(not sim.playing)))
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
+        self.step_back_button.on_click(sim.guarded(lambda _: sim.timeline.step_back()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
         style.content = look.STYLE + look.PATCH + look.hide_number_box(uuid_of(self.speed_slider))
@@ -107,9 +113,10 @@ class SimulationPanel:
 
     def show_clock(self, running: bool) -> None:
         """The clock's buttons and speed work, or (a still scene, nothing moves) are disabled."""
-        for handle in (self.play_button, self.step_button, self.reset_button, self.speed_slider):
+        for handle in (self.play_button, self.step_back_button, self.step_button, self.reset_button, self.speed_slider):
             if handle.disabled == running:
                 handle.disabled = not running
+        self.timeline.enable(running)
 
     def show_words(self, text: str) -> None:
         """Put the motion in words in the live region; an unchanged text is not sent (nor announced)."""

@@ -165,6 +165,23 @@ class Scene:
         for trace in self.traces:
             trace.clear()
 
+    def earliest(self) -> float:
+        """The earliest time the timeline can go back to, s (default 0: an exact motion from its start)."""
+        return 0.0
+
+    def rewind(self, t: float) -> None:
+        """The clock jumped to ``t`` (s), back or ahead (the timeline): every piece that keeps a past forgets
+        what it drew after ``t``. A piece with ``rewind(t)`` (a time plot) keeps what came before ``t``; the
+        other :attr:`traces` (a trace, an integrator's ghost) start again from ``t``."""
+        pieces: dict[int, Any] = {id(p): p for p in self.traces}
+        pieces.update((id(p), p) for p in vars(self).values() if callable(getattr(p, "rewind", None)))
+        for piece in pieces.values():
+            rewind = getattr(piece, "rewind", None)
+            if callable(rewind):
+                rewind(t)
+            else:
+                piece.clear()
+
     def teardown(self) -> None:
         """Release what is not a node under ``ctx.root`` or GUI in the scene folder (default: nothing)."""
 

@@ -212,6 +212,10 @@ class Pendulum(Scene):
         self.last_strike = None
         self.swing.clear()
 
+    def earliest(self) -> float:
+        # A strike starts a new swing: the timeline goes back to the blow, not into the swing before it.
+        return float(self.start[2])
+
     # -- the strike --------------------------------------------------------------------------------
     def state_at(self, t: float) -> tuple[float, float]:
         theta0, thetadot0, t0 = self.start

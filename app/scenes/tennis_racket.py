@@ -385,6 +385,13 @@ class TennisRacket(Scene):
         super().reset()
         self._hist_n = 0
 
+    def rewind(self, t: float) -> None:
+        super().rewind(t)
+        # The ω plot keeps its samples up to t (they are in time order, oldest first).
+        n = min(self._hist_n, HISTORY)
+        order = np.arange(self._hist_n - n, self._hist_n) % HISTORY
+        self._hist_n -= n - int(np.count_nonzero(self._hist_t[order] <= t))
+
     # -- the state --------------------------------------------------------------------------------
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         now = self.motion.at(t)
