@@ -31,7 +31,7 @@ never further than a few seconds; a typed time beyond this is refused)."""
 class Replay:
     """A replay under way: from ``start`` to ``end`` (s of simulated time) at ``speed``; afterwards the
     clock goes back to ``speed_before`` and ``playing_before``. ``wall`` counts the wall time (s) the clock
-    ran for it (the frames' wall time at the replay's speed), ``frames`` the frames drawn."""
+    ran for it (each frame's advance over the clock's speed), ``frames`` the frames drawn."""
 
     start: float
     end: float
@@ -164,8 +164,8 @@ class Timeline:
         if not sim.playing:  # paused during the replay (Pause, a scrub): the replay is over
             self._end_replay(replay, playing=False)
             return
-        if advanced > 0.0:
-            replay.wall += advanced / replay.speed
+        if advanced > 0.0:  # the wall time this advance took at the clock's speed now
+            replay.wall += advanced / sim.speed
             replay.frames += 1
         if sim.time >= replay.end:
             self._end_replay(replay, playing=replay.playing_before)
