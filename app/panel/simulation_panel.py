@@ -13,6 +13,7 @@ import viser
 from app.guards.handles import uuid_of
 from app.panel import look
 from app.panel.access import keys_markdown
+from app.panel.measure_panel import MeasurePanel
 from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
 from app.panel.timeline_panel import TimelinePanel
@@ -87,6 +88,7 @@ class SimulationPanel:
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
         style.content = look.STYLE + look.PATCH + look.hide_number_box(uuid_of(self.speed_slider))
+        self.measure = MeasurePanel(sim, gui, order=LAST_ORDER + 0.5)  # events, stopwatch, angle
         with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
             self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
@@ -98,7 +100,7 @@ class SimulationPanel:
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
         self.handles: list[Any] = [style, title, self.scene_picker, self.words, self.projector_button, clock, state]
-        self.handles += [keyboard]
+        self.handles += [keyboard, self.measure.folder]
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:

@@ -322,6 +322,10 @@ class HeavyTopScene(Scene):
             # A state written before it kept its time starts its history at the first frame's time.
             self._start_history(float(motion["t"][0]) if "t" in motion else None)
 
+    def events(self, t0: float, t1: float) -> list[Any]:
+        # With friction the motion is stepped: no closed form to solve the turning points from.
+        return [] if self.values["friction"] > 0.0 else super().events(t0, t1)
+
     def earliest(self) -> float:
         if self.values["friction"] > 0.0 and self.history is not None:
             return self.history.earliest

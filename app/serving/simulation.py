@@ -548,6 +548,7 @@ class Simulation:
                         self._last_time_text = now
                         self.time_text.value = f"{self.clock.t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
                         self.panel.timeline.show(self.clock.t, self.timeline.earliest(), self.timeline.reached)
+                        self.panel.measure.update(self.clock.t, state)
                     if changed or now - self._described_at >= DESCRIBE_SECONDS:
                         self._described_at = now
                         self.panel.show_words(scene.describe(state))
