@@ -193,6 +193,9 @@ STYLE = f"""<style>
   --mantine-primary-color-filled: {FILLED_BLUE[0]} !important;
   --mantine-primary-color-filled-hover: {FILLED_BLUE[1]} !important; }}
 .u-title, .u-legend, .u-legend * {{ font-size: 14px !important; }}
+/* viser's button groups are Mantine's outline buttons, light blue on white (3.56:1): the focus blue. */
+.mantine-Button-root[data-variant=outline] {{ --button-color: var(--rbl-focus) !important;
+  --button-bd: 1px solid var(--rbl-focus) !important; }}
 :root {{ --rbl-focus: {FOCUS[0]}; }}
 :root[data-mantine-color-scheme=dark] {{ --rbl-focus: {FOCUS[1]}; }}
 :focus-visible, .mantine-Input-input:focus, [role=slider]:focus {{

@@ -71,10 +71,10 @@ class SimulationPanel:
         self.said = ""
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
+            self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
             self.step_back_button = gui.add_button(
                 "Step back", icon=viser.Icon.PLAYER_TRACK_PREV, hint="Back one step (pauses); the ← key"
             )
-            self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
             self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
             # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
             self.speed_slider = gui.add_slider(

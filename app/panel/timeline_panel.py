@@ -54,6 +54,10 @@ class TimelinePanel:
     def __init__(self, sim: Simulation, gui: Any) -> None:
         self.sim = sim
         self.showing = False  # the server is setting the slider: not a browser's move
+        # The time the slider was last set to, by the server or a browser's drag. A frame drawn at the time a
+        # drag asked for does not send it back: the drag's next value may be in the slider already (viser
+        # stores it before the callback waits for the lock), and the old one would move the thumb back.
+        self.shown = 0.0
         self.slider = gui.add_slider(
             TIMELINE,
             min=0.0,
@@ -77,7 +81,8 @@ class TimelinePanel:
     def _on_slide(self, event: Any) -> None:
         if self.showing:
             return
-        self.sim.timeline.seek(float(self.slider.value))
+        self.shown = float(self.slider.value)
+        self.sim.timeline.seek(self.shown)
 
     def _on_replay(self, event: Any) -> None:
         self.sim.timeline.start_replay(seconds_of(self.span.value), seconds_of(self.speed.value))
@@ -92,9 +97,14 @@ class TimelinePanel:
                 self.slider.min = low
             if self.slider.max != high:
                 self.slider.max = high
-            self.slider.value = t
+            if t != self.shown:
+                self.shown = self.slider.value = t
         finally:
             self.showing = False
+
+    def forget(self) -> None:
+        """The clock was put back to the start (Reset, a new scene): the next frame sends its time."""
+        self.shown = math.nan
 
     def enable(self, running: bool) -> None:
         """Working, or (a still scene) disabled; the jumps hidden (viser's button groups cannot be disabled)."""

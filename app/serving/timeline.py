@@ -70,6 +70,7 @@ class Timeline:
     def restart(self) -> None:
         """The clock went back to t = 0 (Reset, a new parameter or scene): a new timeline."""
         self.reached = 0.0
+        self.sim.panel.timeline.forget()
         if self.replay is not None:  # the replay is over: the speed of before
             self.sim.set_speed(self.replay.speed_before)
             self.replay = None
