@@ -37,6 +37,7 @@ EVENT_WINDOW = 8.0
 """The events listed are those within this many seconds of now (s), before and after."""
 EVENTS_SHOWN = 8
 """Most events listed (the nearest to now)."""
+HELD = "*The events wait while a class question is open.*"
 NO_EVENTS = "*No events: this motion has no flip, turning point or swing to time (or it is stepped).*"
 
 
@@ -97,6 +98,7 @@ class MeasurePanel:
     def __init__(self, sim: Simulation, gui: Any, order: float) -> None:
         self.sim = sim
         self.watch = Stopwatch()
+        self.events: list[MotionEvent] = []  # those listed
         with gui.add_folder("Measure", expand_by_default=False, order=order) as self.folder:
             self.events_text = gui.add_markdown(NO_EVENTS)
             self.stopwatch = gui.add_text("Stopwatch (s)", initial_value="0.0000", disabled=True)
@@ -135,9 +137,21 @@ class MeasurePanel:
         angle = angle_text(scene.vectors(state), str(self.first.value), str(self.second.value))
         if self.angle.value != angle:
             self.angle.value = angle
-        low = max(float(scene.earliest()), t - EVENT_WINDOW)
-        events = scene.events(low, max(low, t + EVENT_WINDOW))
-        events = sorted(sorted(events, key=lambda e: abs(e.time - t))[:EVENTS_SHOWN], key=lambda e: e.time)
-        text = events_markdown(events, t)
+        if scene.held:  # a class question is open: the events' spacing would give periods away
+            self.events, text = [], HELD
+        else:
+            low = max(float(scene.earliest()), t - EVENT_WINDOW)
+            events = scene.events(low, max(low, t + EVENT_WINDOW))
+            near = sorted(events, key=lambda e: abs(e.time - t))[:EVENTS_SHOWN]
+            self.events = sorted(near, key=lambda e: e.time)
+            text = events_markdown(self.events, t)
         if self.events_text.content != text:
             self.events_text.content = text
+
+    def event_words(self, t: float) -> str:
+        """The last event before the clock's time ``t`` (s) in words, for the motion's description (a screen
+        reader announces it); "" when none is listed."""
+        past = [e for e in self.events if e.time <= t]
+        if not past:
+            return ""
+        return f" Last event: {past[-1].kind} at {past[-1].time:.3f} s."

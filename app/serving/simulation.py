@@ -551,7 +551,7 @@ class Simulation:
                         self.panel.measure.update(self.clock.t, state)
                     if changed or now - self._described_at >= DESCRIBE_SECONDS:
                         self._described_at = now
-                        self.panel.show_words(scene.describe(state))
+                        self.panel.show_words(scene.describe(state) + self.panel.measure.event_words(self.clock.t))
             except Exception as exc:  # noqa: BLE001
                 self.failed(exc)
                 return False

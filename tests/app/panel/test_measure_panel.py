@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from app.panel.measure_panel import EVENTS_SHOWN, NO_EVENTS, Stopwatch, angle_text, events_markdown
-from physics.events import HALF_TURN, flip_events, swing_events
+from app.panel.measure_panel import EVENTS_SHOWN, HELD, NO_EVENTS, Stopwatch, angle_text, events_markdown
+from physics.events import HALF_TURN, TURNING_POINT, flip_events, swing_events
 from physics.free_body import FreeBody
 from tests.harness import FRAME, open_scene
 
@@ -111,3 +111,27 @@ def test_the_angle_between_L_and_the_axis_of_the_top_is_read_live(app):
     assert float(measure.angle.value) == pytest.approx(
         math.degrees(math.acos(state["L"][2] / np.linalg.norm(state["L"]))), abs=5e-4
     )
+
+
+def test_the_last_event_is_said_in_the_motion_in_words(app):
+    scene = open_scene(app, "tennis_racket")
+    sim = app.simulation
+    flip = flip_events(scene.motion, 0.0, 10.0)[0].time
+    sim.timeline.seek(flip - 0.1)
+    app.frame(FRAME)
+    assert "Last event" not in sim.panel.said
+    sim.timeline.seek(flip + 0.1)
+    app.frame(FRAME)
+    assert sim.panel.said.endswith(f"Last event: {HALF_TURN} at {flip:.3f} s.")
+
+
+def test_the_events_wait_while_a_class_question_holds_the_answer_back(app):
+    open_scene(app, "pendulum")
+    sim = app.simulation
+    sim.hold_back(["centre_of_percussion"])  # its swing periods would give it away
+    sim.set_playing(False)
+    app.frame(FRAME)
+    assert sim.panel.measure.events_text.content == HELD and "Last event" not in sim.panel.said
+    sim.hold_back([])
+    app.frame(FRAME)
+    assert TURNING_POINT in sim.panel.measure.events_text.content
