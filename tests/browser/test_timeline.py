@@ -230,3 +230,25 @@ def test_a_follower_follows_the_lecturers_scrubbing(chromium) -> None:
                 follower.close()
         finally:
             lecturer.close()
+
+
+EVENTS = """() => { const list = [...document.querySelectorAll('li')].map(li => li.textContent)
+    .filter(t => t.includes('half-turn')); return list; }"""
+
+
+def test_the_event_list_in_the_page_times_the_half_turns_half_a_period_apart(chromium) -> None:
+    with running_app("tennis_racket") as app:
+        page, _ = open_page(chromium, app, viewport=VIEW)
+        try:
+            page.wait_for_function(READY, timeout=30_000)
+            scene = app.scene
+            app.simulation.timeline.seek(6.0)  # paused with half-turns before and after
+            click(page.locator(".rbl-folder", has_text="Measure"))
+            lines = wait_for(lambda: len(page.evaluate(EVENTS)) >= 3 and page.evaluate(EVENTS), 30, what="the events")
+            times = [float(re.search(r"([0-9.]+) s:", line).group(1)) for line in lines]
+            period = FreeBody(scene.moments).period(scene.omega0)  # the physics API's, from the scene's start
+            assert np.allclose(np.diff(times), period / 2.0, atol=1e-4)  # shown to 0.1 ms
+            first = flip_events(scene.motion, 0.0, 10.0)[0].time
+            assert any(abs(t - first) < 5e-5 for t in times)
+        finally:
+            page.close()
