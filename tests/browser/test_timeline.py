@@ -49,12 +49,13 @@ def drag_and_wait(page: Any, app: Any, fraction: float) -> float:
     """Drag the timeline to ``fraction`` of its track and wait until the server shows the instant the page's
     slider came to rest at (not one it passed on the way); returns the server's time, s."""
     drag_time(page, fraction)
-
-    def arrived() -> bool:
-        shown = slider_value(page, TIMELINE)
-        return settled(app, shown) and slider_value(page, TIMELINE) == shown
-
-    wait_for(arrived, 30, what="the instant dragged to")
+    # The page draws (and its slider takes the mouse's last moves) a few times a second: two of its frames
+    # after the mouse is up, its slider shows where the drag ended.
+    drawn = page.evaluate("() => window.rblFrames")
+    wait_for(lambda: page.evaluate("() => window.rblFrames") >= drawn + 2, 30, what="the page to draw the drag")
+    shown = slider_value(page, TIMELINE)
+    wait_for(lambda: settled(app, shown), 30, what="the instant dragged to")
+    assert slider_value(page, TIMELINE) == shown
     return app.time
 
 

@@ -11,7 +11,7 @@ import pytest
 from app.panel.timeline_panel import BACK, ON
 from app.serving.timeline import MAX_JUMP
 from physics.free_body import FreeBody
-from tests.harness import FRAME, open_scene
+from tests.harness import FRAME, open_scene, raw_client, running_app, send_value, still_connected, wait_for
 
 
 def play(app, seconds: float, wall: float = FRAME) -> None:
@@ -148,3 +148,19 @@ def test_a_still_scene_has_no_timeline(app):
     assert sim.timeline.seek(5.0) == 0.0 and sim.time == 0.0
     assert sim.timeline.start_replay() is None
     assert sim.panel.timeline.slider.disabled and sim.panel.step_back_button.disabled
+
+
+def test_each_private_session_scrubs_its_own_timeline():
+    with running_app("tennis_racket", private=True) as app, raw_client(app) as first, raw_client(app) as second:
+        wait_for(lambda: len(app.sessions) == 2, what="two sessions")
+        (_, a), (_, b) = sorted(app.sessions.items())
+        wait_for(lambda: a.time > 1.0 and b.time > 1.0, 30, what="both clocks to run")
+        # The first browser drags its own slider back to 0.5 s: its session pauses there, the other runs on.
+        send_value(first, a.panel.timeline.slider._impl.uuid, 0.5)
+        wait_for(lambda: not a.playing and a.time == 0.5, 20, what="the first session at 0.5 s")
+        running = b.time
+        wait_for(lambda: b.time > running + 0.2, 20, what="the second session to run on")
+        assert b.playing and a.time == 0.5
+        # A slider of one session is nothing to another browser: its message is ignored.
+        send_value(second, a.panel.timeline.slider._impl.uuid, 0.9)
+        assert still_connected(second, app=b) and a.time == 0.5
