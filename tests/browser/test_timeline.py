@@ -5,8 +5,10 @@ follows the lecturer's scrubbing; the keys ←, Shift+← and Shift+→ move the
 
 from __future__ import annotations
 
+import contextlib
 import math
 import re
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -22,6 +24,18 @@ pytestmark = pytest.mark.browser
 VIEW = {"width": 1280, "height": 800}
 NOTHING_FOCUSED = "() => { if (document.activeElement) document.activeElement.blur(); }"
 READY = "() => window.rblAccess === true && [...document.querySelectorAll('button')].some(b => b.textContent.trim() === 'Step back')"
+
+
+@contextlib.contextmanager
+def scene_page(chromium: Any, scene: str) -> Iterator[tuple[Any, Any]]:
+    """An app showing ``scene`` and a page of it whose keyboard patch and Step back button are there."""
+    with running_app(scene) as app:
+        page, _ = open_page(chromium, app, viewport=VIEW)
+        try:
+            page.wait_for_function(READY, timeout=30_000)
+            yield app, page
+        finally:
+            page.close()
 
 
 def drag_time(page: Any, fraction: float) -> None:
@@ -86,101 +100,80 @@ def settled(app: Any, t_page: str | None) -> bool:
 
 
 def test_the_racket_dragged_back_before_its_flip_shows_the_exact_attitude_there(chromium) -> None:
-    with running_app("tennis_racket") as app:
-        page, _ = open_page(chromium, app, viewport=VIEW)
-        try:
-            page.wait_for_function(READY, timeout=30_000)
-            scene = app.scene
-            flip = flip_events(scene.motion, 0.0, 10.0)[0].time  # the first half-turn (1.42 s)
-            wait_for(lambda: app.time > flip + 0.3, 60, what="the racket to flip")
-            click(page.get_by_role("button", name="Pause"))
-            wait_for(lambda: not app.simulation.playing, 20, what="the click to pause")
-            paused_in_page(page, app)
-            drag_and_wait(page, app, fraction_of(page, flip - 0.6))
-            with app.simulation.lock:
-                t, R = app.time, app.simulation.last_state["R"].copy()
-            assert 0.0 < t < flip
-            # The exact model made afresh from the scene's start (L along +z, ω0 from the sliders).
-            exact = FreeBody(scene.moments).trajectory(scene.omega0, scene.attitude0).at(t).attitude
-            angle = 2.0 * math.asin(min(1.0, float(np.linalg.norm(R - exact)) / math.sqrt(8.0)))
-            assert angle < 1e-9
-        finally:
-            page.close()
+    with scene_page(chromium, "tennis_racket") as (app, page):
+        scene = app.scene
+        flip = flip_events(scene.motion, 0.0, 10.0)[0].time  # the first half-turn (1.42 s)
+        wait_for(lambda: app.time > flip + 0.3, 60, what="the racket to flip")
+        click(page.get_by_role("button", name="Pause"))
+        wait_for(lambda: not app.simulation.playing, 20, what="the click to pause")
+        paused_in_page(page, app)
+        drag_and_wait(page, app, fraction_of(page, flip - 0.6))
+        with app.simulation.lock:
+            t, R = app.time, app.simulation.last_state["R"].copy()
+        assert 0.0 < t < flip
+        # The exact model made afresh from the scene's start (L along +z, ω0 from the sliders).
+        exact = FreeBody(scene.moments).trajectory(scene.omega0, scene.attitude0).at(t).attitude
+        angle = 2.0 * math.asin(min(1.0, float(np.linalg.norm(R - exact)) / math.sqrt(8.0)))
+        assert angle < 1e-9
 
 
 def test_the_friction_top_dragged_back_and_forward_repeats_its_states_bit_for_bit(chromium) -> None:
-    with running_app("heavy_top") as app:
-        page, _ = open_page(chromium, app, viewport=VIEW)
-        try:
-            page.wait_for_function(READY, timeout=30_000)
-            assert app.scene.presets.choose("sleeping top with friction: falls")
-            app.set_speed(10.0)
-            wait_for(lambda: app.time > 12.0, 120, what="the top to spin down and fall")
-            click(page.get_by_role("button", name="Pause"))
-            wait_for(lambda: not app.simulation.playing, 20, what="the click to pause")
-            paused_in_page(page, app)
-            seen: dict[float, tuple[np.ndarray, np.ndarray]] = {}
-            again = 0
-            for fraction in (0.8, 0.5, 0.2, 0.5, 0.8):  # back, then forward again over the same instants
-                drag_and_wait(page, app, fraction)
-                with app.simulation.lock:
-                    t = app.time
-                    state = app.simulation.last_state
-                    R, L = state["R"].copy(), state["L_body"].copy()
-                if t in seen:
-                    again += 1
-                    assert np.array_equal(R, seen[t][0]) and np.array_equal(L, seen[t][1]), t
-                seen[t] = (R, L)
-            assert again >= 2 and len(seen) >= 3, sorted(
-                seen
-            )  # the mouse reached the same instants going forward again
-        finally:
-            page.close()
+    with scene_page(chromium, "heavy_top") as (app, page):
+        assert app.scene.presets.choose("sleeping top with friction: falls")
+        app.set_speed(10.0)
+        wait_for(lambda: app.time > 12.0, 120, what="the top to spin down and fall")
+        click(page.get_by_role("button", name="Pause"))
+        wait_for(lambda: not app.simulation.playing, 20, what="the click to pause")
+        paused_in_page(page, app)
+        seen: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+        again = 0
+        for fraction in (0.8, 0.5, 0.2, 0.5, 0.8):  # back, then forward again over the same instants
+            drag_and_wait(page, app, fraction)
+            with app.simulation.lock:
+                t = app.time
+                state = app.simulation.last_state
+                R, L = state["R"].copy(), state["L_body"].copy()
+            if t in seen:
+                again += 1
+                assert np.array_equal(R, seen[t][0]) and np.array_equal(L, seen[t][1]), t
+            seen[t] = (R, L)
+        # The mouse reached the same instants going forward again.
+        assert again >= 2 and len(seen) >= 3, sorted(seen)
 
 
 def test_a_replay_at_a_tenth_takes_ten_times_the_span(chromium) -> None:
-    with running_app("tennis_racket") as app:
-        page, _ = open_page(chromium, app, viewport=VIEW)
-        try:
-            page.wait_for_function(READY, timeout=30_000)
-            flip = flip_events(app.scene.motion, 0.0, 10.0)[0].time
-            wait_for(lambda: app.time > flip + 0.3, 60, what="the racket to flip")
-            # Paused just after the flip (the page opens seconds after the clock starts on a loaded machine).
-            end = app.simulation.timeline.seek(flip + 0.7)
-            click(page.locator(".rbl-folder", has_text="Replay"))  # the folder's title: open it
-            click(page.locator("button").filter(has_text=re.compile(r"^\s*Replay\s*$")))
-            wait_for(lambda: app.simulation.timeline.last_replay is not None, 120, what="the replay to end")
-            replay = app.simulation.timeline.last_replay
-            assert replay.start == pytest.approx(end - 2.0) and replay.end == end and replay.start < flip < end
-            # 2 s of simulated time at the clock's 0.1×: 20 s of its wall time (to round-off), over many frames.
-            assert replay.speed == 0.1 and replay.wall == pytest.approx(20.0, rel=1e-9) and replay.frames > 20
-            assert app.simulation.speed == 1.0 and not app.simulation.playing and app.time == end
-        finally:
-            page.close()
+    with scene_page(chromium, "tennis_racket") as (app, page):
+        flip = flip_events(app.scene.motion, 0.0, 10.0)[0].time
+        wait_for(lambda: app.time > flip + 0.3, 60, what="the racket to flip")
+        # Paused just after the flip (the page opens seconds after the clock starts on a loaded machine).
+        end = app.simulation.timeline.seek(flip + 0.7)
+        click(page.locator(".rbl-folder", has_text="Replay"))  # the folder's title: open it
+        click(page.locator("button").filter(has_text=re.compile(r"^\s*Replay\s*$")))
+        wait_for(lambda: app.simulation.timeline.last_replay is not None, 120, what="the replay to end")
+        replay = app.simulation.timeline.last_replay
+        assert replay.start == pytest.approx(end - 2.0) and replay.end == end and replay.start < flip < end
+        # 2 s of simulated time at the clock's 0.1×: 20 s of its wall time (to round-off), over many frames.
+        assert replay.speed == 0.1 and replay.wall == pytest.approx(20.0, rel=1e-9) and replay.frames > 20
+        assert app.simulation.speed == 1.0 and not app.simulation.playing and app.time == end
 
 
 def test_the_arrow_keys_step_back_and_jump_a_second(chromium) -> None:
-    with running_app("heavy_top") as app:
-        page, _ = open_page(chromium, app, viewport=VIEW)
-        try:
-            page.wait_for_function(READY, timeout=30_000)
-            wait_for(lambda: app.time > 2.5, 60, what="the clock to run")
-            page.evaluate(NOTHING_FOCUSED)
-            page.keyboard.press("Space")
-            wait_for(lambda: not app.simulation.playing, 10, what="Space to pause")
-            paused = app.time
-            page.keyboard.press("ArrowLeft")
-            wait_for(lambda: app.time < paused, 10, what="← to step back")
-            assert app.time == pytest.approx(paused - 1.0 / 60.0, abs=1e-12)
-            back = app.time
-            page.keyboard.press("Shift+ArrowLeft")
-            wait_for(lambda: app.time < back - 0.5, 10, what="Shift+← to jump back")
-            assert app.time == pytest.approx(back - 1.0, abs=1e-12)
-            page.keyboard.press("Shift+ArrowRight")
-            wait_for(lambda: app.time > back - 0.5, 10, what="Shift+→ to jump on")
-            assert app.time == pytest.approx(back, abs=1e-12) and not app.simulation.playing
-        finally:
-            page.close()
+    with scene_page(chromium, "heavy_top") as (app, page):
+        wait_for(lambda: app.time > 2.5, 60, what="the clock to run")
+        page.evaluate(NOTHING_FOCUSED)
+        page.keyboard.press("Space")
+        wait_for(lambda: not app.simulation.playing, 10, what="Space to pause")
+        paused = app.time
+        page.keyboard.press("ArrowLeft")
+        wait_for(lambda: app.time < paused, 10, what="← to step back")
+        assert app.time == pytest.approx(paused - 1.0 / 60.0, abs=1e-12)
+        back = app.time
+        page.keyboard.press("Shift+ArrowLeft")
+        wait_for(lambda: app.time < back - 0.5, 10, what="Shift+← to jump back")
+        assert app.time == pytest.approx(back - 1.0, abs=1e-12)
+        page.keyboard.press("Shift+ArrowRight")
+        wait_for(lambda: app.time > back - 0.5, 10, what="Shift+→ to jump on")
+        assert app.time == pytest.approx(back, abs=1e-12) and not app.simulation.playing
 
 
 PIN = "2718"
@@ -238,18 +231,13 @@ EVENTS = """() => { const list = [...document.querySelectorAll('li')].map(li => 
 
 
 def test_the_event_list_in_the_page_times_the_half_turns_half_a_period_apart(chromium) -> None:
-    with running_app("tennis_racket") as app:
-        page, _ = open_page(chromium, app, viewport=VIEW)
-        try:
-            page.wait_for_function(READY, timeout=30_000)
-            scene = app.scene
-            app.simulation.timeline.seek(6.0)  # paused with half-turns before and after
-            click(page.locator(".rbl-folder", has_text="Measure"))
-            lines = wait_for(lambda: len(page.evaluate(EVENTS)) >= 3 and page.evaluate(EVENTS), 30, what="the events")
-            times = [float(re.search(r"([0-9.]+) s:", line).group(1)) for line in lines]
-            period = FreeBody(scene.moments).period(scene.omega0)  # the physics API's, from the scene's start
-            assert np.allclose(np.diff(times), period / 2.0, atol=1e-4)  # shown to 0.1 ms
-            first = flip_events(scene.motion, 0.0, 10.0)[0].time
-            assert any(abs(t - first) < 5e-5 for t in times)
-        finally:
-            page.close()
+    with scene_page(chromium, "tennis_racket") as (app, page):
+        scene = app.scene
+        app.simulation.timeline.seek(6.0)  # paused with half-turns before and after
+        click(page.locator(".rbl-folder", has_text="Measure"))
+        lines = wait_for(lambda: len(page.evaluate(EVENTS)) >= 3 and page.evaluate(EVENTS), 30, what="the events")
+        times = [float(re.search(r"([0-9.]+) s:", line).group(1)) for line in lines]
+        period = FreeBody(scene.moments).period(scene.omega0)  # the physics API's, from the scene's start
+        assert np.allclose(np.diff(times), period / 2.0, atol=1e-4)  # shown to 0.1 ms
+        first = flip_events(scene.motion, 0.0, 10.0)[0].time
+        assert any(abs(t - first) < 5e-5 for t in times)
