@@ -22,9 +22,10 @@ REPLAY_SPAN = 2.0
 """What Replay shows again by default: the last this many seconds of simulated time."""
 REPLAY_SPEED = 0.1
 """The speed a replay runs at by default (× real time): a flip of half a second takes five."""
-MAX_JUMP = 3600.0
-"""The furthest a move by hand may reach beyond the furthest time reached, s (the slider's end is
-never further than a few seconds; a typed time beyond this is refused)."""
+MAX_JUMP = 300.0
+"""The furthest a move by hand may reach beyond the furthest time reached, s: what a stepped scene's
+history computes ahead in one go (:data:`app.scenes.heavy_top.KEPT`); the slider's end is never more than
+a second ahead, and a time beyond this is refused."""
 
 
 @dataclass

@@ -164,3 +164,15 @@ def test_each_private_session_scrubs_its_own_timeline():
         # A slider of one session is nothing to another browser: its message is ignored.
         send_value(second, a.panel.timeline.slider._impl.uuid, 0.9)
         assert still_connected(second, app=b) and a.time == 0.5
+
+
+def test_the_friction_top_jumps_as_far_ahead_as_a_move_may_go(app):
+    """A move by hand reaches at most MAX_JUMP beyond the furthest time reached: what the friction top's
+    history computes ahead in one go (it steps there, and has come to rest on the table by then)."""
+    scene = open_scene(app, "heavy_top")
+    assert scene.presets.choose("sleeping top with friction: falls")
+    sim = app.simulation
+    app.frame(FRAME)
+    assert sim.timeline.seek(sim.time + MAX_JUMP) == pytest.approx(FRAME + MAX_JUMP)
+    assert app.frame(FRAME) and sim.last_state["landed"]
+    assert scene.history.latest == pytest.approx(sim.time, abs=1.0 / 240.0)
