@@ -39,8 +39,8 @@ KEPT = 300.0
 """How far back (s) the friction top's timeline reaches: its history (:class:`physics.history.SteppedHistory`)
 keeps a checkpoint every :data:`CHECKPOINT` steps of the last five minutes (125 kB)."""
 CHECKPOINT = 60
-"""Steps between checkpoints (0.25 s): a scrub recomputes at most 59 steps (about 2 ms,
-``python -m benchmarks.history``)."""
+"""Steps between checkpoints (0.25 s): a scrub recomputes at most 59 steps (about 1.5 ms; a scrub and its
+frame 0.97 ms on average, ``python -m benchmarks.scrub``)."""
 
 
 # A static θ range: viser 1.1.1's client loses an auto x scale when the plot's scales are sent again
