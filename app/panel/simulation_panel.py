@@ -21,12 +21,14 @@ from app.panel.timeline_panel import TimelinePanel
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
     from app.serving.simulation import Simulation
 
-__all__ = ["EXPORT_ORDER", "LAST_ORDER", "SimulationPanel"]
+__all__ = ["EXPORT_ORDER", "LAST_ORDER", "TIMELINE_ORDER", "SimulationPanel"]
 
 PROJECTOR_HINT = "Projector mode: the panel a slim bar, the caption and the key plot large over the view"
 
 LAST_ORDER = 1e6
 """viser's panel order of what comes after the scene's folder (legend, state, export)."""
+TIMELINE_ORDER = LAST_ORDER - 3
+"""The Timeline folder's place: right under the scene's folder, above the projector's switch."""
 EXPORT_ORDER = LAST_ORDER + 2
 """The Export folder's place (:mod:`app.recording.export_folder`): after the State folder, before Keyboard."""
 
@@ -72,22 +74,19 @@ class SimulationPanel:
         with gui.add_folder("Clock") as clock:
             self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
             self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
-            self.step_back_button = gui.add_button(
-                "Step back", icon=viser.Icon.PLAYER_TRACK_PREV, hint="Back one step (pauses); the ← key"
-            )
             self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
             # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
             self.speed_slider = gui.add_slider(
                 speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
             )
             self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
-            self.timeline = TimelinePanel(sim, gui)
         self.play_button.on_click(sim.guarded(lambda _: sim.set_playing(not sim.playing)))
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
-        self.step_back_button.on_click(sim.guarded(lambda _: sim.timeline.step_back()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
         style.content = look.STYLE + look.PATCH + look.hide_number_box(uuid_of(self.speed_slider))
+        self.timeline = TimelinePanel(sim, gui, order=TIMELINE_ORDER)  # the time slider, Step back, Replay
+        self.step_back_button = self.timeline.step_back_button
         self.measure = MeasurePanel(sim, gui, order=LAST_ORDER + 0.5)  # events, stopwatch, angle
         with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
@@ -100,7 +99,7 @@ class SimulationPanel:
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
         self.handles: list[Any] = [style, title, self.scene_picker, self.words, self.projector_button, clock, state]
-        self.handles += [keyboard, self.measure.folder]
+        self.handles += [keyboard, self.measure.folder, self.timeline.folder]
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:
@@ -115,7 +114,7 @@ class SimulationPanel:
 
     def show_clock(self, running: bool) -> None:
         """The clock's buttons and speed work, or (a still scene, nothing moves) are disabled."""
-        for handle in (self.play_button, self.step_back_button, self.step_button, self.reset_button, self.speed_slider):
+        for handle in (self.play_button, self.step_button, self.reset_button, self.speed_slider):
             if handle.disabled == running:
                 handle.disabled = not running
         self.timeline.enable(running)

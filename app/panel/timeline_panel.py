@@ -1,4 +1,4 @@
-"""The timeline's controls in the Clock folder: the time slider, a jump of a second back or on, Replay.
+"""The Timeline folder: the time slider, Step back, a jump of a second back or on, Replay.
 
 The slider shows the simulated time while the clock runs (at most ten times a second, as the time
 readout) and spans from the earliest instant the scene can show to the furthest reached; dragged, it puts
@@ -41,18 +41,26 @@ def seconds_of(choice: str) -> float:
 
 
 class TimelinePanel:
-    """The timeline's controls, made inside the Clock folder.
+    """The Timeline folder, made by the shared panel at ``order`` (under the scene's folder).
 
     Parameters
     ----------
     sim : Simulation
         Its ``timeline`` (seek, jump, start_replay), ``guarded`` and ``notify``.
     gui : viser.GuiApi
-        Where they are made (the Clock folder is open).
+        Where they are made.
+    order : float
+        The folder's place in the panel.
     """
 
-    def __init__(self, sim: Simulation, gui: Any) -> None:
+    def __init__(self, sim: Simulation, gui: Any, order: float) -> None:
         self.sim = sim
+        # Its own folder under the scene's: the Clock folder has no room left above the fold at 1280×800
+        # (a scene's main controls must stay above it, tests/browser/test_look.py).
+        with gui.add_folder("Timeline", order=order) as self.folder:
+            self._build(sim, gui)
+
+    def _build(self, sim: Simulation, gui: Any) -> None:
         self.showing = False  # the server is setting the slider: not a browser's move
         # The time the slider was last set to, by the server or a browser's drag. A frame drawn at the time a
         # drag asked for does not send it back: the drag's next value may be in the slider already (viser
@@ -66,8 +74,11 @@ class TimelinePanel:
             initial_value=0.0,
             hint="The simulated time: drag to put the body at that instant (the clock pauses; Play goes on from there)",
         )
+        self.step_back_button = gui.add_button(
+            "Step back", icon=viser.Icon.PLAYER_TRACK_PREV, hint="Back one step of the clock (pauses); the ← key"
+        )
         self.jump = gui.add_button_group(JUMP, options=(BACK, ON), hint="Back or on one second (Shift+← / Shift+→)")
-        with gui.add_folder("Replay", expand_by_default=False) as self.folder:
+        with gui.add_folder("Replay", expand_by_default=False):
             self.span = gui.add_dropdown("Replay the last", options=REPLAY_SPANS, initial_value="2 s")
             self.speed = gui.add_dropdown("Replay at", options=REPLAY_SPEEDS, initial_value="0.1×")
             self.replay_button = gui.add_button(
@@ -76,7 +87,7 @@ class TimelinePanel:
         self.slider.on_update(sim.guarded(self._on_slide))
         self.jump.on_click(sim.guarded(lambda event: sim.timeline.jump(-1.0 if event.target.value == BACK else 1.0)))
         self.replay_button.on_click(sim.guarded(self._on_replay))
-        self.handles: list[Any] = [self.slider, self.jump, self.folder]
+        self.step_back_button.on_click(sim.guarded(lambda _: sim.timeline.step_back()))
 
     def _on_slide(self, event: Any) -> None:
         if self.showing:
@@ -108,7 +119,7 @@ class TimelinePanel:
 
     def enable(self, running: bool) -> None:
         """Working, or (a still scene) disabled; the jumps hidden (viser's button groups cannot be disabled)."""
-        for handle in (self.slider, self.replay_button):
+        for handle in (self.slider, self.step_back_button, self.replay_button):
             if handle.disabled == running:
                 handle.disabled = not running
         if self.jump.visible != running:
