@@ -118,6 +118,8 @@ class SimulationPanel:
             if handle.disabled == running:
                 handle.disabled = not running
         self.timeline.enable(running)
+        if self.measure.folder.visible != running:  # nothing moves in a still scene: nothing to measure
+            self.measure.folder.visible = running
 
     def show_words(self, text: str) -> None:
         """Put the motion in words in the live region; an unchanged text is not sent (nor announced)."""

@@ -124,3 +124,5 @@ class TimelinePanel:
                 handle.disabled = not running
         if self.jump.visible != running:
             self.jump.visible = running
+        if self.folder.visible != running:  # a still scene has no time to move: the folder goes too
+            self.folder.visible = running

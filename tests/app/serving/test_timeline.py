@@ -148,6 +148,13 @@ def test_a_still_scene_has_no_timeline(app):
     assert sim.timeline.seek(5.0) == 0.0 and sim.time == 0.0
     assert sim.timeline.start_replay() is None
     assert sim.panel.timeline.slider.disabled and sim.panel.step_back_button.disabled
+    assert not sim.panel.timeline.folder.visible and not sim.panel.measure.folder.visible
+    app.switch_scene("pendulum")
+    assert (
+        sim.panel.timeline.folder.visible
+        and sim.panel.measure.folder.visible
+        and not sim.panel.step_back_button.disabled
+    )
 
 
 def test_each_private_session_scrubs_its_own_timeline():
