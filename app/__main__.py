@@ -66,6 +66,7 @@ def export_main(argv: list[str]) -> None:
 def main(argv: list[str] | None = None) -> None:
     import sys
 
+    from app.language.catalogs import LANGUAGES, PSEUDO
     from app.scenes import scene_names
 
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -87,6 +88,13 @@ def main(argv: list[str] | None = None) -> None:
         help="show viser's share button, which can publish this server on a public tunnel (off by default)",
     )
     parser.add_argument("--dark", action="store_true", help="a dark look, for a dark lecture room")
+    parser.add_argument(
+        "--lang",
+        default="en",
+        choices=(*LANGUAGES, PSEUDO),
+        help="the language of a browser that prefers none we speak (each browser may choose its own in the "
+        "panel; en-XA: the pseudo-locale, for translators and tests)",
+    )
     parser.add_argument(
         "--projector",
         action="store_true",
@@ -212,6 +220,7 @@ def main(argv: list[str] | None = None) -> None:
             state=args.state,
             lecture=args.lecture,
             answers=args.export_answers,
+            lang=args.lang,
             caps=Caps(
                 args.max_connections,
                 args.max_per_address,

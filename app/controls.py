@@ -15,6 +15,7 @@ from app.panel.controls import (
     Readout,
     SliderSpec,
     refusable_dropdown,
+    take_uploads,
 )
 from app.panel.drift import (
     DRIFT_EVERY,
@@ -39,6 +40,7 @@ __all__ = [
     "Presets",
     "Gauge",
     "refusable_dropdown",
+    "take_uploads",
     "Rollback",
     "DRIFT_EVERY",
     "DRIFT_POINTS",

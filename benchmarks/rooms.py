@@ -21,10 +21,13 @@ Rows:
 3. **kill**: in the pool of row 1, one process is killed with SIGKILL while every browser reads: the
    longest gap between two frames of the browsers on the other process (before and after the kill),
    where browsers joining during the 5 s after the kill land, and when the killed process answers again.
+4. **teacher**: a pool of 2 processes with a teacher PIN, ``--sessions`` browsers: how soon a change on one
+   process shows in the table of a teacher on the other, and Redis's traffic (:mod:`benchmarks.rooms_teacher`).
 
-Loopback only, bounded (about two minutes). Writes ``benchmarks/results/rooms.md`` (or ``--out``).
+Loopback only, bounded (about three minutes). Writes ``benchmarks/results/rooms.md`` (or ``--out``);
+``--teacher-only`` runs row 4 alone and writes ``benchmarks/results/rooms_teacher.md``.
 
-Run: python -m benchmarks.rooms [--sessions 60] [--followers 30] [--seconds 5] [--out PATH]
+Run: python -m benchmarks.rooms [--sessions 60] [--followers 30] [--seconds 5] [--changes 10] [--teacher-only]
 """
 
 from __future__ import annotations
@@ -50,6 +53,7 @@ from websockets.asyncio.client import connect
 
 from app.rooms.supervisor import answers
 from app.scenes import REGISTRY, load_all
+from benchmarks.rooms_teacher import report_lines, teacher_table
 from benchmarks.serve_clients import WARMUP, posed_nodes
 from tests.harness import CAMERA_MESSAGE
 from tests.rooms.running import SUBPROTOCOL, backend_of, proxied, room_cookie, rooms_file, running_department
@@ -403,10 +407,30 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--sessions", type=int, default=60, help="browsers in the private pool")
     parser.add_argument("--followers", type=int, default=30, help="followers in each presenter room")
     parser.add_argument("--seconds", type=float, default=5.0, help="measured seconds per row")
-    parser.add_argument("--out", type=Path, default=RESULTS)
+    parser.add_argument("--changes", type=int, default=10, help="changes timed into the teacher's table")
+    parser.add_argument("--teacher-only", action="store_true", help="only row 4, into results/rooms_teacher.md")
+    parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args(argv)
+    if args.teacher_only:
+        load = os.getloadavg()
+        with tempfile.TemporaryDirectory() as tmp:
+            result = teacher_table(Path(tmp), args.sessions, args.changes, args.seconds, Clients)
+        out = args.out or RESULTS.with_name("rooms_teacher.md")
+        command = f"python -m benchmarks.rooms --teacher-only --sessions {args.sessions} --changes {args.changes}"
+        machine = (
+            f"Machine: {os.cpu_count()} cores, shared with other work while this ran (load average 1, 5, 15 min: "
+            f"{' '.join(f'{x:.2f}' for x in load)} at the start, "
+            f"{' '.join(f'{x:.2f}' for x in os.getloadavg())} at the end)."
+        )
+        lines = ["# Rooms benchmark: the teacher's view of a pool", "", f"`{command}`.", "", machine]
+        lines += report_lines(result)
+        out.write_text("\n".join(lines) + "\n")
+        print("\n".join(lines))
+        print(f"written {out}")
+        return
     command = (
-        f"python -m benchmarks.rooms --sessions {args.sessions} --followers {args.followers} --seconds {args.seconds:g}"
+        f"python -m benchmarks.rooms --sessions {args.sessions} --followers {args.followers} --seconds {args.seconds:g} "
+        f"--changes {args.changes}"
     )
     started = time.monotonic()
     start_load = os.getloadavg()
@@ -421,6 +445,8 @@ def main(argv: list[str] | None = None) -> None:
         )
         lecture = presenter_rooms(Path(tmp) / "lecture", args.followers, args.seconds)
         print(f"presenter: {lecture['per_room']}", flush=True)
+        (Path(tmp) / "teacher").mkdir()
+        teacher = teacher_table(Path(tmp) / "teacher", args.sessions, args.changes, args.seconds, Clients)
     end_load = os.getloadavg()
     machine = (
         f"Machine: {os.cpu_count()} cores, shared with other work while this ran (load average 1, 5, 15 min: "
@@ -431,11 +457,12 @@ def main(argv: list[str] | None = None) -> None:
     rusage = [resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)]
     cpu_total = sum(r.ru_utime + r.ru_stime for r in rusage) - cpu_start
     used = f"{cpu_total:.0f} CPU seconds in {took:.0f} s ({cpu_total / took:.2f} cores on average)"
-    lines = report(pool, lecture, command, machine, took, used)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines) + "\n")
+    lines = report(pool, lecture, command, machine, took, used) + report_lines(teacher)
+    out = args.out or RESULTS
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
-    print(f"written {args.out}")
+    print(f"written {out}")
 
 
 if __name__ == "__main__":

@@ -8,8 +8,10 @@ The curated screenshots in ``docs/`` (presets, body view, refused upload) were t
 from __future__ import annotations
 
 import argparse
+import io
 import sys
 import time
+import zipfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -29,8 +31,19 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--readme", action="store_true", help="the README's screenshots (into --out, e.g. docs)")
     parser.add_argument("--gallery", action="store_true", help="the README's gallery: every scene and a phone")
     parser.add_argument("--projector", action="store_true", help="projector mode in the lecture (into --out)")
+    parser.add_argument(
+        "--phone-toss",
+        type=Path,
+        metavar="RECORDING",
+        help="the phone-toss scene with this phyphox recording (a folder, its Raw Data.csv or a .zip) uploaded "
+        "and fitted, into --out/phone_toss.png (the README's uses a real toss, not the project's to commit)",
+    )
+    parser.add_argument("--toss", type=int, default=1, help="with --phone-toss: the toss shown (1: the first)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.phone_toss is not None:
+        phone_toss(args.out / "phone_toss.png", args.phone_toss, args.toss - 1)
+        return
     if args.gallery:
         gallery(args.out)
         projector(args.out / "projector.png")
@@ -176,6 +189,43 @@ def teaching(path: Path) -> None:
         time.sleep(0.5)
         page.screenshot(path=str(path))
         print(f"teaching: {path}", flush=True)
+
+
+def _upload_bytes(recording: Path) -> tuple[str, bytes]:
+    """A recording as the page would send it: a folder zipped as phyphox shares it (with its meta/), else the file."""
+    if not recording.is_dir():
+        return recording.name, recording.read_bytes()
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
+        for path in sorted(recording.rglob("*")):
+            if path.is_file():
+                archive.write(path, str(path.relative_to(recording.parent)))
+    return recording.name + ".zip", out.getvalue()
+
+
+def phone_toss(path: Path, recording: Path, toss: int, seconds: float = 4.0) -> None:
+    """The phone-toss scene with ``recording`` uploaded through the page, toss ``toss`` (0-based) fitted alone:
+    the phone replaying the fitted flip, and the panel scrolled to the plot of measured points and fitted lines."""
+    name, content = _upload_bytes(recording)
+    with running_app("phone_toss") as app, launch_chromium() as browser:
+        page, _client = open_page(browser, app, timeout=120.0, viewport={"width": 1500, "height": 900})
+        page.get_by_text("Upload a phyphox recording").first.wait_for(timeout=120_000)
+        page.locator("input[type=file]").first.set_input_files(
+            {"name": name, "mimeType": "application/octet-stream", "buffer": content}
+        )
+        wait_for(lambda: app.scene.result.source == name, 120, what="the recording to be fitted")
+        if toss != app.scene.result.chosen:
+            app.scene.toss.value = app.scene.toss.options[toss + 1]  # fitted in the worker, as the page's choice
+        wait_for(lambda: app.scene.result.chosen == toss, 120, what="the toss to be fitted")
+        time.sleep(seconds)
+        with app.simulation.lock:
+            app.set_playing(False)  # paused: the labels (drawn apart from the 3D picture) catch up with it
+        page.evaluate(_CLOSE_NOTIFICATIONS)
+        # The panel from the fitted ratios down to the plot.
+        page.get_by_text("fitted moments I_x").first.evaluate("e => e.scrollIntoView({block: 'start'})")
+        time.sleep(2.0)
+        page.screenshot(path=str(path))
+        print(f"phone toss: {path}", flush=True)
 
 
 if __name__ == "__main__":

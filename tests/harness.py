@@ -93,11 +93,12 @@ def running_app(
     lecture: str | None = None,
     answers: str | None = None,
     caps: Any = None,
+    lang: str = "en",
 ) -> Iterator[Any]:
     """An App on a free port (``private``: one simulation per browser; ``presenter``: presenter mode on
     127.0.0.1; ``state``: a state text to start from; ``dark``: the dark look; ``projector``: projector
     mode; ``share``: viser's share button shown; ``lecture``: a lecture file or name to follow; ``answers``: the class questions' CSV;
-    ``caps``: an ``app.guards.admission.Caps``);
+    ``caps``: an ``app.guards.admission.Caps``; ``lang``: the language of a browser that prefers none we speak);
     stopped on exit."""
     from app.server import App
 
@@ -116,6 +117,7 @@ def running_app(
         lecture=lecture,
         answers=answers,
         caps=caps,
+        lang=lang,
     )
     try:
         yield app

@@ -16,18 +16,19 @@ from numpy.typing import NDArray
 from app.contracts import SceneContext
 from app.drawing.palette import COLOURS, GHOST_OPACITY, hex_colour
 from app.drawing.pieces import BodyMesh
+from app.language.words import mark, say
 from app.panel.drift import InvariantDrift
 from physics.integrators import BlanesMoan6, ClassicalRK4, LiePoissonStrang, SofroniouSpaletta10, Yoshida6, advance
 
 __all__ = ["IntegratorGhost", "METHODS", "chordal_angle"]
 
 METHODS: dict[str, type | None] = {
-    "none": None,
-    "classical RK4 (not geometric)": ClassicalRK4,
-    "Lie–Poisson splitting (order 2)": LiePoissonStrang,
-    "Yoshida 6 composition (order 6)": Yoshida6,
-    "Blanes–Moan 6 splitting (order 6, optimised)": BlanesMoan6,
-    "Sofroniou–Spaletta 10 composition (order 10)": SofroniouSpaletta10,
+    mark("none"): None,
+    mark("classical RK4 (not geometric)"): ClassicalRK4,
+    mark("Lie–Poisson splitting (order 2)"): LiePoissonStrang,
+    mark("Yoshida 6 composition (order 6)"): Yoshida6,
+    mark("Blanes–Moan 6 splitting (order 6, optimised)"): BlanesMoan6,
+    mark("Sofroniou–Spaletta 10 composition (order 10)"): SofroniouSpaletta10,
 }
 STEP = (0.002, 0.2, 0.002, 0.05)
 """The step slider (s): least, most, resolution, default."""
@@ -73,16 +74,18 @@ class IntegratorGhost:
         gui = ctx.server.gui
         self.body = BodyMesh(ctx.server, name, mesh, colour=COLOURS["ghost"], opacity=GHOST_OPACITY)
         self.body.handle.visible = False
-        self.choice = gui.add_dropdown("Compare with integrator", options=tuple(METHODS), initial_value="none")
+        self.choice = gui.add_dropdown(
+            mark("Compare with integrator"), options=tuple(METHODS), initial_value=mark("none")
+        )
         low, high, resolution, default = STEP
         self.step_slider = gui.add_slider(
-            "integrator step h (s)", min=low, max=high, step=resolution, initial_value=default
+            mark("integrator step h (s)"), min=low, max=high, step=resolution, initial_value=default
         )
         self.plot = InvariantDrift(
             ctx,
-            ("angle", "E"),
+            (mark("angle"), "E"),
             (hex_colour("blue"), hex_colour("black")),
-            title="Ghost − exact: log₁₀ angle (rad), log₁₀ energy drift",
+            title=mark("Ghost − exact: log₁₀ angle (rad), log₁₀ energy drift"),
         )
         self.plot.handle.visible = False
         self.choice.on_update(ctx.guarded(lambda _: self._changed()))
@@ -148,7 +151,10 @@ class IntegratorGhost:
         name = str(self.choice.value)
         self.choice.value = "none"  # type: ignore[misc]  # (viser 1.1.1 types it read-only) its callback hides the ghost
         self._changed()  # also when the callback is not run (the same value set twice)
-        self.ctx.notify("Integrator ghost stopped", f"{name}, h = {float(self.step_slider.value):g} s: {exc}")
+        self.ctx.notify(
+            mark("Integrator ghost stopped"),
+            say("{method}, h = {step:g} s: {reason}", method=name, step=float(self.step_slider.value), reason=str(exc)),
+        )
 
     def clear(self) -> None:
         """Start again from the exact state at the next frame (a reset, a new parameter; it is in the scene's

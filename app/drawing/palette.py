@@ -12,6 +12,8 @@ import numpy as np
 import viser
 from numpy.typing import ArrayLike
 
+from app.language.words import joined, keep, mark, say
+
 __all__ = [
     "OKABE_ITO",
     "COLOURS",
@@ -92,22 +94,22 @@ def hex_colour(name: str) -> str:
 
 # Legend text per quantity (Unicode: viser's markdown has no LaTeX).
 LABELS: dict[str, str] = {
-    "L": "L — angular momentum (fixed in space without torque)",
-    "omega": "ω — angular velocity",
-    "torque": "τ — torque",
-    "trace": "trace of the axis tip (a top's symmetry axis, the racket's spin axis; ω's tip in a body view)",
-    "polhode": "polhode: the path of L seen from the body, on the L-sphere",
-    "body_cone": "body cone (turns with the body)",
-    "space_cone": "space cone (fixed about L)",
-    "path": "path of the centre of mass",
-    "axes": "principal axes e₁, e₂, e₃ (e₃ longest)",
-    "body": "the body",
-    "impulse": "J — impulse",
-    "reaction": "pivot reaction",
-    "ghost": "ghost (translucent) — the body moved by the integrator of “Compare with integrator”",
-    "pivot": "pivot — the fixed axle, or the point the tensor is taken about (and its lever to the CM)",
-    "ellipsoid": "inertia ellipsoid (long where the moment is small)",
-    "guide": "guides (the sphere the axis tip moves on, the L-sphere, equators, the separatrix)",
+    "L": mark("L — angular momentum (fixed in space without torque)"),
+    "omega": mark("ω — angular velocity"),
+    "torque": mark("τ — torque"),
+    "trace": mark("trace of the axis tip (a top's symmetry axis, the racket's spin axis; ω's tip in a body view)"),
+    "polhode": mark("polhode: the path of L seen from the body, on the L-sphere"),
+    "body_cone": mark("body cone (turns with the body)"),
+    "space_cone": mark("space cone (fixed about L)"),
+    "path": mark("path of the centre of mass"),
+    "axes": mark("principal axes e₁, e₂, e₃ (e₃ longest)"),
+    "body": mark("the body"),
+    "impulse": mark("J — impulse"),
+    "reaction": mark("pivot reaction"),
+    "ghost": mark("ghost (translucent) — the body moved by the integrator of “Compare with integrator”"),
+    "pivot": mark("pivot — the fixed axle, or the point the tensor is taken about (and its lever to the CM)"),
+    "ellipsoid": mark("inertia ellipsoid (long where the moment is small)"),
+    "guide": mark("guides (the sphere the axis tip moves on, the L-sphere, equators, the separatrix)"),
 }
 
 
@@ -152,12 +154,19 @@ def legend_html(quantities: tuple[str, ...] | list[str], dark: bool = False) -> 
             if key in SWATCH_OPACITY
             else ""
         )
-        rows.append(
-            f'<div style="display:flex;align-items:center;gap:6px;margin:1px 0">'
-            f'<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{swatch}{opacity}">'
-            f"</span>{LABELS[key]}</div>"
-        )
-    return '<div class="rbl-legend">' + "".join(rows) + "</div>"
+        rows.append(say(_ROW, style=swatch + opacity, label=LABELS[key]))
+    # One text made of said parts, so that each name is translated on the wire; kept: a legend lives as long
+    # as its scene, and there are few of them.
+    return keep(say(_LEGEND, rows=joined(rows)))
+
+
+# Markup alone (not for the translators): the names inside are the values, each translated.
+_ROW = (
+    '<div style="display:flex;align-items:center;gap:6px;margin:1px 0">'
+    '<span style="display:inline-block;width:22px;height:6px;border-radius:3px;background:{style}">'
+    "</span>{label}</div>"
+)
+_LEGEND = '<div class="rbl-legend">{rows}</div>'
 
 
 def light(scene: viser.SceneApi, dark: bool = False) -> None:

@@ -21,8 +21,10 @@ import viser
 from viser import infra
 
 from app.contracts import ClientId
-from app.guards.gate import REFUSED_CODE
+from app.guards.gate import REFUSED_CODE, close_reason
 from app.guards.responses import connection_address, hook_requests
+from app.language.catalogs import SOURCE, negotiate
+from app.language.words import mark, say, translate
 
 __all__ = ["Admission", "Caps", "QUIET_SECONDS", "install_admission"]
 
@@ -100,11 +102,13 @@ class Admission:
         with self._lock:
             tokens = self._tokens(address, now)
             if len(self._address) >= total:
-                reason, key = f"the server is full ({total} browsers); try again later", "full"
+                reason, key = say("the server is full ({total} browsers); try again later", total=total), "full"
             elif not local and self._count[address] >= mine:
-                reason, key = f"at most {mine} browser tabs from one address; close one and reload", "address"
+                reason = say("at most {mine} browser tabs from one address; close one and reload", mine=mine)
+                key = "address"
             elif not local and tokens < 1.0:
-                reason, key = "too many new connections from your address; wait a minute and reload", "opening"
+                reason = mark("too many new connections from your address; wait a minute and reload")
+                key = "opening"
             else:
                 if not local:
                     self._opens[address] = (tokens - 1.0, now)
@@ -147,7 +151,7 @@ class Admission:
             ):  # a tab closed, or time passed: admit() decides
                 return None
             self.refused["turned away"] += 1
-        return "Refused: too many connections from your address; wait a moment and reload"
+        return mark("Refused: too many connections from your address; wait a moment and reload")
 
     def release(self, client_id: ClientId) -> None:
         """A connection closed (one never admitted: nothing to do)."""
@@ -170,9 +174,11 @@ class Admission:
             mine = self._address.get(client_id)
             addresses = [self._address.get(owner) for owner in owners if owner != client_id]
         if len(addresses) >= self.caps.sessions:
-            return f"the server runs {len(addresses)} copies already, its most; follow the lecture for now"
+            return say(
+                "the server runs {count} copies already, its most; follow the lecture for now", count=len(addresses)
+            )
         if mine is not None and mine not in _THIS_MACHINE and addresses.count(mine) >= self.caps.sessions_per_address:
-            return f"at most {self.caps.sessions_per_address} copies from one address; close one first"
+            return say("at most {most} copies from one address; close one first", most=self.caps.sessions_per_address)
         return None
 
 
@@ -198,7 +204,10 @@ def install_admission(server: viser.ViserServer, admission: Admission) -> Admiss
                 await original(decode)
 
         connection.recv = nothing  # type: ignore[method-assign]
-        await connection.close(REFUSED_CODE, f"Refused: {reason}"[:120])
+        # Before viser knows the browser, its language is the one its handshake asks for.
+        request = getattr(connection, "request", None)
+        lang = negotiate(request.headers.get("Accept-Language") if request is not None else None, SOURCE)
+        await connection.close(REFUSED_CODE, close_reason(translate(say("Refused: {reason}", reason=reason), lang)))
 
     def on_disconnect(client_connection: infra.WebsockClientConnection) -> None:
         admission.release(client_connection.client_id)

@@ -14,13 +14,14 @@ from typing import ParamSpec, TypeVar
 import viser
 
 from app.guards.wire import departed
+from app.language.words import mark
 
 __all__ = ["SOMETHING_WENT_WRONG", "event_client", "first_argument", "shielded", "shielded_handler"]
 
 P = ParamSpec("P")
 R = TypeVar("R")
 
-SOMETHING_WENT_WRONG = "Something went wrong"
+SOMETHING_WENT_WRONG = mark("Something went wrong")
 """The title of the notification a failed callback sends to the browser that acted."""
 
 

@@ -24,7 +24,10 @@ import msgspec
 import viser
 from viser import _messages, infra
 
-__all__ = ["ALLOWED", "BURST", "OFFENCES", "RATE", "REFUSED_CODE", "Gate", "install_gate"]
+from app.language.catalogs import SOURCE, negotiate
+from app.language.words import mark, translate
+
+__all__ = ["ALLOWED", "BURST", "OFFENCES", "RATE", "REFUSED_CODE", "Gate", "close_reason", "install_gate"]
 
 UPLOAD_PART = 512 * 1024
 """Bytes of a file in one ``FileTransferPart`` as viser's page sends them."""
@@ -68,6 +71,12 @@ and a control's changes are limited, with a message to the browser, by app.guard
 REFUSED_CODE = 1002
 """The close code a refused connection gets: viser's page shows the reason of a 1002 close in a
 notification ("Connection rejected: ..."), as it does for a version mismatch."""
+
+
+def close_reason(text: str) -> str:
+    """``text`` cut to fit a websocket close frame's reason: 120 characters and at most 123 bytes of UTF-8
+    (RFC 6455, 5.5: a control frame carries at most 125 bytes, two of them the code), whole characters."""
+    return text[:120].encode()[:123].decode(errors="ignore")
 
 
 class _Kind(msgspec.Struct):
@@ -197,6 +206,9 @@ def _guard(connection: Any, client_connection: infra.WebsockClientConnection, ga
                 with gate._lock:
                     gate.closed += 1
                 # The next read raises ConnectionClosed: viser tears the connection down as for any close.
-                await connection.close(REFUSED_CODE, "This server refused messages your page sent")
+                request = getattr(connection, "request", None)
+                lang = negotiate(request.headers.get("Accept-Language") if request is not None else None, SOURCE)
+                refused = mark("This server refused messages your page sent")
+                await connection.close(REFUSED_CODE, close_reason(translate(refused, lang)))
 
     connection.recv = recv

@@ -16,6 +16,7 @@ from viser import _messages, infra
 
 from app.contracts import ClientId
 from app.guards.uploads import guard_uploads
+from app.language.words import english_option, say
 
 __all__ = ["MAX_TEXT", "MAX_INT", "InputRefused", "check_update", "guard_inputs"]
 
@@ -36,23 +37,34 @@ class InputRefused(ValueError):
     """A browser's value for a control was refused; the message says why, for that browser."""
 
 
-def _number(value: Any, what: str) -> float | int:
+def _number(value: Any, label: str) -> float | int:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputRefused(f"{what} must be a number, got {type(value).__name__} {_short(value)}")
+        raise InputRefused(
+            say(
+                "“{label}” must be a number, got {kind!s} {value!s}",
+                label=label,
+                kind=type(value).__name__,
+                value=_short(value),
+            )
+        )
     if isinstance(value, int) and abs(value) > MAX_INT:
-        raise InputRefused(f"{what} must be between −2⁵³ and 2⁵³, got {_short(value)}")
+        raise InputRefused(
+            say("“{label}” must be between −2⁵³ and 2⁵³, got {value!s}", label=label, value=_short(value))
+        )
     if not math.isfinite(float(value)):
-        raise InputRefused(f"{what} must be a finite number, got {value}")
+        raise InputRefused(say("“{label}” must be a finite number, got {value!s}", label=label, value=value))
     return value
 
 
-def _whole(number: float, what: str) -> int:
+def _whole(number: float, label: str) -> int:
     """``number`` rounded for an integer control, refused if the rounded value is over 2⁵³ in magnitude
     (a float such as 1e23 passes the range check of a control without ``min``/``max`` but would give an
     integer msgpack cannot encode)."""
     whole = int(round(number))
     if abs(whole) > MAX_INT:
-        raise InputRefused(f"{what} must be between −2⁵³ and 2⁵³, got {_short(number)}")
+        raise InputRefused(
+            say("“{label}” must be between −2⁵³ and 2⁵³, got {value!s}", label=label, value=_short(number))
+        )
     return whole
 
 
@@ -83,40 +95,56 @@ def check_update(current: Any, props: Any, label: str, updates: dict[str, Any]) 
     updates : dict
         What the browser sent: property name to new value.
     """
-    what = f"“{label}”"
+    # Each message is said with the label as a value (a word of the catalogs, translated with it).
     if set(updates) != {"value"}:
-        raise InputRefused(f"{what}: only a control's value can be changed")
+        raise InputRefused(say("“{label}”: only a control's value can be changed", label=label))
     if getattr(props, "disabled", False):
-        raise InputRefused(f"{what} cannot be changed (it only shows a value)")
+        raise InputRefused(say("“{label}” cannot be changed (it only shows a value)", label=label))
     value = updates["value"]
     if isinstance(current, bool):
         if not isinstance(value, bool):
-            raise InputRefused(f"{what} must be on or off, got {_short(value)}")
+            raise InputRefused(say("“{label}” must be on or off, got {value!s}", label=label, value=_short(value)))
         return {"value": value}
     if isinstance(current, (int, float)):
-        number = _number(value, what)
+        number = _number(value, label)
         clamped = _clamp(float(number), getattr(props, "min", None), getattr(props, "max", None))
-        return {"value": _whole(clamped, what) if isinstance(current, int) else float(clamped)}
+        return {"value": _whole(clamped, label) if isinstance(current, int) else float(clamped)}
     if isinstance(current, str):
         if not isinstance(value, str):
-            raise InputRefused(f"{what} must be text, got {type(value).__name__}")
+            raise InputRefused(say("“{label}” must be text, got {kind!s}", label=label, kind=type(value).__name__))
         if len(value) > MAX_TEXT:
-            raise InputRefused(f"{what} takes at most {MAX_TEXT} characters, got {len(value)}")
+            raise InputRefused(
+                say(
+                    "“{label}” takes at most {most} characters, got {length}",
+                    label=label,
+                    most=MAX_TEXT,
+                    length=len(value),
+                )
+            )
         options = getattr(props, "options", None)
+        if options is not None:
+            value = english_option(value, tuple(options))  # a translated dropdown's choice, read back
         if options is not None and value not in options:
-            raise InputRefused(f"{what} has no option {_short(value)}")
+            raise InputRefused(say("“{label}” has no option {value!s}", label=label, value=_short(value)))
         return {"value": value}
     if isinstance(current, tuple):
         if not isinstance(value, (list, tuple)) or len(value) != len(current):
-            raise InputRefused(f"{what} must be {len(current)} numbers, got {_short(value)}")
+            raise InputRefused(
+                say(
+                    "“{label}” must be {count} numbers, got {value!s}",
+                    label=label,
+                    count=len(current),
+                    value=_short(value),
+                )
+            )
         low, high = getattr(props, "min", None), getattr(props, "max", None)
         out = []
         for i, (old, new) in enumerate(zip(current, value, strict=True)):
-            number = float(_number(new, what))
+            number = float(_number(new, label))
             number = _clamp(number, None if low is None else low[i], None if high is None else high[i])
-            out.append(_whole(number, what) if isinstance(old, int) else number)
+            out.append(_whole(number, label) if isinstance(old, int) else number)
         return {"value": tuple(out)}
-    raise InputRefused(f"{what} cannot be changed from a browser")
+    raise InputRefused(say("“{label}” cannot be changed from a browser", label=label))
 
 
 _GUARDED: weakref.WeakSet[viser.GuiApi] = weakref.WeakSet()
@@ -168,7 +196,10 @@ def guard_inputs(
         if tokens < 1.0:
             allowance[client_id] = (tokens, now)
             _send_value(gui, client_id, message.uuid, state.value)
-            refuse(client_id, f"More than {RATE:.0f} changes a second: some were ignored. Slow down a little.")
+            refuse(
+                client_id,
+                say("More than {rate:.0f} changes a second: some were ignored. Slow down a little.", rate=RATE),
+            )
             return
         allowance[client_id] = (tokens - 1.0, now)
         if len(allowance) > 10_000:  # browsers come and go: forget the oldest

@@ -16,6 +16,9 @@ import viser
 from websockets.asyncio.server import Server, ServerConnection
 from websockets.http11 import Request
 
+from app.language.catalogs import SOURCE, negotiate
+from app.language.words import translate
+
 __all__ = ["connection_address", "hook_requests", "hook_responses", "peer_address", "request_headers", "user_agent"]
 
 
@@ -84,7 +87,8 @@ def hook_requests(server: viser.ViserServer, turn_away: Callable[[str], str | No
             if str(request.headers.get("Upgrade", "")).lower() == "websocket":
                 reason = turn_away(connection_address(connection))  # (the request is on the connection now)
                 if reason is not None:
-                    return connection.respond(http.HTTPStatus.TOO_MANY_REQUESTS, reason + "\n")
+                    lang = negotiate(request.headers.get("Accept-Language"), SOURCE)
+                    return connection.respond(http.HTTPStatus.TOO_MANY_REQUESTS, translate(reason, lang) + "\n")
             if original is None:
                 return None
             response = original(connection, request)

@@ -17,6 +17,7 @@ from viser import _messages, infra
 
 from app.contracts import ClientId
 from app.guards.responses import peer_address
+from app.language.words import say
 from app.uploads import limits
 
 __all__ = ["guard_uploads"]
@@ -80,7 +81,14 @@ def guard_uploads(
             _forget(message.transfer_uuid)
             _release(gui, client_id, message.source_component_uuid, message.transfer_uuid, state["total_bytes"])
             name = PurePath(str(state["filename"]) or "upload").name
-            refuse(client_id, f"Upload refused: {name} sent more bytes than it declared ({state['total_bytes']:,}).")
+            refuse(
+                client_id,
+                say(
+                    "Upload refused: {name!s} sent more bytes than it declared ({declared:,}).",
+                    name=name,
+                    declared=state["total_bytes"],
+                ),
+            )
             return
         original_part(client_id, message)
         with _lock:
@@ -98,20 +106,34 @@ def _refusal(client_id: ClientId, message: _messages.FileTransferStartUpload, ad
     """Why this transfer may not start, or None (``address``: the browser's, :func:`_address`)."""
     size, count, filename = message.size_bytes, message.part_count, message.filename
     if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > limits.MAX_NAME:
-        return f"Upload refused: a file name is at most {limits.MAX_NAME} characters of text."
+        return say("Upload refused: a file name is at most {most} characters of text.", most=limits.MAX_NAME)
     name = PurePath(filename or "upload").name
     if not _count(size) or not _count(count) or count > limits.MAX_PARTS or (count == 0) != (size == 0):
-        return f"Upload refused: {name} was sent in a form this server does not take (size {size!r}, {count!r} parts)."
+        return say(
+            "Upload refused: {name!s} was sent in a form this server does not take (size {size!r}, {count!r} parts).",
+            name=name,
+            size=size,
+            count=count,
+        )
     too_large = limits.size_refusal(name, size)
     if too_large is not None:
-        return f"Upload refused: {too_large}"
+        return say("Upload refused: {reason}", reason=too_large)
     mine, everyone, here = _in_flight(client_id, address)
     if mine >= limits.PER_CLIENT:
-        return f"Upload refused: {name} was sent while your previous file is still arriving; wait for it."
+        return say(
+            "Upload refused: {name!s} was sent while your previous file is still arriving; wait for it.", name=name
+        )
     if here >= limits.PER_ADDRESS:
-        return f"Upload refused: {name} was sent while another file from your address is arriving; wait for it."
+        return say(
+            "Upload refused: {name!s} was sent while another file from your address is arriving; wait for it.",
+            name=name,
+        )
     if everyone >= limits.MAX_TRANSFERS:
-        return f"Upload refused: the server is receiving {everyone} other files; upload {name} again in a moment."
+        return say(
+            "Upload refused: the server is receiving {everyone} other files; upload {name!s} again in a moment.",
+            everyone=everyone,
+            name=name,
+        )
     return None
 
 

@@ -6,6 +6,7 @@ More in docs/app-notes.md (``app.panel.controls``).
 from __future__ import annotations
 
 import math
+import re
 import unicodedata
 import weakref
 from collections.abc import Callable
@@ -17,6 +18,7 @@ import viser
 from app.contracts import SceneContext
 from app.guards.handles import container_of, uuid_of
 from app.guards.wire import send_markdown
+from app.language.words import mark, say
 from app.panel.rollback import Rollback
 
 __all__ = [
@@ -27,6 +29,7 @@ __all__ = [
     "Presets",
     "Gauge",
     "refusable_dropdown",
+    "take_uploads",
     "folded",
 ]
 
@@ -135,9 +138,9 @@ class ParameterPanel:
         self.refusals += 1
         self.last_refusal = exc
         if isinstance(exc, ValueError):
-            title, text = "Refused: that is not a possible body", str(exc)
+            title, text = mark("Refused: that is not a possible body"), str(exc)
         else:
-            title, text = "Refused: the scene could not take these values", f"{type(exc).__name__}: {exc}"
+            title, text = mark("Refused: the scene could not take these values"), f"{type(exc).__name__}: {exc}"
         self.ctx.notify(title, text, client=client, error=True)
         self._sync(self.values)
 
@@ -193,7 +196,7 @@ def folded(text: str) -> str:
     return " ".join("".join(c for c in spelt if not unicodedata.combining(c)).lower().split())
 
 
-HELD = "held back: shown with the answers"
+HELD = mark("held back: shown with the answers")
 """What a readout says while a class question asks for its value."""
 
 
@@ -205,6 +208,7 @@ class Readout:
 
     def __init__(self, ctx: SceneContext, label: str, fmt: str = "{:.4g}", hint: str | None = None) -> None:
         self.fmt = fmt
+        self._said = re.sub(r"\{\d*", "{value", fmt, count=1)  # ``{:.4g}``, ``{0:.4g}``: one named field, for say()
         self.handle = ctx.server.gui.add_text(label, initial_value="—", disabled=True, hint=hint)
         self.value_text = "—"  # the text it states (shown unless held back)
         self.held = False
@@ -220,7 +224,7 @@ class Readout:
         elif not math.isfinite(value):
             text = "∞" if value > 0 else ("−∞" if value < 0 else "—")
         else:
-            text = self.fmt.format(value)
+            text = say(self._said, value=value)  # written as each reader's language writes numbers
         self.value_text = text
         self._show()
 
@@ -244,14 +248,14 @@ class Presets:
     commands written with an old name keep working.
     """
 
-    NONE = "— choose a preset —"
+    NONE = mark("— choose a preset —")
 
     def __init__(
         self,
         ctx: SceneContext,
         panel: ParameterPanel,
         presets: dict[str, dict[str, float] | Callable[[dict[str, float]], dict[str, float]]],
-        label: str = "Preset",
+        label: str = mark("Preset"),
         renamed: dict[str, str] | None = None,
     ) -> None:
         self.panel = panel
@@ -345,7 +349,11 @@ class Gauge:
             self._colour = self.bar.color = colour
         if text != self._text:
             self._text = text
-            send_markdown(self.text, f"{self.label}  \n{text}")
+            send_markdown(self.text, say(_GAUGE, label=self.label, text=text))
+
+
+_GAUGE = "{label}  \n{text}"
+"""A gauge's Markdown: its label over its line of text (markup alone: each part is translated as a value)."""
 
 
 def refusable_dropdown(
@@ -380,7 +388,7 @@ def refusable_dropdown(
             ok = apply()
         except Exception as exc:  # noqa: BLE001 - of any type: refused, the dropdown snaps back
             text = str(exc) if isinstance(exc, ValueError) else f"{type(exc).__name__}: {exc}"
-            ctx.notify("Refused", text, client=getattr(event, "client", None), error=True)
+            ctx.notify(mark("Refused"), text, client=getattr(event, "client", None), error=True)
             ok = False
         if ok is False:
             handle.value = accepted["value"]  # type: ignore[misc]  # viser 1.1.1 types this setter read-only
@@ -389,3 +397,27 @@ def refusable_dropdown(
 
     handle.on_update(ctx.guarded(on_update))
     return handle
+
+
+def take_uploads(
+    ctx: SceneContext,
+    button: Any,
+    load: Callable[[str, bytes, viser.ClientHandle | None], object],
+    refuse: Callable[[str, viser.ClientHandle | None], object],
+) -> None:
+    """Hand every file uploaded through ``button`` (a viser upload button) to ``load(name, content, client)``,
+    outside the simulation's lock (it reads the file in a worker and takes the lock to adopt it). Who may drive
+    is asked first: a follower's file is refused, ``refuse(reason, client)`` under the lock, before anything
+    reads it."""
+
+    def on_upload(event: Any) -> None:
+        client = getattr(event, "client", None)
+        reason = ctx.refusal(client.client_id) if client is not None else None
+        if reason is not None:
+            with ctx.lock:
+                refuse(reason, client)
+            return
+        file = button.value
+        load(file.name, file.content, client)
+
+    button.on_upload(on_upload)

@@ -9,6 +9,7 @@ import numpy as np
 import viser
 
 from app.contracts import SceneContext
+from app.language.words import mark
 from app.panel.look import plot_axes, plot_colour
 
 __all__ = ["DRIFT_EVERY", "DRIFT_POINTS", "DRIFT_FLOOR", "InvariantDrift"]
@@ -39,13 +40,13 @@ class InvariantDrift:
         ctx: SceneContext,
         names: tuple[str, ...],
         colours: tuple[str, ...],
-        title: str = "Invariants: log₁₀ relative drift",
+        title: str = mark("Invariants: log₁₀ relative drift"),
     ) -> None:
         self.names = names
         self.handle = ctx.server.gui.add_uplot(
             data=(np.zeros(1), *(np.full(1, math.log10(DRIFT_FLOOR)) for _ in names)),
             series=(
-                viser.uplot.Series(label="t (s)"),
+                viser.uplot.Series(label=mark("t (s)")),
                 *(
                     viser.uplot.Series(label=name, stroke=plot_colour(colour, ctx.dark), width=2)
                     for name, colour in zip(names, colours)

@@ -7,9 +7,9 @@ every text at least :data:`MIN_TEXT_PX` pixels, labels in full contrast rather t
 
 from __future__ import annotations
 
-import html
 from typing import Any
 
+from app.language.words import escaped, say
 from app.panel.access import PATCH
 
 __all__ = [
@@ -93,7 +93,11 @@ def plot_colour(colour: str, dark: bool) -> str:
 def motion_html(text: str) -> str:
     """The motion in words (:meth:`app.scenes.base.Scene.describe`) as a polite live region: a screen
     reader announces each new text when the reader is idle, without taking the focus."""
-    return f'<p class="rbl-motion" aria-live="polite" aria-atomic="true">{html.escape(text)}</p>'
+    # A template of markup alone (not for the translators): the words are the value, translated on the wire.
+    return say(_MOTION, text=escaped(text))
+
+
+_MOTION = '<p class="rbl-motion" aria-live="polite" aria-atomic="true">{text}</p>'
 
 
 def configure(gui: Any, *, share: bool = False, dark: bool = False) -> Any:

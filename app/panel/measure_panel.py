@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from physics.events import MotionEvent
+from app.language.words import joined, mark, say
+from physics.events import HALF_TURN, OVER_THE_TOP, THETA_MAX, THETA_MIN, TURNING_POINT, MotionEvent
 from physics.rotations import angle_between
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
@@ -31,14 +32,24 @@ __all__ = [
     "events_markdown",
 ]
 
-DIRECTIONS = ("L", "ω", "symmetry axis", "vertical")
+DIRECTIONS = ("L", "ω", mark("symmetry axis"), mark("vertical"))
 """The directions the angle is measured between."""
 EVENT_WINDOW = 8.0
 """The events listed are those within this many seconds of now (s), before and after."""
 EVENTS_SHOWN = 8
 """Most events listed (the nearest to now)."""
-HELD = "*The events wait while a class question is open.*"
-NO_EVENTS = "*No events: this motion has no flip, turning point or swing to time (or it is stepped).*"
+HELD = mark("*The events wait while a class question is open.*")
+NO_EVENTS = mark("*No events: this motion has no flip, turning point or swing to time (or it is stepped).*")
+
+
+KINDS = {
+    HALF_TURN: mark("half-turn"),
+    THETA_MAX: mark("θ max"),
+    THETA_MIN: mark("θ min"),
+    TURNING_POINT: mark("turning point"),
+    OVER_THE_TOP: mark("over the top"),
+}
+"""The events' kinds (:mod:`physics.events`) as the panel says them."""
 
 
 class Stopwatch:
@@ -71,13 +82,26 @@ def events_markdown(events: list[MotionEvent], t: float) -> str:
     """The events as a Markdown list, times in s to four decimals, the ones already past marked ✓."""
     if not events:
         return NO_EVENTS
-    lines = ["**Events** (from the exact solution):"]
+    lines = [mark("**Events** (from the exact solution):")]
     for e in events:
-        value = f"{math.degrees(e.value):.2f}°" if e.unit == "rad" else f"ω {e.value:+.4g} rad/s"
-        lines.append(f"- {'✓' if e.time <= t else '·'} {e.time:.4f} s: {e.kind} ({value})")
+        kind = KINDS.get(e.kind, e.kind)
+        past = "✓" if e.time <= t else "·"
+        if e.unit == "rad":
+            line = say(
+                "- {past} {time:.4f} s: {kind} ({angle:.2f}°)",
+                past=past,
+                time=e.time,
+                kind=kind,
+                angle=math.degrees(e.value),
+            )
+        else:
+            line = say(
+                "- {past} {time:.4f} s: {kind} (ω {omega:+.4g} rad/s)", past=past, time=e.time, kind=kind, omega=e.value
+            )
+        lines.append(line)
     if len(events) >= 2:
-        lines.append(f"\nSpacing: {events[1].time - events[0].time:.4f} s")
-    return "\n".join(lines)
+        lines.append(say("Spacing: {spacing:.4f} s", spacing=events[1].time - events[0].time))
+    return joined(lines, "\n")
 
 
 def angle_text(found: dict[str, Any], first: str, second: str) -> str:
@@ -85,11 +109,11 @@ def angle_text(found: dict[str, Any], first: str, second: str) -> str:
     vectors = {**found, "vertical": np.array([0.0, 0.0, 1.0])}
     missing = [name for name in (first, second) if name not in vectors]
     if missing:
-        return f"— (this scene draws no {missing[0]})"
+        return say("— (this scene draws no {direction})", direction=missing[0])
     angle = float(angle_between(vectors[first], vectors[second]))
     if math.isnan(angle):
-        return "— (a zero vector has no direction)"
-    return f"{math.degrees(angle):.3f}"
+        return mark("— (a zero vector has no direction)")
+    return say("{angle:.3f}", angle=math.degrees(angle))
 
 
 class MeasurePanel:
@@ -99,15 +123,17 @@ class MeasurePanel:
         self.sim = sim
         self.watch = Stopwatch()
         self.events: list[MotionEvent] = []  # those listed
-        with gui.add_folder("Measure", expand_by_default=False, order=order) as self.folder:
+        with gui.add_folder(mark("Measure"), expand_by_default=False, order=order) as self.folder:
             self.events_text = gui.add_markdown(NO_EVENTS)
-            self.stopwatch = gui.add_text("Stopwatch (s)", initial_value="0.0000", disabled=True)
+            self.stopwatch = gui.add_text(mark("Stopwatch (s)"), initial_value="0.0000", disabled=True)
             self.stopwatch_buttons = gui.add_button_group(
-                "Stopwatch", options=("Start", "Stop", "Zero"), hint="Times the simulated clock"
+                mark("Stopwatch"),
+                options=(mark("Start"), mark("Stop"), mark("Zero")),
+                hint=mark("Times the simulated clock"),
             )
-            self.first = gui.add_dropdown("Angle from", options=DIRECTIONS, initial_value="L")
-            self.second = gui.add_dropdown("to", options=DIRECTIONS, initial_value="symmetry axis")
-            self.angle = gui.add_text("Angle (°)", initial_value="—", disabled=True)
+            self.first = gui.add_dropdown(mark("Angle from"), options=DIRECTIONS, initial_value="L")
+            self.second = gui.add_dropdown(mark("to"), options=DIRECTIONS, initial_value="symmetry axis")
+            self.angle = gui.add_text(mark("Angle (°)"), initial_value="—", disabled=True)
         self.stopwatch_buttons.on_click(sim.guarded(self._on_stopwatch))
         self.first.on_update(sim.guarded(lambda _: sim.request_redraw()))
         self.second.on_update(sim.guarded(lambda _: sim.request_redraw()))
@@ -124,7 +150,7 @@ class MeasurePanel:
         self.show_stopwatch(t)
 
     def show_stopwatch(self, t: float) -> None:
-        text = f"{self.watch.reading(t):.4f}"
+        text = say("{seconds:.4f}", seconds=self.watch.reading(t))
         if self.stopwatch.value != text:
             self.stopwatch.value = text
 
@@ -154,4 +180,6 @@ class MeasurePanel:
         past = [e for e in self.events if e.time <= t]
         if not past:
             return ""
-        return f" Last event: {past[-1].kind} at {past[-1].time:.3f} s."
+        return say(
+            " Last event: {kind} at {time:.3f} s.", kind=KINDS.get(past[-1].kind, past[-1].kind), time=past[-1].time
+        )

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from typing import Any
 
 from app.guards.text import lecturer_markdown
+from app.language.words import mark
 from app.panel.look import MIN_TEXT_PX
 
 __all__ = [
@@ -28,7 +29,7 @@ __all__ = [
     "projector_region",
 ]
 
-LEAVE = "Leave projector mode"
+LEAVE = mark("Leave projector mode")
 """The last button of the caption's row (and the panel's projector button while on)."""
 SLIM_PX = 200.0
 """Width of the control panel as a slim bar (minimised to its title bar at the top right), CSS px."""
@@ -131,11 +132,11 @@ class Projector:
             main.set_width(SLIM_PX)
             main.minimize()
             self._caption_panel = self.gui.add_panel(order=-100.0)
-            with self._caption_panel.add_tab("Caption"):
+            with self._caption_panel.add_tab(mark("Caption")):
                 self.gui.add_html(STYLE + '<span class="rbl-projector-caption"></span>')
                 self.caption = self.gui.add_markdown("")
                 self._options = (LEAVE,)
-                self.row = self.gui.add_button_group("Projector", options=self._options)
+                self.row = self.gui.add_button_group(mark("Projector"), options=self._options)
             self.row.on_click(self._press)
             self._caption_panel.float(
                 x=MARGIN_PX,
@@ -185,7 +186,7 @@ class Projector:
 
     def _make_plot(self, plot: Any) -> None:
         self._plot_panel = self.gui.add_panel(order=-99.0)
-        with self._plot_panel.add_tab("Plot"):
+        with self._plot_panel.add_tab(mark("Plot")):
             self.gui.add_html('<span class="rbl-projector-plot"></span>')
             self.plot = self.gui.add_uplot(
                 data=plot.data,

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import viser
 
 from app.guards.handles import uuid_of
+from app.language.words import mark
 from app.panel import look
 from app.panel.access import keys_markdown
 from app.panel.measure_panel import MeasurePanel
@@ -61,25 +62,25 @@ class SimulationPanel:
         self.choosing = False  # the picker is being set to the scene built: not a choice of a browser's
         style = look.configure(gui, share=share, dark=dark)
         title = gui.add_markdown("**Rigid Body Lab**")
-        self.scene_picker = gui.add_dropdown("Scene", options=tuple(titles), initial_value=next(iter(titles)))
+        self.scene_picker = gui.add_dropdown(mark("Scene"), options=tuple(titles), initial_value=next(iter(titles)))
         self.scene_picker.on_update(sim.guarded(self._on_pick))
         # The motion in words (show_words): after the scene's folder, so its controls stay above the fold.
         self.words = gui.add_html(look.motion_html(""), order=LAST_ORDER - 1)
         # The lecture hall's switch (app.panel.projector), under the scene's folder: the scene's own controls
         # and the clock stay above the fold at 1280×800.
         self.projector_button = gui.add_button(
-            "Projector", icon=viser.Icon.PRESENTATION, hint=PROJECTOR_HINT, order=LAST_ORDER - 2
+            mark("Projector"), icon=viser.Icon.PRESENTATION, hint=PROJECTOR_HINT, order=LAST_ORDER - 2
         )
         self.said = ""
-        with gui.add_folder("Clock") as clock:
-            self.play_button = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE)
-            self.step_button = gui.add_button("Step", icon=viser.Icon.PLAYER_TRACK_NEXT)
-            self.reset_button = gui.add_button("Reset", icon=viser.Icon.REFRESH)
+        with gui.add_folder(mark("Clock")) as clock:
+            self.play_button = gui.add_button(mark("Pause"), icon=viser.Icon.PLAYER_PAUSE)
+            self.step_button = gui.add_button(mark("Step"), icon=viser.Icon.PLAYER_TRACK_NEXT)
+            self.reset_button = gui.add_button(mark("Reset"), icon=viser.Icon.REFRESH)
             # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
             self.speed_slider = gui.add_slider(
                 speed_label(1.0), min=-1.0, max=1.0, step=POSITION_STEP, initial_value=0.0, marks=POSITION_MARKS
             )
-            self.time_text = gui.add_text("Time (s)", initial_value="0.00", disabled=True)
+            self.time_text = gui.add_text(mark("Time (s)"), initial_value="0.00", disabled=True)
         self.play_button.on_click(sim.guarded(lambda _: sim.set_playing(not sim.playing)))
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
@@ -88,13 +89,13 @@ class SimulationPanel:
         self.timeline = TimelinePanel(sim, gui, order=TIMELINE_ORDER)  # the time slider, Step back, Replay
         self.step_back_button = self.timeline.step_back_button
         self.measure = MeasurePanel(sim, gui, order=LAST_ORDER + 0.5)  # events, stopwatch, angle
-        with gui.add_folder("State", expand_by_default=False, order=LAST_ORDER + 1) as state:
-            self.state_box = gui.add_text("State text", initial_value="", hint="Copy state writes it here")
-            self.copy_state_button = gui.add_button("Copy state", icon=viser.Icon.COPY)
-            self.open_state_button = gui.add_button("Open state", icon=viser.Icon.PLAYER_PLAY)
+        with gui.add_folder(mark("State"), expand_by_default=False, order=LAST_ORDER + 1) as state:
+            self.state_box = gui.add_text(mark("State text"), initial_value="", hint=mark("Copy state writes it here"))
+            self.copy_state_button = gui.add_button(mark("Copy state"), icon=viser.Icon.COPY)
+            self.open_state_button = gui.add_button(mark("Open state"), icon=viser.Icon.PLAYER_PLAY)
         self.copy_state_button.on_click(sim.guarded(self.on_copy_state))
         self.open_state_button.on_click(sim.guarded(self.on_open_state))
-        with gui.add_folder("Keyboard", expand_by_default=False, order=LAST_ORDER + 3) as keyboard:
+        with gui.add_folder(mark("Keyboard"), expand_by_default=False, order=LAST_ORDER + 3) as keyboard:
             gui.add_markdown(keys_markdown())
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
@@ -104,12 +105,12 @@ class SimulationPanel:
 
     def show_playing(self, playing: bool) -> None:
         """The play button says what a click does."""
-        self.play_button.label = "Pause" if playing else "Play"
+        self.play_button.label = mark("Pause") if playing else mark("Play")
         self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
 
     def show_projector(self, on: bool) -> None:
         """The projector button says what a click does."""
-        self.projector_button.label = LEAVE if on else "Projector"
+        self.projector_button.label = LEAVE if on else mark("Projector")
         self.projector_button.icon = viser.Icon.PRESENTATION_OFF if on else viser.Icon.PRESENTATION
 
     def show_clock(self, running: bool) -> None:

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+from app.language.words import keep, say
+
 __all__ = [
     "SPEED_MIN",
     "SPEED_MAX",
@@ -20,7 +22,14 @@ __all__ = [
 SPEED_MIN, SPEED_MAX = 0.01, 10.0
 POSITION_STEP = 0.05  # 20 steps per decade on the slow half, 20 per decade on the fast half
 # Labelled at the ends and the middle (five labels overlap on a phone); ticks at 0.1× and 3.2×.
-POSITION_MARKS: tuple[float | tuple[float, str], ...] = ((-1.0, "0.01×"), -0.5, (0.0, "1×"), 0.5, (1.0, "10×"))
+# Said (kept for the process's life): a language writes 0,01× with its own decimal mark.
+POSITION_MARKS: tuple[float | tuple[float, str], ...] = (
+    (-1.0, keep(say("{speed:g}×", speed=0.01))),
+    -0.5,
+    (0.0, keep(say("{speed:g}×", speed=1))),
+    0.5,
+    (1.0, keep(say("{speed:g}×", speed=10))),
+)
 
 
 def speed_at(position: float) -> float:
@@ -37,5 +46,4 @@ def position_of(speed: float) -> float:
 
 def speed_label(speed: float) -> str:
     """The slider's label: two significant digits, e.g. ``Speed 0.032×``, ``Speed 1×``, ``Speed 3.2×``."""
-    text = f"{speed:.2g}"
-    return f"Speed {text}×"
+    return say("Speed {speed:.2g}×", speed=speed)

@@ -10,6 +10,7 @@ import numpy as np
 import viser
 
 from app.contracts import SceneContext
+from app.language.words import mark
 from app.panel.look import plot_axes, plot_colour
 
 __all__ = ["TIME_PLOT_EVERY", "TIME_PLOT_POINTS", "TimePlot"]
@@ -58,7 +59,7 @@ class TimePlot:
         self.handle = ctx.server.gui.add_uplot(
             data=(np.zeros(1), *(np.zeros(1) for _ in series)),
             series=(
-                viser.uplot.Series(label="t (s)"),
+                viser.uplot.Series(label=mark("t (s)")),
                 *(
                     viser.uplot.Series(label=label, stroke=plot_colour(colour, ctx.dark), width=2)
                     for label, colour in series

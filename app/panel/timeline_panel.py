@@ -13,16 +13,18 @@ from typing import TYPE_CHECKING, Any
 
 import viser
 
+from app.language.words import mark
+
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
     from app.serving.simulation import Simulation
 
 __all__ = ["BACK", "JUMP", "ON", "REPLAY_SPANS", "SLIDER_STEP", "TIMELINE", "TimelinePanel"]
 
-TIMELINE = "Timeline (s)"
+TIMELINE = mark("Timeline (s)")
 """The time slider's label."""
 SLIDER_STEP = 0.01
 """The slider's resolution, s (the time readout's two decimals); the server's time is not rounded to it."""
-JUMP = "Jump 1 s"
+JUMP = mark("Jump 1 s")
 BACK, ON = "−1 s", "+1 s"
 """The jump buttons' group label and buttons (Shift+← and Shift+→ press them)."""
 REPLAY_SPANS = ("1 s", "2 s", "5 s", "10 s")
@@ -57,7 +59,7 @@ class TimelinePanel:
         self.sim = sim
         # Its own folder under the scene's: the Clock folder has no room left above the fold at 1280×800
         # (a scene's main controls must stay above it, tests/browser/test_look.py).
-        with gui.add_folder("Timeline", order=order) as self.folder:
+        with gui.add_folder(mark("Timeline"), order=order) as self.folder:
             self._build(sim, gui)
 
     def _build(self, sim: Simulation, gui: Any) -> None:
@@ -72,17 +74,25 @@ class TimelinePanel:
             max=1.0,
             step=SLIDER_STEP,
             initial_value=0.0,
-            hint="The simulated time: drag to put the body at that instant (the clock pauses; Play goes on from there)",
+            hint=mark(
+                "The simulated time: drag to put the body at that instant (the clock pauses; Play goes on from there)"
+            ),
         )
         self.step_back_button = gui.add_button(
-            "Step back", icon=viser.Icon.PLAYER_TRACK_PREV, hint="Back one step of the clock (pauses); the ← key"
+            mark("Step back"),
+            icon=viser.Icon.PLAYER_TRACK_PREV,
+            hint=mark("Back one step of the clock (pauses); the ← key"),
         )
-        self.jump = gui.add_button_group(JUMP, options=(BACK, ON), hint="Back or on one second (Shift+← / Shift+→)")
-        with gui.add_folder("Replay", expand_by_default=False):
-            self.span = gui.add_dropdown("Replay the last", options=REPLAY_SPANS, initial_value="2 s")
-            self.speed = gui.add_dropdown("Replay at", options=REPLAY_SPEEDS, initial_value="0.1×")
+        self.jump = gui.add_button_group(
+            JUMP, options=(BACK, ON), hint=mark("Back or on one second (Shift+← / Shift+→)")
+        )
+        with gui.add_folder(mark("Replay"), expand_by_default=False):
+            self.span = gui.add_dropdown(mark("Replay the last"), options=REPLAY_SPANS, initial_value="2 s")
+            self.speed = gui.add_dropdown(mark("Replay at"), options=REPLAY_SPEEDS, initial_value="0.1×")
             self.replay_button = gui.add_button(
-                "Replay", icon=viser.Icon.PLAYER_TRACK_PREV, hint="The last seconds again, slowly; then as before"
+                mark("Replay"),
+                icon=viser.Icon.PLAYER_TRACK_PREV,
+                hint=mark("The last seconds again, slowly; then as before"),
             )
         self.slider.on_update(sim.guarded(self._on_slide))
         self.jump.on_click(sim.guarded(lambda event: sim.timeline.jump(-1.0 if event.target.value == BACK else 1.0)))

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from app.guards.handles import scene_nodes
 from app.guards.text import csv_row
+from app.language.words import mark, say
 from app.recording.picture import render_png
 from physics.validation import finite_scalar
 
@@ -57,7 +58,7 @@ class Export:
 def one_at_a_time() -> Iterator[None]:
     """Hold the process's one export place, or refuse (ValueError) while another export runs."""
     if not _running.acquire(blocking=False):
-        raise ValueError("another export is running in this server; try again when it has finished")
+        raise ValueError(mark("another export is running in this server; try again when it has finished"))
     try:
         yield
     finally:
@@ -110,8 +111,8 @@ def record(sim: Simulation, out: Path, frames: int, fps: float, progress: Callab
             if scene.static:  # a still scene (its clock stays at 0): each frame is the same picture, drawn
                 sim.request_redraw()
             if not sim.frame(1.0 / fps):
-                last = sim.messages[-1][1] if sim.messages else "no message"
-                raise ValueError(f"the scene stopped at t = {sim.time:.3f} s: {last}")
+                last = sim.messages[-1][1] if sim.messages else mark("no message")
+                raise ValueError(say("the scene stopped at t = {time:.3f} s: {last}", time=sim.time, last=last))
         rows.append({"t (s)": sim.time, **scene.columns(sim.last_state)})
         if progress is not None and k > 0:
             progress(k, frames)

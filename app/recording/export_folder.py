@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import viser
 
 from app.guards.wire import departed
+from app.language.words import mark, say
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
     from app.serving.simulation import Simulation
@@ -54,9 +55,11 @@ class ExportFolder:
         self.auto_close_seconds = auto_close_seconds
         gui = simulation.server.gui
         low, high, default = EXPORT_SECONDS
-        with gui.add_folder("Export a recording", expand_by_default=False, order=order) as self.folder:
-            self.seconds = gui.add_slider("Seconds to record", min=low, max=high, step=1.0, initial_value=default)
-            self.button = gui.add_button("Export", icon=viser.Icon.DOWNLOAD, hint="a web page, a CSV and a PNG")
+        with gui.add_folder(mark("Export a recording"), expand_by_default=False, order=order) as self.folder:
+            self.seconds = gui.add_slider(mark("Seconds to record"), min=low, max=high, step=1.0, initial_value=default)
+            self.button = gui.add_button(
+                mark("Export"), icon=viser.Icon.DOWNLOAD, hint=mark("a web page, a CSV and a PNG")
+            )
         self.button.on_click(simulation.guarded(self._on_click))
         self.running: threading.Thread | None = None
 
@@ -65,12 +68,14 @@ class ExportFolder:
         if client is None:
             return
         if self.running is not None and self.running.is_alive():
-            self.simulation.notify("Export running", "the previous export has not finished yet", client=client)
+            self.simulation.notify(
+                mark("Export running"), mark("the previous export has not finished yet"), client=client
+            )
             return
         try:
             text = self.simulation.state_text(client)  # under the simulation's lock: one consistent state
         except ValueError as exc:  # e.g. a body handed over from another scene: no text can carry it
-            self.simulation.notify("Export refused", str(exc), client=client, error=True)
+            self.simulation.notify(mark("Export refused"), str(exc), client=client, error=True)
             return
         seconds = float(self.seconds.value)
         name = self.simulation.scene.name if self.simulation.scene is not None else "scene"
@@ -83,7 +88,9 @@ class ExportFolder:
         if departed(client):
             return
         try:
-            note = client.add_notification("Exporting", f"{seconds:g} s of {name}…", loading=True)
+            note = client.add_notification(
+                mark("Exporting"), say("{seconds:g} s of {name}…", seconds=seconds, name=name), loading=True
+            )
         except Exception:  # noqa: BLE001 - it left
             return
         last = [-1]
@@ -94,21 +101,26 @@ class ExportFolder:
             percent = 100 * done // total
             if percent >= last[0] + 10:  # a tenth at a time, not a stream
                 last[0] = percent
-                note.body = f"{seconds:g} s of {name}: {percent} %"
+                note.body = say("{seconds:g} s of {name}: {percent} %", seconds=seconds, name=name, percent=percent)
 
         final: tuple[str, str, Literal["green", "red"]]
         try:
             archive = self.export(text, seconds, progress)
             if departed(client):
                 return  # it left as the export ended: nobody to send it to
-            client.send_file_download(f"rigid-body-lab-{name}.zip", archive, save_immediately=True)
-            final = ("Exported", f"rigid-body-lab-{name}.zip ({len(archive) // 1024} kB)", "green")
+            file = f"rigid-body-lab-{name}.zip"
+            client.send_file_download(file, archive, save_immediately=True)
+            final = (
+                mark("Exported"),
+                say("{file!s} ({kilobytes} kB)", file=file, kilobytes=len(archive) // 1024),
+                "green",
+            )
         except _Left:
             return
         except ValueError as exc:
-            final = ("Export refused", str(exc), "red")
+            final = (mark("Export refused"), str(exc), "red")
         except Exception as exc:  # noqa: BLE001 - the server stays up; the browser is told
-            final = ("Export failed", f"{type(exc).__name__}: {exc}", "red")
+            final = (mark("Export failed"), f"{type(exc).__name__}: {exc}", "red")
         if departed(client):
             return
         # Every update carries all the props (viser keeps the latest): the note stops loading, says how it

@@ -3,14 +3,15 @@
 Run (the default), in the foreground: the file is checked (every refusal names the room and the key),
 nginx is found (or the ``apt-get install`` line printed), every port is checked free, nginx's
 configuration is written into a temporary folder and tested with ``nginx -t``; only then the rooms'
-processes start (``sys.executable -m app ...``, one per presenter or shared room, ``processes`` per
+processes start (after ``redis-server`` on loopback, when a private pool with a teacher PIN shares its
+table and the file names no ``redis``: :mod:`app.rooms.redis_server`) (``sys.executable -m app ...``, one per presenter or shared room, ``processes`` per
 private pool), and nginx once they answer. The supervisor restarts a process that dies and says so;
 SIGTERM or Ctrl-C stops nginx and every process and removes the folder. A backend on an address that is
 not this machine's (a room's ``hosts``) is not started here, only proxied to.
 
 ``--write DIR`` writes instead: ``rooms.conf`` (nginx's ``http`` part, for ``/etc/nginx/conf.d/``),
 ``nginx.conf`` (a whole configuration around it, run with ``-p DIR``), ``systemd/`` (a unit per process,
-the proxy's unit, a target) and ``README.txt`` saying which unit goes onto which machine.
+the proxy's unit, Redis's unit when a pool shares its teacher's table, a target) and ``README.txt`` saying which unit goes onto which machine.
 """
 
 from __future__ import annotations
@@ -22,13 +23,43 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 from pathlib import Path
+from secrets import token_urlsafe
 from types import FrameType
 
-from app.rooms.config import Backend, Department, Room, RoomsError, app_arguments, pin_environment, read_rooms
+from app.rooms.config import (
+    Backend,
+    Department,
+    Room,
+    RoomsError,
+    app_arguments,
+    pin_environment,
+    pool_environment,
+    read_rooms,
+)
 from app.rooms.nginx import NginxMissing, find_nginx, nginx_command, nginx_conf, rooms_conf
+from app.rooms.redis_server import (
+    REDIS_UNIT,
+    RedisMissing,
+    find_redis,
+    redis_answers,
+    redis_command,
+    redis_conf,
+    redis_unit,
+)
 from app.rooms.supervisor import ChildSpec, Supervisor, is_local_address, port_free
-from app.rooms.units import PROXY_UNIT, TARGET, app_unit, machines, proxy_unit, target_unit, unit_name
+from app.rooms.units import (
+    PROXY_UNIT,
+    TARGET,
+    app_unit,
+    is_loopback_host,
+    machines,
+    proxy_unit,
+    target_unit,
+    unit_name,
+)
+from app.teaching.pool_table import PASSWORD_VARIABLE
 
 __all__ = ["READY", "check_ports", "main", "run", "write", "write_nginx", "write_private"]
 
@@ -71,20 +102,27 @@ def check_ports(department: Department) -> list[tuple[Room, Backend]]:
                     f"{department.source}: room {room.name!r} (room {i}), key {key!r}: {backend.address} is in use"
                 )
             local.append((room, backend))
+    if department.redis is not None and not department.redis_given and not port_free(*department.redis):
+        raise RoomsError(
+            f"{department.source}: key 'redis': {department.redis_address} (the port after the rooms') is in use; "
+            'name a free one for the Redis server (redis = "127.0.0.1:PORT")'
+        )
     return local
 
 
 def _pins(department: Department) -> list[str]:
     return [
-        f"  /{room.name}/ presenter PIN: {room.pin}" + ("" if room.pin_given else " (drawn at random)")
+        f"  /{room.name}/ {'presenter' if room.mode == 'presenter' else 'teacher'} PIN: {room.pin}"
+        + ("" if room.pin_given else " (drawn at random)")
         for room in department.rooms
-        if room.mode == "presenter"
+        if room.pin is not None
     ]
 
 
 def run(department: Department, nginx: str) -> int:
     """Run the department in the foreground until SIGTERM or Ctrl-C; 0 when stopped cleanly."""
     local = check_ports(department)
+    redis_binary = find_redis() if department.redis is not None and not department.redis_given else None
     supervisor = Supervisor(log)
 
     def stop(signum: int, frame: FrameType | None) -> None:
@@ -103,10 +141,23 @@ def run(department: Department, nginx: str) -> int:
         log(f"nginx configuration and logs in {folder}")
         env = {"PYTHONPATH": os.pathsep.join(filter(None, [APP_ROOT, os.environ.get("PYTHONPATH")]))}
         rooms = []
+        password = os.environ.get(PASSWORD_VARIABLE)  # a Redis named in the file: its password, if any
+        if redis_binary is not None and department.redis is not None:  # first: the pools' processes use it
+            host, port = department.redis
+            password = token_urlsafe(24)  # this run's own server: a password of its own, in a 0600 file
+            write_private(folder / "redis.conf", redis_conf(password))
+            command = tuple(redis_command(redis_binary, host, port, str(folder / "redis.conf")))
+            probe = partial(redis_answers, password=password)
+            rooms.append(supervisor.add(ChildSpec("redis", command, host, port, probe=probe)))
+        elif department.redis is not None:
+            log(f"the teacher's table of private pools goes through the Redis at {department.redis_address}")
         for room, backend in local:
             label = room.name if len(room.backends) == 1 else f"{room.name} {backend.index}"
             command = (sys.executable, "-m", "app", *app_arguments(room, backend))
-            own = {**env, **pin_environment(room)}  # the PIN in its environment: never on a command line
+            # The PIN in its environment: never on a command line; and where its pool shares its table.
+            own = {**env, **pin_environment(room), **pool_environment(department, room, backend)}
+            if room.shares_table and password:
+                own[PASSWORD_VARIABLE] = password
             spec = ChildSpec(label, command, backend.host, backend.port, own, port_said=SERVING)
             rooms.append(supervisor.add(spec))
         for room in department.rooms:
@@ -147,8 +198,11 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
     where = machines(department)
     secrets = folder / "secrets"  # the PINs, for systemd (root) alone
     readable = [sys.base_prefix, sys.prefix, APP_ROOT]
+    password = token_urlsafe(24) if department.redis is not None else None  # the Redis unit's
     for room in department.rooms:
         pins = pin_environment(room)
+        if room.shares_table and password is not None:
+            pins[PASSWORD_VARIABLE] = password
         for backend in room.backends:
             name = unit_name(room, backend)
             environment_file = None
@@ -165,9 +219,11 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
                 workdir=APP_ROOT,
                 environment_file=None if environment_file is None else str(environment_file),
                 readable=readable,
+                environment=pool_environment(department, room, backend),
             )
             path.write_text(text)
             path.chmod(0o644)  # no secret in it
+    redis_lines = _write_redis(department, units, where, secrets, password)
     here = where.get("this machine", [])
     nginx_path = nginx or "/usr/sbin/nginx"
     (units / PROXY_UNIT).write_text(proxy_unit(nginx_path, folder, here))
@@ -193,13 +249,45 @@ def write(department: Department, folder: Path, nginx: str | None) -> None:
             "On each other machine: install Rigid Body Lab the same way (the units run",
             f"{sys.executable} -m app), copy its units and a target that wants them.",
         ]
+    lines += redis_lines
     if _pins(department):
         lines += [
             "",
-            f"The presenter PINs are in {secrets}/ (mode 0600, for systemd), and here (this file is 0600):",
+            f"The PINs are in {secrets}/ (mode 0600, for systemd), and here (this file is 0600):",
             *_pins(department),
         ]
     write_private(folder / "README.txt", "\n".join(lines) + "\n")
+
+
+def _write_redis(
+    department: Department, units: Path, where: dict[str, list[str]], secrets: Path, password: str | None
+) -> list[str]:
+    """Redis's unit, when a pool shares its teacher's table, added to the machine it runs on in ``where``,
+    and its password in ``secrets/redis.conf`` (0600); the README's lines about it."""
+    if department.redis is None or password is None:
+        return []
+    secrets.mkdir(mode=0o700, exist_ok=True)
+    secrets.chmod(0o700)
+    write_private(secrets / "redis.conf", redis_conf(password))
+    host, port = department.redis
+    machine = "this machine" if is_loopback_host(host) else host
+    try:
+        binary = find_redis()
+    except RedisMissing:
+        binary = "/usr/bin/redis-server"  # Debian's, on the machine the unit is for
+    config = str(secrets / "redis.conf")
+    (units / REDIS_UNIT).write_text(redis_unit(binary, host, port, TARGET, where.get(machine, []), config))
+    where.setdefault(machine, []).insert(0, REDIS_UNIT)
+    lines = [
+        "",
+        f"The teacher's table of a private pool goes through Redis at {department.redis_address}:",
+        f"{REDIS_UNIT} runs it on {machine} (sudo apt-get install redis-server there; Debian's own",
+        "redis-server.service can stay disabled). Every process of the pool connects to it with the",
+        f"password in {secrets}/redis.conf (copy it with the unit; the pool's secrets/*.env hold it too).",
+    ]
+    if machine != "this machine":
+        lines.append("Let only the pool's machines reach its port as well (a firewall rule).")
+    return lines
 
 
 def write_private(path: Path, text: str) -> None:
@@ -239,6 +327,6 @@ def main(argv: list[str]) -> int:
     try:
         nginx_binary = find_nginx(args.nginx)
         return run(department, nginx_binary)
-    except (RoomsError, NginxMissing) as exc:
+    except (RoomsError, NginxMissing, RedisMissing) as exc:
         print(f"rigid-body-lab rooms: refused: {exc}", file=sys.stderr, flush=True)
         return 2

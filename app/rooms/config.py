@@ -3,6 +3,8 @@
 The file names where the proxy listens and the rooms behind it::
 
     listen = "127.0.0.1:8000"       # where the proxy listens ("0.0.0.0:80" on a server)
+    redis = "10.0.0.5:6379"         # optional: the Redis a pool's teacher's table goes through (default:
+                                    # started on loopback, on the port after the rooms', when one is needed)
     [[room]]
     name = "mech101"                # served at /mech101/
     mode = "presenter"              # presenter | private | shared
@@ -12,12 +14,15 @@ The file names where the proxy listens and the rooms behind it::
     name = "homework"
     mode = "private"
     processes = 2                   # private rooms only: a pool of processes, browsers spread over it
+    pin = "246810"                  # a private room's teacher PIN: the table of every session of the pool
     port = 8201                     # optional: first backend port (default: after the proxy's port)
     hosts = ["10.0.0.5:8101", "10.0.0.6:8101"]   # optional: backends on other machines, one process each
 
 Every refusal is a :class:`RoomsError` naming the room and the key, raised before anything starts.
 A backend is one app process: ``sys.executable -m app --host H --port P`` with the room's mode
 (:func:`app_arguments`); a presenter or shared room has exactly one, a private pool ``processes``.
+A private pool of several processes with a teacher PIN shares its teacher's table through Redis
+(:func:`pool_environment`, :mod:`app.teaching.pool_table`).
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from app.scenes import scene_names
+from app.teaching.pool_table import POOL_VARIABLE, REDIS_VARIABLE
 
 __all__ = [
     "MODES",
@@ -42,6 +48,7 @@ __all__ = [
     "pin_environment",
     "parse_address",
     "parse_rooms",
+    "pool_environment",
     "read_rooms",
 ]
 
@@ -52,7 +59,7 @@ NAME = re.compile(r"[a-z0-9][a-z0-9_-]{0,39}")
 """A room's name: its URL path (/NAME/), so lower-case letters, digits, '-' and '_' only."""
 
 PIN = re.compile(r"[0-9]{4,12}")
-TOP_KEYS = frozenset({"listen", "room", "title"})
+TOP_KEYS = frozenset({"listen", "redis", "room", "title"})
 ROOM_KEYS = frozenset({"name", "mode", "pin", "scene", "processes", "port", "hosts", "dark"})
 DEFAULT_LISTEN = "127.0.0.1:8000"
 DEFAULT_TITLE = "Rigid Body Lab"
@@ -84,9 +91,14 @@ class Room:
     mode: str
     backends: tuple[Backend, ...]
     scene: str | None = None
-    pin: str | None = None  # presenter rooms: always set once read (given, or drawn at random)
+    pin: str | None = None  # presenter rooms: always set once read (given, or drawn at random); private: teacher PIN
     pin_given: bool = True  # False: the PIN was drawn at random when the file was read
     dark: bool = False
+
+    @property
+    def shares_table(self) -> bool:
+        """A private pool of several processes with a teacher PIN: its table goes through Redis."""
+        return self.mode == "private" and self.pin is not None and len(self.backends) > 1
 
     @property
     def ident(self) -> str:
@@ -103,6 +115,13 @@ class Department:
     rooms: tuple[Room, ...]
     title: str = DEFAULT_TITLE
     source: str = "ROOMS.toml"  # where it was read from, for messages
+    redis: tuple[str, int] | None = None  # the Redis server (host, port), when a pool shares its table
+    redis_given: bool = False  # named in the file (used, not started); False: started here on loopback
+
+    @property
+    def redis_address(self) -> str | None:
+        """The Redis server as ``host:port`` (an IPv6 host in brackets), or None."""
+        return None if self.redis is None else Backend(*self.redis).address
 
     @property
     def listen(self) -> str:
@@ -189,6 +208,34 @@ def parse_rooms(data: dict[str, Any], *, source: str = "ROOMS.toml", pin_source:
     next_port = listen_port + 1
     for draft in sorted(drafts, key=lambda d: d["port"] is None and d["hosts"] is None):
         placed[draft["index"]], next_port = _backends(draft, top, next_port)
+    redis = None
+    sharing = any(d["mode"] == "private" and d["pin"] is not None and len(placed[d["index"]]) > 1 for d in drafts)
+    if "redis" in data:
+        try:
+            redis = parse_address(data["redis"])
+        except ValueError as exc:
+            raise top.error("redis", str(exc)) from exc
+        if redis in top.used:
+            raise top.error("redis", f"{data['redis']} is already used by {top.used[redis]}")
+    elif sharing:  # started here, on loopback, on the first port free after the rooms'
+        while ("127.0.0.1", next_port) in top.used:
+            next_port += 1
+        if next_port > 65535:
+            raise top.error("redis", "no port is left after the rooms' for the Redis server: name one")
+        redis = ("127.0.0.1", next_port)
+    far = [
+        d["name"]
+        for d in drafts
+        if d["mode"] == "private" and d["pin"] is not None and len(placed[d["index"]]) > 1
+        for b in placed[d["index"]]
+        if not _loopback(b.host)
+    ]
+    if far and redis is not None and _loopback(redis[0]):
+        raise top.error(
+            "redis",
+            f"room {far[0]!r} has processes on other machines, which cannot reach a Redis on loopback: "
+            'name one they all reach (redis = "10.0.0.5:6379")',
+        )
     rooms = []
     for draft in drafts:
         backends = placed[draft["index"]]
@@ -207,7 +254,19 @@ def parse_rooms(data: dict[str, Any], *, source: str = "ROOMS.toml", pin_source:
                 dark=draft["dark"],
             )
         )
-    return Department(listen_host, listen_port, tuple(rooms), title=title.strip(), source=source)
+    return Department(
+        listen_host,
+        listen_port,
+        tuple(rooms),
+        title=title.strip(),
+        source=source,
+        redis=redis if sharing or "redis" in data else None,
+        redis_given="redis" in data,
+    )
+
+
+def _loopback(host: str) -> bool:
+    return host == "localhost" or host == "::1" or host.startswith("127.")
 
 
 def _random_pin() -> str:
@@ -243,8 +302,10 @@ def _room_draft(
         raise where.error("mode", f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
     pin = table.get("pin")
     if pin is not None:
-        if mode != "presenter":
-            raise where.error("pin", f"a PIN drives a presenter room; this room is {mode}")
+        if mode == "shared":
+            raise where.error(
+                "pin", "a PIN drives a presenter room or opens a private room's teacher's view; this room is shared"
+            )
         if not isinstance(pin, str) or not PIN.fullmatch(pin):
             raise where.error("pin", f'expected 4 to 12 digits as a string (pin = "123456"), got {pin!r}')
     scene = table.get("scene")
@@ -328,8 +389,20 @@ is never on a command line, where ``ps`` shows it to every user of the machine."
 
 
 def pin_environment(room: Room) -> dict[str, str]:
-    """What a room's process needs in its environment: the presenter PIN (:data:`PIN_VARIABLE`), or nothing."""
-    return {PIN_VARIABLE: str(room.pin)} if room.mode == "presenter" and room.pin is not None else {}
+    """What a room's process needs in its environment: the presenter PIN or a private room's teacher PIN
+    (:data:`PIN_VARIABLE`), or nothing."""
+    return {PIN_VARIABLE: str(room.pin)} if room.mode in ("presenter", "private") and room.pin is not None else {}
+
+
+def pool_environment(department: Department, room: Room, backend: Backend) -> dict[str, str]:
+    """Where a pool's process shares its teacher's table (:mod:`app.teaching.pool_table`): the Redis server
+    and ``NAME INDEX SIZE``; nothing for a room that does not share one (:attr:`Room.shares_table`)."""
+    if not room.shares_table or department.redis_address is None:
+        return {}
+    return {
+        REDIS_VARIABLE: department.redis_address,
+        POOL_VARIABLE: f"{room.name} {backend.index} {len(room.backends)}",
+    }
 
 
 def app_arguments(room: Room, backend: Backend, *, host: str | None = None) -> list[str]:

@@ -2,20 +2,27 @@
 
 A student who types the bare address finds the room. The page is static (written into nginx's
 configuration), small, readable on a phone, and says nothing secret (no PIN, no backend address).
+
+Its words are the catalogs' (:mod:`app.language`): ``landing_html(department, lang)`` writes the page in one
+language. nginx serves one page, written in English; a page per language (chosen by nginx from the
+browser's ``Accept-Language``, e.g. with a ``map``) is for the rooms' configuration to write, and is not
+done yet.
 """
 
 from __future__ import annotations
 
 import html
 
+from app.language.catalogs import SOURCE, check_language
+from app.language.words import mark, translate
 from app.rooms.config import Department, Room
 
 __all__ = ["MODE_WORDS", "landing_html"]
 
 MODE_WORDS = {
-    "presenter": "lecture: follow the lecturer (the PIN drives it)",
-    "private": "private: a simulation of your own",
-    "shared": "shared: one simulation for everyone",
+    "presenter": mark("lecture: follow the lecturer (the PIN drives it)"),
+    "private": mark("private: a simulation of your own"),
+    "shared": mark("shared: one simulation for everyone"),
 }
 """What each mode means to a student, as the page says it."""
 
@@ -26,25 +33,35 @@ STYLE = (
 )
 
 
-def _row(room: Room) -> str:
+def _words(text: str, lang: str) -> str:
+    """A word of the page in ``lang``, escaped (a translation may hold a quote: the page is one nginx string)."""
+    return html.escape(translate(text, lang), quote=True)
+
+
+def _row(room: Room, lang: str = SOURCE) -> str:
     name = html.escape(room.name, quote=True)
-    scene = html.escape(room.scene or "the first scene", quote=True)
-    mode = html.escape(MODE_WORDS[room.mode], quote=True)
+    scene = html.escape(room.scene, quote=True) if room.scene else _words(mark("the first scene"), lang)
+    mode = _words(MODE_WORDS[room.mode], lang)
     return f'<tr><td><a href="/{name}/">{name}</a></td><td>{mode}</td><td>{scene}</td></tr>'
 
 
-def landing_html(department: Department) -> str:
-    """The landing page's HTML (no single quote, backslash or ``$``: it is written as one nginx string)."""
+def landing_html(department: Department, lang: str = SOURCE) -> str:
+    """The landing page's HTML (no single quote, backslash or ``$``: it is written as one nginx string), its
+    words in ``lang`` (a language of :data:`app.language.catalogs.LANGUAGES`; ValueError for another)."""
+    lang = check_language(lang)
     title = html.escape(department.title, quote=True)
-    rows = "".join(_row(room) for room in department.rooms)
+    rows = "".join(_row(room, lang) for room in department.rooms)
+    choose, room, mode, scene = (
+        _words(word, lang) for word in (mark("Choose your room:"), mark("Room"), mark("Mode"), mark("Scene"))
+    )
     return (
         (
             "<!doctype html>"
-            f'<html lang="en"><head><meta charset="utf-8"><title>{title}</title>'
+            f'<html lang="{lang}"><head><meta charset="utf-8"><title>{title}</title>'
             '<meta name="viewport" content="width=device-width, initial-scale=1">'
             f"<style>{STYLE}</style></head><body>"
-            f"<h1>{title}</h1><p>Choose your room:</p>"
-            f"<table><thead><tr><th>Room</th><th>Mode</th><th>Scene</th></tr></thead><tbody>{rows}</tbody></table>"
+            f"<h1>{title}</h1><p>{choose}</p>"
+            f"<table><thead><tr><th>{room}</th><th>{mode}</th><th>{scene}</th></tr></thead><tbody>{rows}</tbody></table>"
             "</body></html>"
         )
         .replace("$", "&#36;")

@@ -67,6 +67,7 @@ class ChildSpec:
     port: int
     env: dict[str, str] = field(default_factory=dict)  # added to this process's environment
     port_said: str | None = None  # a regex whose group 1 is the port the child says it serves on
+    probe: Callable[[str, int], bool] | None = None  # whether it answers at (host, port); default HTTP (answers)
 
 
 PROBE = "/rooms-probe"
@@ -169,7 +170,7 @@ class Child:
 
     def ready(self) -> bool:
         """Running, and answering at its address."""
-        return self.alive() and answers(self.spec.host, self.spec.port)
+        return self.alive() and (self.spec.probe or answers)(self.spec.host, self.spec.port)
 
     def alive(self) -> bool:
         return self.process is not None and self.process.poll() is None

@@ -16,7 +16,7 @@ app takes it from the environment (:data:`app.rooms.config.PIN_VARIABLE`).
 from __future__ import annotations
 
 import shlex
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path, PurePath
 
 from app.rooms.config import Backend, Department, Room, app_arguments
@@ -88,6 +88,7 @@ def app_unit(
     workdir: str | None = None,
     environment_file: str | None = None,
     readable: Sequence[str] = (),
+    environment: Mapping[str, str] | None = None,
 ) -> str:
     """The unit of one app process: ``python -m app`` with the room's mode on the backend's address.
 
@@ -105,6 +106,9 @@ def app_unit(
         Directories the service must read (Python's prefix, the installed tree). Homes are hidden
         (``ProtectHome=yes``); when one of these is in a home, homes are an empty ``tmpfs`` instead, with
         these directories bound read-only into it.
+    environment : mapping of str to str, optional
+        Variables that are no secret (where a pool shares its teacher's table:
+        :func:`app.rooms.config.pool_environment`).
     """
     command = [python, "-m", "app", *app_arguments(room, backend)]
     lines = [
@@ -117,6 +121,7 @@ def app_unit(
         "[Service]",
         f"ExecStart={_exec(command)}",
         "Environment=PYTHONUNBUFFERED=1",
+        *(f'Environment="{key}={value}"' for key, value in (environment or {}).items()),
     ]
     if environment_file is not None:
         lines.append(f"EnvironmentFile={environment_file}")

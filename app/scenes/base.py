@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from app.contracts import SceneContext
+from app.language.words import say
 from physics.events import MotionEvent, events_between
 from physics.free_body_trajectory import FreeBodyTrajectory
 from physics.heavy_top import HeavyTopTrajectory
@@ -225,7 +226,7 @@ class Scene:
     def describe(self, state: dict[str, Any]) -> str:
         """The motion in one sentence with its numbers and units (:mod:`app.scenes.wording`), at a state
         :meth:`compute` gave: what a screen reader announces in place of the 3D view. Default: the title."""
-        return f"{self.title}."
+        return say("{title}.", title=self.title)
 
     def snapshot(self) -> dict[str, Any]:
         """The motion state that the time and the controls do not give (a stepping model's state), to copy

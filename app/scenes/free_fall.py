@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from app import draw
+from app.language.words import keep, mark, say
 from app.scenes.base import register
 from app.scenes.wobble import Wobble
 from app.scenes.wording import amount
@@ -25,14 +26,18 @@ LABEL_GAP = 0.05  # m between the body's widest reach from its path and the path
 @register
 class FreeFall(Wobble):
     name = "free_fall"
-    title = "Body in free fall"
+    title = mark("Body in free fall")
     order = 30
     quantities = ("L", "omega", "body_cone", "space_cone", "trace", "axes", "path", "ghost")
-    caption = (
-        "**Body in free fall.** Gravity acts at the centre of mass: no torque about it, so L about the "
-        "centre of mass stays fixed and the body wobbles exactly as in the torque-free scene while the "
-        "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ. At 1× it runs in real time: each throw "
-        f"rises {RISE:.3g} m and lasts its flight time 2 v₀z/g = {FLIGHT_TIME:.3g} s, then starts again."
+    caption = keep(  # made once: it must not be forgotten among the frames' readouts
+        say(
+            "**Body in free fall.** Gravity acts at the centre of mass: no torque about it, so L about the "
+            "centre of mass stays fixed and the body wobbles exactly as in the torque-free scene while the "
+            "centre of mass follows the parabola r = r₀ + v₀ τ − ½ g τ² ẑ. At 1× it runs in real time: each throw "
+            "rises {rise:.3g} m and lasts its flight time 2 v₀z/g = {flight:.3g} s, then starts again.",
+            rise=RISE,
+            flight=FLIGHT_TIME,
+        )
     )
     camera = ((0.4, -3.3, 1.7), (0.0, 0.0, 1.05))
     view = (2.3, 2.4)  # the whole flight, and the arrows at its top
@@ -56,7 +61,7 @@ class FreeFall(Wobble):
         self.path_label = draw.add_label(
             self.ctx.server,
             self.ctx.root + "/path_label",
-            "centre of mass",
+            mark("centre of mass"),
             position=path[0] + [LABEL_GAP + self.size / 2, 0.0, 0.0],
             anchor="center-left",
         )
@@ -67,8 +72,12 @@ class FreeFall(Wobble):
         return START + VELOCITY * tau - 0.5 * G * tau * tau * np.array([0.0, 0.0, 1.0])
 
     def describe(self, state: dict[str, Any]) -> str:
-        flight = f"its centre of mass rises {amount(RISE, 'm')} and lands after {amount(self.flight_time, 's')}, again and again"
-        return f"{self.title}: {flight}; {self.wobble_words()}."
+        flight = say(
+            "its centre of mass rises {rise} and lands after {flight}, again and again",
+            rise=amount(RISE, "m"),
+            flight=amount(self.flight_time, "s"),
+        )
+        return say("{title}: {flight}; {wobble}.", title=self.title, flight=flight, wobble=self.wobble_words())
 
     def draw(self, state: dict[str, Any]) -> None:
         # A new throw starts a new trace (the axis tip trace would otherwise jump across the scene).

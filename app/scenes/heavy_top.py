@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
+from app.language.words import mark, say
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Answer, Scene, register
@@ -88,15 +89,17 @@ def _nudge_words(top: HeavyTop, values: dict[str, float]) -> str:
     """The note shown at the top of the panel when the start was nudged (empty otherwise)."""
     if not _nudged(top, values):
         return ""
-    nudge = f"{math.degrees(UPRIGHT_NUDGE):.2g}°"
+    nudge = math.degrees(UPRIGHT_NUDGE)
     if _below_threshold(top, values):
-        return (
-            f"⚠ θ₀ = 0 below the sleeping threshold is an unstable equilibrium: the top starts {nudge} off "
-            "the vertical (a tiny perturbation, as any real top has) and topples."
+        return say(
+            "⚠ θ₀ = 0 below the sleeping threshold is an unstable equilibrium: the top starts {nudge:.2g}° off "
+            "the vertical (a tiny perturbation, as any real top has) and topples.",
+            nudge=nudge,
         )
-    return (
-        f"⚠ θ₀ = 0 with friction: the top starts {nudge} off the vertical (a tiny perturbation, as any real "
-        "top has). It sleeps until friction takes L₃ below the threshold, then topples."
+    return say(
+        "⚠ θ₀ = 0 with friction: the top starts {nudge:.2g}° off the vertical (a tiny perturbation, as any real "
+        "top has). It sleeps until friction takes L₃ below the threshold, then topples.",
+        nudge=nudge,
     )
 
 
@@ -114,12 +117,12 @@ def _with_phidot(factor: float) -> Callable[[dict[str, float]], dict[str, float]
 
 
 PRESETS: dict[str, dict[str, float] | Callable[[dict[str, float]], dict[str, float]]] = {
-    "cusps (released from rest)": {"spin": 10.0, "theta0": 60.0, "phidot0": 0.0, "friction": 0.0},
-    "waves (φ̇0 = ½ × steady)": _with_phidot(0.5),
-    "loops (φ̇0 = −1 × steady)": _with_phidot(-1.0),
-    "steady precession (slow rate)": _with_phidot(1.0),
-    "sleeping top (above threshold)": {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.0},
-    "sleeping top with friction: falls": {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.02},
+    mark("cusps (released from rest)"): {"spin": 10.0, "theta0": 60.0, "phidot0": 0.0, "friction": 0.0},
+    mark("waves (φ̇0 = ½ × steady)"): _with_phidot(0.5),
+    mark("loops (φ̇0 = −1 × steady)"): _with_phidot(-1.0),
+    mark("steady precession (slow rate)"): _with_phidot(1.0),
+    mark("sleeping top (above threshold)"): {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.0},
+    mark("sleeping top with friction: falls"): {"spin": 20.0, "theta0": 2.0, "phidot0": 0.0, "friction": 0.02},
 }
 
 RENAMED_PRESETS = {
@@ -128,8 +131,10 @@ RENAMED_PRESETS = {
 }
 
 
-THETA_BETWEEN = "θ turns between (°)"  # the exact top: its two turning angles
-THETA_NOW = "θ now (°)"  # the friction top: no turning points, its tilt now (and whether it lies on the table)
+THETA_BETWEEN = mark("θ turns between (°)")  # the exact top: its two turning angles
+THETA_NOW = mark("θ now (°)")  # the friction top: no turning points, its tilt now (and whether it lies on the table)
+
+_DEGREES = "{tilt:.4g}"  # a number alone: written per locale, nothing to translate
 
 SLEEPING_TILT = math.radians(5.0)
 """Within this tilt of the vertical a top above the threshold is said to sleep (it stands, barely moving)."""
@@ -144,19 +149,19 @@ def _cross_down(axis: NDArray[np.float64]) -> NDArray[np.float64]:
 def _sleeping_words(above: bool, theta: float) -> str:
     """What the gauge says: sleeping only for a top that stands (nearly) upright above the threshold."""
     if not above:
-        return "too slow to sleep: upright would be unstable"
+        return mark("too slow to sleep: upright would be unstable")
     if theta <= SLEEPING_TILT:
-        return "above it: stable upright, the top sleeps"
-    return f"above it: it would sleep upright, but it is tilted {math.degrees(theta):.4g}°"
+        return mark("above it: stable upright, the top sleeps")
+    return say("above it: it would sleep upright, but it is tilted {tilt:.4g}°", tilt=math.degrees(theta))
 
 
 @register
 class HeavyTopScene(Scene):
     name = "heavy_top"
-    title = "Heavy top"
+    title = mark("Heavy top")
     order = 10
     quantities = ("L", "omega", "torque", "trace", "guide", "ghost")
-    caption = (
+    caption = mark(
         "**Heavy symmetric top** on a fixed tip. Gravity's torque τ = ℓ ê₃ × (−M g ẑ) is horizontal, so "
         "L_z and L₃ are conserved and θ moves in the effective potential "
         "U(θ) = (L_z − L₃ cos θ)²/(2 I₁² sin²θ) + (M g ℓ/I₁) cos θ between two turning points: the axis tip "
@@ -186,28 +191,30 @@ class HeavyTopScene(Scene):
         self.params = controls.ParameterPanel(
             self.ctx,
             [
-                controls.SliderSpec("spin", "spin ω₃ (rad/s)", 0.0, 40.0, 0.1, 10.0),
-                controls.SliderSpec("theta0", "tilt θ₀ (°)", 0.0, 179.0, 0.5, 60.0),
-                controls.SliderSpec("phidot0", "initial precession φ̇₀ (rad/s)", -3.0, 3.0, 0.005, 0.0),
-                controls.SliderSpec("I1", "I₁ about the tip (kg m²)", 0.05, 1.0, 0.01, 0.4),
-                controls.SliderSpec("I3", "I₃ about the axis (kg m²)", 0.02, 1.0, 0.01, 0.2),
+                controls.SliderSpec("spin", mark("spin ω₃ (rad/s)"), 0.0, 40.0, 0.1, 10.0),
+                controls.SliderSpec("theta0", mark("tilt θ₀ (°)"), 0.0, 179.0, 0.5, 60.0),
+                controls.SliderSpec("phidot0", mark("initial precession φ̇₀ (rad/s)"), -3.0, 3.0, 0.005, 0.0),
+                controls.SliderSpec("I1", mark("I₁ about the tip (kg m²)"), 0.05, 1.0, 0.01, 0.4),
+                controls.SliderSpec("I3", mark("I₃ about the axis (kg m²)"), 0.02, 1.0, 0.01, 0.2),
                 controls.SliderSpec("mgl", "M g ℓ (J)", 0.05, 3.0, 0.05, 1.0),
                 controls.SliderSpec(
                     "friction",
-                    "spin friction c (N m s)",
+                    mark("spin friction c (N m s)"),
                     0.0,
                     0.05,
                     0.001,
                     0.0,
-                    hint="torque −c ω₃ about the axis at the tip; 0 = exact solution",
+                    hint=mark("torque −c ω₃ about the axis at the tip; 0 = exact solution"),
                 ),
             ],
             apply=self.apply,
         )
         self.presets = controls.Presets(self.ctx, self.params, PRESETS, renamed=RENAMED_PRESETS)
-        self.trace_length = gui.add_slider("trace length (points)", min=100, max=5000, step=100, initial_value=1500)
+        self.trace_length = gui.add_slider(
+            mark("trace length (points)"), min=100, max=5000, step=100, initial_value=1500
+        )
         self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
-        self.nutation = controls.TimePlot(self.ctx, "Nutation: θ (°)", [("θ (°)", draw.hex_colour("blue"))])
+        self.nutation = controls.TimePlot(self.ctx, mark("Nutation: θ (°)"), [("θ (°)", draw.hex_colour("blue"))])
         # U(θ) with the energy and θ now: where the axis nutates between its turning points.
         self.plot = gui.add_uplot(
             data=(
@@ -220,10 +227,13 @@ class HeavyTopScene(Scene):
                 viser.uplot.Series(label="θ (°)"),
                 viser.uplot.Series(label="U(θ)", stroke=plot_colour(draw.hex_colour("blue"), self.ctx.dark), width=2),
                 viser.uplot.Series(
-                    label="energy ℰ", stroke=plot_colour(draw.hex_colour("guide"), self.ctx.dark), width=1, dash=(6, 4)
+                    label=mark("energy ℰ"),
+                    stroke=plot_colour(draw.hex_colour("guide"), self.ctx.dark),
+                    width=1,
+                    dash=(6, 4),
                 ),
                 viser.uplot.Series(
-                    label="now (θ, U)",
+                    label=mark("now (θ, U)"),
                     stroke=draw.hex_colour("vermillion"),
                     width=0,
                     points={"show": True, "size": 10, "fill": draw.hex_colour("vermillion")},
@@ -233,14 +243,14 @@ class HeavyTopScene(Scene):
                 "x": _THETA_SCALE,
                 "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
             },
-            title="Effective potential U(θ) (1/s²)",
+            title=mark("Effective potential U(θ) (1/s²)"),
             axes=plot_axes(),
             aspect=1.6,
         )
-        self.precession_readout = controls.Readout(self.ctx, "precession ⟨φ̇⟩ (rad/s)")
-        self.nutation_readout = controls.Readout(self.ctx, "nutation period (s)")
+        self.precession_readout = controls.Readout(self.ctx, mark("precession ⟨φ̇⟩ (rad/s)"))
+        self.nutation_readout = controls.Readout(self.ctx, mark("nutation period (s)"))
         self.theta_readout = controls.Readout(self.ctx, THETA_BETWEEN, fmt="{}")
-        self.gauge = controls.Gauge(self.ctx, "**L₃ against the sleeping threshold 2√(M g ℓ I₁)**")
+        self.gauge = controls.Gauge(self.ctx, mark("**L₃ against the sleeping threshold 2√(M g ℓ I₁)**"))
         self.drift = controls.InvariantDrift(
             self.ctx,
             ("E", "L_z", "L₃"),
@@ -417,28 +427,51 @@ class HeavyTopScene(Scene):
 
     def describe(self, state: dict[str, Any]) -> str:
         top, L3 = self.top, float(state["L_body"][2])
-        spin = f"spin {amount(L3 / top.I3, 'rad/s')}, {threshold_words(L3, top.sleeping_threshold())}"
+        spin = say(
+            "spin {spin}, {threshold}",
+            spin=amount(L3 / top.I3, "rad/s"),
+            threshold=threshold_words(L3, top.sleeping_threshold()),
+        )
         if self.values["friction"] > 0.0:
-            where = "lying on the table" if state["landed"] else f"tilted {angle(state['theta'])}"
-            return f"Heavy top with spin friction {amount(self.values['friction'], 'N m s')}: {where}; {spin}."
+            where = mark("lying on the table") if state["landed"] else say("tilted {tilt}", tilt=angle(state["theta"]))
+            return say(
+                "Heavy top with spin friction {friction}: {where}; {spin}.",
+                friction=amount(self.values["friction"], "N m s"),
+                where=where,
+                spin=spin,
+            )
         sol, kind = self.exact, self.motion.kind
         if kind == "vertical":
-            return f"Heavy top, upright: standing on its tip; {spin}."
+            return say("Heavy top, upright: standing on its tip; {spin}.", spin=spin)
         if "precession_rate" in self.held:  # a class question asks for it: the rate and its sense wait
-            precessing = "precessing (its rate is the class question)"
+            precessing = mark("precessing (its rate is the class question)")
         else:
-            precessing = f"precessing at {amount(sol.precession_rate, 'rad/s')}"
+            precessing = say("precessing at {rate}", rate=amount(sol.precession_rate, "rad/s"))
         if kind == "steady":
-            return f"Heavy top, steady precession: {precessing} at a tilt of {angle(sol.theta_min)}; {spin}."
-        if angle(sol.theta_min) == angle(sol.theta_max):  # a nutation too small to say in three digits
-            nutation = f"{math.degrees(sol.theta_max - sol.theta_min):.2g}°"
-            return (
-                f"Heavy top, nearly steady precession: {precessing} at a tilt of {angle(sol.theta_min)}, "
-                f"nutating by {nutation}; {spin}."
+            return say(
+                "Heavy top, steady precession: {precessing} at a tilt of {tilt}; {spin}.",
+                precessing=precessing,
+                tilt=angle(sol.theta_min),
+                spin=spin,
             )
-        shape = tip_path(sol.Lz, sol.L3, sol.theta_min, sol.theta_max)
-        between = f"between {angle(sol.theta_min)} and {angle(sol.theta_max)}"
-        return f"Heavy top, {shape}: {precessing}, nutating {between} every {amount(sol.nutation_period, 's')}; {spin}."
+        if angle(sol.theta_min) == angle(sol.theta_max):  # a nutation too small to say in three digits
+            return say(
+                "Heavy top, nearly steady precession: {precessing} at a tilt of {tilt}, nutating by {nutation:.2g}°; "
+                "{spin}.",
+                precessing=precessing,
+                tilt=angle(sol.theta_min),
+                nutation=math.degrees(sol.theta_max - sol.theta_min),
+                spin=spin,
+            )
+        return say(
+            "Heavy top, {shape}: {precessing}, nutating between {low} and {high} every {period}; {spin}.",
+            shape=tip_path(sol.Lz, sol.L3, sol.theta_min, sol.theta_max),
+            precessing=precessing,
+            low=angle(sol.theta_min),
+            high=angle(sol.theta_max),
+            period=amount(sol.nutation_period, "s"),
+            spin=spin,
+        )
 
     def _invariants(self, state: dict[str, Any]) -> dict[str, tuple[float, float]]:
         """E = ½ ω·L + M g ℓ cos θ (:meth:`HeavyTop.energy`), L_z and L₃ (with their scales): constant for
@@ -462,24 +495,31 @@ class HeavyTopScene(Scene):
         self.gauge.set(
             abs(L3),
             threshold,
-            f"L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: "
-            + _sleeping_words(not top.below_sleeping_threshold(L3), theta),
+            say(
+                "L₃ = {L3:.4g} kg m²/s, threshold {threshold:.4g} kg m²/s: {words}",
+                L3=L3,
+                threshold=threshold,
+                words=_sleeping_words(not top.below_sleeping_threshold(L3), theta),
+            ),
         )
         now = time.monotonic()
         friction = self.values["friction"] > 0.0
         if friction:
-            self.precession_readout.set("— (friction: no fixed rate)")
+            self.precession_readout.set(mark("— (friction: no fixed rate)"))
             self.nutation_readout.set("—")
             self._theta_label(THETA_NOW)
+            tilt = math.degrees(theta)
             self.theta_readout.set(
-                f"{math.degrees(theta):.4g}, lying on the table" if state["landed"] else f"{math.degrees(theta):.4g}"
+                say("{tilt:.4g}, lying on the table", tilt=tilt) if state["landed"] else say(_DEGREES, tilt=tilt)
             )
         else:
             sol = self.exact
             self.precession_readout.set(sol.precession_rate)
             self.nutation_readout.set(sol.nutation_period)
             self._theta_label(THETA_BETWEEN)
-            self.theta_readout.set(f"{math.degrees(sol.theta_min):.4g} and {math.degrees(sol.theta_max):.4g}")
+            self.theta_readout.set(
+                say("{low:.4g} and {high:.4g}", low=math.degrees(sol.theta_min), high=math.degrees(sol.theta_max))
+            )
         if now - self._plot_time < 1.0 / PLOT_HZ and self._curve_key is not None:
             return
         self._plot_time = now

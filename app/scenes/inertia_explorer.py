@@ -14,6 +14,7 @@ import trimesh
 import viser
 
 from app import controls, draw
+from app.language.words import keep, mark, say
 from app.recording.columns import vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, listing
@@ -23,15 +24,24 @@ from assets import ASSETS, load_mesh, mass_properties
 from physics.inertia import MassProperties, box, point_masses, rod, solid_cylinder, solid_sphere
 
 PRIMITIVES = (
-    "Rod",
-    "Solid sphere",
-    "Solid cylinder",
-    "Box (L × 2a × a)",
-    "Point masses (4, unequal)",
-    "Point masses: dumbbell (2 × 0.5 kg)",
-    "Point masses: square (4 × 0.25 kg)",
+    mark("Rod"),
+    mark("Solid sphere"),
+    mark("Solid cylinder"),
+    mark("Box (L × 2a × a)"),
+    mark("Point masses (4, unequal)"),
+    mark("Point masses: dumbbell (2 × 0.5 kg)"),
+    mark("Point masses: square (4 × 0.25 kg)"),
 )
 ASSET_CHOICES = {ASSETS[k].label: k for k in ASSETS}
+ASSET_WORDS = (
+    mark("Tennis racket"),
+    mark("T-handle (Dzhanibekov nut)"),
+    mark("Spinning top"),
+    mark("Baseball bat"),
+    mark("Book"),
+)
+"""The assets' labels (:data:`assets.ASSETS`), marked here for the catalogs: assets/ is below app/ and
+knows nothing of its languages; a label changed there without this list is found by the language tests."""
 POINT_MASSES = np.array([1.0, 2.0, 1.0, 0.5])  # kg
 POINT_POSITIONS = np.array([[0.5, 0.0, 0.0], [-0.5, 0.2, 0.0], [0.0, -0.4, 0.3], [0.1, 0.3, -0.4]])  # × L
 POINT_SETS = {  # name prefix -> (masses kg, positions × L)
@@ -42,6 +52,8 @@ POINT_SETS = {  # name prefix -> (masses kg, positions × L)
         np.array([[0.5, 0.5, 0.0], [-0.5, 0.5, 0.0], [-0.5, -0.5, 0.0], [0.5, -0.5, 0.0]]),
     ),
 }
+_MOMENTS = "{I1:.4g}, {I2:.4g}, {I3:.4g}"  # numbers alone: written per locale, nothing to translate
+_TWO = "{pivot}\n\n{centre}"  # two tensors' Markdown, one after the other (markup alone)
 DISPLAY_SIZE = 1.2  # m: the body is drawn scaled so its largest extent is this
 AXES_LENGTH = 0.9  # m: the drawn principal axes (e₁, e₂ at 0.8 of it), longer than half the body's largest extent
 ELLIPSOID_CAP = 4.0  # a zero moment (rod) would give an infinite ellipsoid axis: cap at 4× the smallest
@@ -85,23 +97,27 @@ def tensor_markdown(tensor: np.ndarray, title: str) -> str:
     # Round-off-sized entries (1e-21 next to 1e-2) print as 0 so the structure reads at a glance.
     shown = np.where(np.abs(tensor) < 1e-12 * max(float(np.abs(tensor).max()), 1e-300), 0.0, tensor)
     rows = "\n".join("| " + " | ".join(f"{v: .4g}" for v in row) + " |" for row in shown)
-    return f"**{title}** (kg m²)\n\n| x | y | z |\n|---|---|---|\n{rows}"
+    return say("**{title}** (kg m²)\n\n| x | y | z |\n|---|---|---|\n{rows}", title=title, rows=rows)
 
 
 @register
 class InertiaExplorer(Scene):
     name = "inertia_explorer"
-    title = "Inertia explorer"
+    title = mark("Inertia explorer")
     order = 50  # after the frame's scenes: the heavy top stays the first thing a user sees
     quantities = ("body", "axes", "ellipsoid", "pivot")
     params: controls.ParameterPanel  # made in build()
-    caption = (
-        "**The inertia tensor.** Pick a body (the shapes weigh 1 kg, the meshes their real mass, "
-        f"{min(a.mass for a in ASSETS.values()):.2g} to {max(a.mass for a in ASSETS.values()):.2g} kg) "
-        "or upload your own mesh. The axes at the centre of mass are the principal axes (labelled 1, 2, 3 "
-        "with I₁ ≥ I₂ ≥ I₃); the translucent ellipsoid is the inertia ellipsoid xᵀ I x = const (long where I "
-        "is small). Move the pivot by d from the centre of mass: the tensor about it is "
-        "I(d) = I_CM + M (d² δ − d dᵀ) (parallel-axis theorem)."
+    caption = keep(  # made once: it must not be forgotten among the frames' readouts
+        say(
+            "**The inertia tensor.** Pick a body (the shapes weigh 1 kg, the meshes their real mass, "
+            "{lightest:.2g} to {heaviest:.2g} kg) "
+            "or upload your own mesh. The axes at the centre of mass are the principal axes (labelled 1, 2, 3 "
+            "with I₁ ≥ I₂ ≥ I₃); the translucent ellipsoid is the inertia ellipsoid xᵀ I x = const (long where I "
+            "is small). Move the pivot by d from the centre of mass: the tensor about it is "
+            "I(d) = I_CM + M (d² δ − d dᵀ) (parallel-axis theorem).",
+            lightest=min(a.mass for a in ASSETS.values()),
+            heaviest=max(a.mass for a in ASSETS.values()),
+        )
     )
     camera = ((2.4, -2.4, 2.0), (0.0, 0.0, 1.0))
     view = (1.9, 1.9)  # the body, its principal axes and a pivot up to 0.5 m off
@@ -133,36 +149,36 @@ class InertiaExplorer(Scene):
 
         self.choice = controls.refusable_dropdown(
             self.ctx,
-            "Body",
+            mark("Body"),
             (*PRIMITIVES, *ASSET_CHOICES),
-            "Box (L × 2a × a)",
+            mark("Box (L × 2a × a)"),
             apply=lambda: self.params.offer({}),
         )
         self.params = controls.ParameterPanel(
             self.ctx,
             [
-                controls.SliderSpec("a", "radius / size a (m)", 0.02, 0.5, 0.01, 0.15),
-                controls.SliderSpec("length", "length L (m)", 0.05, 2.0, 0.05, 0.8),
-                controls.SliderSpec("px", "pivot x from the CM (m)", -1.0, 1.0, 0.05, 0.4),
-                controls.SliderSpec("py", "pivot y from the CM (m)", -1.0, 1.0, 0.05, 0.0),
-                controls.SliderSpec("pz", "pivot z from the CM (m)", -1.0, 1.0, 0.05, 0.0),
+                controls.SliderSpec("a", mark("radius / size a (m)"), 0.02, 0.5, 0.01, 0.15),
+                controls.SliderSpec("length", mark("length L (m)"), 0.05, 2.0, 0.05, 0.8),
+                controls.SliderSpec("px", mark("pivot x from the CM (m)"), -1.0, 1.0, 0.05, 0.4),
+                controls.SliderSpec("py", mark("pivot y from the CM (m)"), -1.0, 1.0, 0.05, 0.0),
+                controls.SliderSpec("pz", mark("pivot z from the CM (m)"), -1.0, 1.0, 0.05, 0.0),
             ],
             apply=self.apply,
         )
         self.upload = gui.add_upload_button(
-            "Upload a mesh (STL, OBJ, PLY, GLB)",
+            mark("Upload a mesh (STL, OBJ, PLY, GLB)"),
             icon=None,
-            hint="watertight, at most 20 MB and 500,000 triangles; metres (or mm)",
+            hint=mark("watertight, at most 20 MB and 500,000 triangles; metres (or mm)"),
             mime_type=".stl,.obj,.ply,.glb",
         )
         # Not guarded: the file is parsed outside the simulation lock (load_upload takes it to swap the body in).
-        self.upload.on_upload(self._on_upload)
-        self.hull_button = gui.add_button("Use its convex hull instead", visible=False)
+        controls.take_uploads(self.ctx, self.upload, self.load_upload, self._refuse)
+        self.hull_button = gui.add_button(mark("Use its convex hull instead"), visible=False)
         self.hull_button.on_click(self.ctx.guarded(self._use_hull))
-        self.spin_button = gui.add_button("Spin it (torque-free)")
+        self.spin_button = gui.add_button(mark("Spin it (torque-free)"))
         self.spin_button.on_click(self.ctx.guarded(self._spin_it))
-        self.moments_readout = controls.Readout(self.ctx, "I₁ ≥ I₂ ≥ I₃ at the CM (kg m²)", fmt="{}")
-        self.pivot_readout = controls.Readout(self.ctx, "principal moments about the pivot (kg m²)", fmt="{}")
+        self.moments_readout = controls.Readout(self.ctx, mark("I₁ ≥ I₂ ≥ I₃ at the CM (kg m²)"), fmt="{}")
+        self.pivot_readout = controls.Readout(self.ctx, mark("principal moments about the pivot (kg m²)"), fmt="{}")
         self.note = gui.add_markdown("")
         self.tensor_md = gui.add_markdown("")
         self._last_choice = self.choice.value
@@ -180,7 +196,7 @@ class InertiaExplorer(Scene):
         return choice, mesh, props
 
     def _upload_label(self) -> str:
-        return f"Uploaded: {self.uploaded.name}" if self.uploaded is not None else ""
+        return say("Uploaded: {name}", name=self.uploaded.name) if self.uploaded is not None else ""
 
     def apply(self, values: dict[str, float]) -> None:
         label, mesh, props = self.current_body(values)
@@ -213,33 +229,26 @@ class InertiaExplorer(Scene):
         self.moments, self.axes, self.pivot, self.tensor_pivot = moments, axes, pivot, tensor_pivot
         self.pivot_moments = pivot_moments
         self.display_scale = scale
-        self.moments_readout.set(", ".join(f"{m:.4g}" for m in moments))
-        self.pivot_readout.set(", ".join(f"{m:.4g}" for m in pivot_moments))
-        self.tensor_md.content = (
-            tensor_markdown(tensor_pivot, "Tensor about the pivot")
-            + "\n\n"
-            + tensor_markdown(props.tensor, "Tensor about the centre of mass")
+        self.moments_readout.set(say(_MOMENTS, I1=moments[0], I2=moments[1], I3=moments[2]))
+        self.pivot_readout.set(say(_MOMENTS, I1=pivot_moments[0], I2=pivot_moments[1], I3=pivot_moments[2]))
+        self.tensor_md.content = say(
+            _TWO,
+            pivot=tensor_markdown(tensor_pivot, mark("Tensor about the pivot")),
+            centre=tensor_markdown(props.tensor, mark("Tensor about the centre of mass")),
         )
-        self.note.content = (
-            f"**{controls.markdown_text(label)}**, {props.mass:.4g} kg; drawn at {scale:.4g}× its size. "
-            f"Pivot d = {np.linalg.norm(pivot_offset):.4g} m from the CM: M d² = "
-            f"{props.mass * float(pivot_offset @ pivot_offset):.4g} kg m²."
+        self.note.content = say(
+            "**{label}**, {mass:.4g} kg; drawn at {scale:.4g}× its size. Pivot d = {d:.4g} m from the CM: M d² = "
+            "{Md2:.4g} kg m².",
+            label=controls.markdown_text(label),
+            mass=props.mass,
+            scale=scale,
+            d=float(np.linalg.norm(pivot_offset)),
+            Md2=props.mass * float(pivot_offset @ pivot_offset),
         )
         self._last_choice = self.choice.value
         self.ctx.request_redraw()
 
     # -- uploads -----------------------------------------------------------------------------------
-    def _on_upload(self, event: Any) -> None:
-        client = getattr(event, "client", None)
-        # Who may drive is asked first: a follower's file is refused before anything reads it.
-        reason = self.ctx.refusal(client.client_id) if client is not None else None
-        if reason is not None:
-            with self.ctx.lock:
-                self._refuse(reason, client)
-            return
-        file = self.upload.value
-        self.load_upload(file.name, file.content, client=client)
-
     def load_upload(self, filename: str, content: bytes, client: viser.ClientHandle | None = None) -> bool:
         """Check an uploaded file; on success show it, on refusal keep the previous body and say why.
 
@@ -269,14 +278,14 @@ class InertiaExplorer(Scene):
     def _refuse(self, message: str, client: viser.ClientHandle | None) -> bool:
         self.upload_refusals += 1
         self.last_upload_message = message
-        self.ctx.notify("Upload refused — the previous body stays", message, client=client, error=True)
+        self.ctx.notify(mark("Upload refused — the previous body stays"), message, client=client, error=True)
         return False
 
     def _use_hull(self, event: Any) -> None:
         if self.pending_hull is None:
             return
         filename, hull = self.pending_hull
-        body = body_from_mesh(hull, f"{filename} (convex hull)")
+        body = body_from_mesh(hull, say("{filename} (convex hull)", filename=filename))
         self._adopt(body, getattr(event, "client", None))
 
     def _adopt(self, body: UploadedBody, client: viser.ClientHandle | None) -> bool:
@@ -292,7 +301,7 @@ class InertiaExplorer(Scene):
             self.uploaded, self.choice.options, self.choice.value = previous
             return self._refuse(str(exc), client)
         self.last_upload_message = body.note
-        self.ctx.notify("Mesh loaded", body.note, client=client)
+        self.ctx.notify(mark("Mesh loaded"), body.note, client=client)
         return True
 
     # -- copies (presenter mode's "Explore on my own") ------------------------------------------------
@@ -319,10 +328,14 @@ class InertiaExplorer(Scene):
 
     def describe(self, state: dict[str, Any]) -> str:
         d = float(np.linalg.norm(self.pivot - self.props.center_of_mass))
-        return (
-            f"Inertia explorer, {self.label}, {amount(self.props.mass, 'kg')}: principal moments "
-            f"{listing(tuple(self.moments), 'kg m²')} about the centre of mass; about the pivot "
-            f"{amount(d, 'm')} away, {listing(tuple(self.pivot_moments), 'kg m²')}."
+        return say(
+            "Inertia explorer, {body}, {mass}: principal moments {moments} about the centre of mass; about the "
+            "pivot {distance} away, {pivot_moments}.",
+            body=self.label,
+            mass=amount(self.props.mass, "kg"),
+            moments=listing(tuple(self.moments), "kg m²"),
+            distance=amount(d, "m"),
+            pivot_moments=listing(tuple(self.pivot_moments), "kg m²"),
         )
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:

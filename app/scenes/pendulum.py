@@ -14,6 +14,7 @@ import numpy as np
 import trimesh
 
 from app import controls, draw
+from app.language.words import mark, say
 from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle
 from assets import load_mesh, mass_properties
@@ -22,12 +23,13 @@ from physics.events import events_between
 from physics.inertia import MassProperties, rod
 from physics.pendulum import PhysicalPendulum
 
-BODIES = ("Baseball bat (mesh)", "Uniform rod 0.84 m, 0.9 kg")
+BODIES = (mark("Baseball bat (mesh)"), mark("Uniform rod 0.84 m, 0.9 kg"))
 ROD_LENGTH, ROD_MASS = 0.84, 0.9
 HANG_HEIGHT = 1.9  # m: where the knob end is when the pivot slider is 0
 AXIS = np.array([1.0, 0.0, 0.0])  # the fixed axis: horizontal, along x
 ARROW_SHOW = 1.5  # s of simulation time the strike's arrows stay after the blow...
 ARROW_SECONDS = 1.2  # ...and at least this long in wall time, however fast the clock runs
+_STRIKE = "{delta:.4g}, {impulse:.4g}"  # numbers alone: written per locale, nothing to translate
 wall_clock = time.monotonic  # (a test replaces it)
 _FLIP = np.diag([1.0, -1.0, -1.0])  # half turn about x: the body's +z (knob to tip) now points down
 
@@ -66,11 +68,14 @@ def _period_text(model: PhysicalPendulum, theta: float, thetadot: float) -> str:
     """The readout "small swings / this swing" (:func:`swing_amplitude`)."""
     small = model.small_oscillation_period
     if model.omega0 == 0.0:
-        return "no restoring torque: it turns uniformly"
+        return mark("no restoring torque: it turns uniformly")
     amplitude = swing_amplitude(model, theta, thetadot)
     if amplitude is None:
-        return f"{small:.4g} / over the top: no swing back"
-    return f"{small:.4g} / {swing_period(model, amplitude):.4g}"
+        return say("{small:.4g} / over the top: no swing back", small=small)
+    return say(_PERIODS, small=small, swing=swing_period(model, amplitude))
+
+
+_PERIODS = "{small:.4g} / {swing:.4g}"  # numbers alone: written per locale, nothing to translate
 
 
 CAMERA = ((2.3, -0.8, 1.6), (0.0, 0.0, 1.45))
@@ -84,11 +89,11 @@ LABEL_OFFSET = 0.08
 @register
 class Pendulum(Scene):
     name = "pendulum"
-    title = "Physical pendulum & centre of percussion"
+    title = mark("Physical pendulum & centre of percussion")
     order = 55
     quantities = ("impulse", "reaction", "path", "pivot")
     params: controls.ParameterPanel  # made in build()
-    caption = (
+    caption = mark(
         "**Physical pendulum.** I = I_CM + M a⊥² = M k² about the pivot: it swings like a simple pendulum of "
         "length ℓ = k²/a⊥. **Strike!** (arrow J): the pivot pushes back (arrow 'pivot') unless the blow lands "
         "at the centre of percussion, ℓ below the pivot: the bat's sweet spot (the button under *Strike!*)."
@@ -124,32 +129,32 @@ class Pendulum(Scene):
         self.cop_marker = server.scene.add_icosphere(root + "/cop", radius=0.05, color=draw.COLOURS["impulse"])
         # The markers' labels in two columns beside the bat (CM and centre of percussion right, the strike
         # point left), each starting clear of its marker: never on the bat, never on each other.
-        self.cop_label = draw.add_label(server, root + "/cop_label", "centre of percussion", anchor="center-left")
+        self.cop_label = draw.add_label(server, root + "/cop_label", mark("centre of percussion"), anchor="center-left")
         self.cm_label = draw.add_label(server, root + "/cm_label", "CM", anchor="center-left")
         self.hit_marker = server.scene.add_icosphere(root + "/hit", radius=0.04, color=draw.COLOURS["impulse"])
         # Both balls are the blow's colour: the labels tell the strike point from the centre of percussion.
-        self.hit_label = draw.add_label(server, root + "/hit_label", "strike point", anchor="center-right")
+        self.hit_label = draw.add_label(server, root + "/hit_label", mark("strike point"), anchor="center-right")
         self.impulse_arrow = draw.Arrow(server, root + "/impulse", "impulse", label="J", shaft_radius=0.02)
-        self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label="pivot", shaft_radius=0.02)
+        self.reaction_arrow = draw.Arrow(server, root + "/reaction", "reaction", label=mark("pivot"), shaft_radius=0.02)
         self.trace = draw.Trace(server, root + "/trace", quantity="path", capacity=400, dark=self.ctx.dark)
         self.traces: list[Any] = [self.trace]
 
         self.choice = controls.refusable_dropdown(
-            self.ctx, "Body", tuple(BODIES), BODIES[0], apply=lambda: self.params.offer({})
+            self.ctx, mark("Body"), tuple(BODIES), BODIES[0], apply=lambda: self.params.offer({})
         )
         self.params = controls.ParameterPanel(
             self.ctx,
             [
-                controls.SliderSpec("pivot", "pivot below the knob end (m)", 0.0, 0.6, 0.01, 0.08),
-                controls.SliderSpec("amplitude", "release angle θ₀ (°)", 0.0, 179.0, 1.0, 30.0),
-                controls.SliderSpec("strike", "strike point below the pivot (m)", 0.0, 0.84, 0.001, 0.4),
-                controls.SliderSpec("impulse", "impulse J (N s)", 0.1, 5.0, 0.1, 1.0),
+                controls.SliderSpec("pivot", mark("pivot below the knob end (m)"), 0.0, 0.6, 0.01, 0.08),
+                controls.SliderSpec("amplitude", mark("release angle θ₀ (°)"), 0.0, 179.0, 1.0, 30.0),
+                controls.SliderSpec("strike", mark("strike point below the pivot (m)"), 0.0, 0.84, 0.001, 0.4),
+                controls.SliderSpec("impulse", mark("impulse J (N s)"), 0.1, 5.0, 0.1, 1.0),
             ],
             apply=self.apply,
         )
-        self.strike_button = gui.add_button("Strike!")
+        self.strike_button = gui.add_button(mark("Strike!"))
         self.strike_button.on_click(self.ctx.guarded(lambda _: self.strike()))
-        self.cop_button = gui.add_button("Move the strike point to the centre of percussion")
+        self.cop_button = gui.add_button(mark("Move the strike point to the centre of percussion"))
         self.cop_button.on_click(
             self.ctx.guarded(
                 lambda e: self.params.offer(
@@ -157,15 +162,17 @@ class Pendulum(Scene):
                 )
             )
         )
-        self.k_readout = controls.Readout(self.ctx, "radius of gyration k about the pivot (m)")
-        self.a_readout = controls.Readout(self.ctx, "a⊥: pivot to CM (m)")
-        self.l_readout = controls.Readout(self.ctx, "effective length ℓ = k²/a⊥ (m)")
-        self.period_readout = controls.Readout(self.ctx, "period: small swings / this swing (s)", fmt="{}")
-        self.strike_readout = controls.Readout(self.ctx, "last strike: Δω (rad/s), |pivot impulse| (N s)", fmt="{}")
+        self.k_readout = controls.Readout(self.ctx, mark("radius of gyration k about the pivot (m)"))
+        self.a_readout = controls.Readout(self.ctx, mark("a⊥: pivot to CM (m)"))
+        self.l_readout = controls.Readout(self.ctx, mark("effective length ℓ = k²/a⊥ (m)"))
+        self.period_readout = controls.Readout(self.ctx, mark("period: small swings / this swing (s)"), fmt="{}")
+        self.strike_readout = controls.Readout(
+            self.ctx, mark("last strike: Δω (rad/s), |pivot impulse| (N s)"), fmt="{}"
+        )
         self.drift = controls.InvariantDrift(self.ctx, ("E",), (draw.hex_colour("black"),))
         self.traces.append(self.drift)
         # The swing in time: its period states ℓ (held back with the centre of percussion, as the period is).
-        self.swing = controls.TimePlot(self.ctx, "The swing: θ (°)", [("θ (°)", draw.hex_colour("blue"))])
+        self.swing = controls.TimePlot(self.ctx, mark("The swing: θ (°)"), [("θ (°)", draw.hex_colour("blue"))])
         self.swing_plot = self.swing.handle
         self.last_strike: dict[str, Any] | None = None
         self.apply(self.params.values)
@@ -175,15 +182,19 @@ class Pendulum(Scene):
         mesh, props, length = hanging_body(self.choice.value)
         pivot_depth = values["pivot"]
         if pivot_depth >= length:
-            raise ValueError(f"the pivot must be on the body: it is {length:.2f} m long")
+            raise ValueError(say("the pivot must be on the body: it is {length:.2f} m long", length=length))
         pivot = np.array([0.0, 0.0, HANG_HEIGHT - pivot_depth])
         model = PhysicalPendulum(props, pivot, AXIS)
         if not model.a_perp > 0.0:
-            raise ValueError("the pivot is at the centre of mass: the body is balanced and does not swing")
+            raise ValueError(mark("the pivot is at the centre of mass: the body is balanced and does not swing"))
         if not 0.0 <= values["strike"] <= length - pivot_depth + 1e-9:
             raise ValueError(
-                f"the strike point must be on the body, between the pivot and the end "
-                f"{length - pivot_depth:.2f} m below it (got {values['strike']:.2f} m)"
+                say(
+                    "the strike point must be on the body, between the pivot and the end {end:.2f} m below it "
+                    "(got {strike:.2f} m)",
+                    end=length - pivot_depth,
+                    strike=values["strike"],
+                )
             )
         swing = (self.choice.value, pivot_depth, values["amplitude"])
         if swing == getattr(self, "_swing", None):
@@ -249,7 +260,9 @@ class Pendulum(Scene):
         self.start = (theta, thetadot + result.delta_omega, t)
         self.drift.clear()  # the blow changes the energy: the drift is measured from the struck swing
         self.last_strike = {"t": t, "wall": wall_clock(), "point": point, "impulse": impulse, "result": result}
-        self.strike_readout.set(f"{result.delta_omega:.4g}, {float(np.linalg.norm(result.reaction_impulse)):.4g}")
+        self.strike_readout.set(
+            say(_STRIKE, delta=result.delta_omega, impulse=float(np.linalg.norm(result.reaction_impulse)))
+        )
         self.period_readout.set(_period_text(self.model, theta, thetadot + result.delta_omega))  # a new swing
         self.ctx.request_redraw()
         return result
@@ -263,18 +276,30 @@ class Pendulum(Scene):
         model = self.model
         amplitude = swing_amplitude(model, state["theta"], state["theta_dot"])
         swing = (
-            "going over the top, round and round"
+            mark("going over the top, round and round")
             if amplitude is None
-            else f"swinging ±{angle(amplitude)} every {amount(swing_period(model, amplitude), 's')}"
+            else say(
+                "swinging ±{amplitude} every {period}",
+                amplitude=angle(amplitude),
+                period=amount(swing_period(model, amplitude), "s"),
+            )
         )
-        hung = f"Physical pendulum, {self.choice.value} hung {amount(self.params.values['pivot'], 'm')} below its end"
-        strike = f"the strike point {amount(self.params.values['strike'], 'm')}"
+        hung = say(
+            "Physical pendulum, {body} hung {pivot} below its end",
+            body=self.choice.value,
+            pivot=amount(self.params.values["pivot"], "m"),
+        )
+        strike = say("the strike point {strike}", strike=amount(self.params.values["strike"], "m"))
         if "centre_of_percussion" in self.held:  # a class question asks for ℓ: its periods would give it
-            release = f"released at {angle(math.radians(self.params.values['amplitude']))}"
-            return f"{hung}: {release}; {strike} below the pivot."
-        return (
-            f"{hung}: {swing} (small swings {amount(model.small_oscillation_period, 's')}); the centre of "
-            f"percussion is {amount(model.effective_length, 'm')} below the pivot, {strike}."
+            release = say("released at {angle}", angle=angle(math.radians(self.params.values["amplitude"])))
+            return say("{hung}: {release}; {strike} below the pivot.", hung=hung, release=release, strike=strike)
+        return say(
+            "{hung}: {swing} (small swings {small}); the centre of percussion is {length} below the pivot, {strike}.",
+            hung=hung,
+            swing=swing,
+            small=amount(model.small_oscillation_period, "s"),
+            length=amount(model.effective_length, "m"),
+            strike=strike,
         )
 
     def draw(self, state: dict[str, Any]) -> None:

@@ -14,6 +14,7 @@ import viser
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
+from app.language.words import keep, mark, say
 from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Answer, Scene, register
@@ -23,14 +24,18 @@ from physics.free_body import FreeBody
 from physics.inertia import MassProperties, validate_moments
 from physics.rotations import frame_from_axis
 
-SLIDERS = "moments from the sliders (a box)"
+SLIDERS = mark("moments from the sliders (a box)")
 BODIES = {
-    "Tennis racket (mesh)": "tennis_racket",
-    "T-handle, Dzhanibekov (mesh)": "t_handle",
-    "Book (mesh)": "book",
+    mark("Tennis racket (mesh)"): "tennis_racket",
+    mark("T-handle, Dzhanibekov (mesh)"): "t_handle",
+    mark("Book (mesh)"): "book",
     SLIDERS: None,
 }
-AXES = {"1 — largest moment": 0, "2 — intermediate (flips)": 1, "3 — smallest moment": 2}
+AXES = {mark("1 — largest moment"): 0, mark("2 — intermediate (flips)"): 1, mark("3 — smallest moment"): 2}
+KINDS = (mark("stable"), mark("unstable"), mark("neutral"))
+"""The lecture's words for an axis (:class:`physics.free_body.Stability`'s ``kind``), marked for the
+catalogs: a readout says one as a value, translated with it."""
+_MOMENTS = "{I1:.4g}, {I2:.4g}, {I3:.4g}"  # numbers alone: written per locale, nothing to translate
 HISTORY = 600  # samples of ω kept for the plot
 PLOT_EVERY = 12  # frames between plot refreshes: 5 Hz at 60 frames/s (each refresh sends 19 kB)
 SYMMETRY_RTOL = 1e-6  # moments closer than this (relative) are equal: a float32 mesh (STL) resolves no more
@@ -94,11 +99,11 @@ def separatrix_circles(moments: np.ndarray, n: int = 181) -> np.ndarray:
 @register
 class TennisRacket(Scene):
     name = "tennis_racket"
-    title = "Tennis racket: the intermediate axis"
+    title = mark("Tennis racket: the intermediate axis")
     order = 60
     quantities = ("L", "omega", "trace", "axes", "polhode", "guide", "ghost")
     params: controls.ParameterPanel  # made in build()
-    caption = (
+    caption = mark(
         "**The tennis-racket theorem.** Spin a body with I₁ > I₂ > I₃ about one principal axis, with a small "
         "push off it. About axis 1 or 3 it wobbles; about axis 2 the push grows like exp(λt), "
         "λ = Ω √((I₁ − I₂)(I₂ − I₃)/(I₁ I₃)), and the body flips over and back, again and again. L stays fixed. "
@@ -165,54 +170,54 @@ class TennisRacket(Scene):
         self.lsphere_label = draw.add_label(
             server,
             root + "/lsphere_label",
-            "L seen from the body",
+            mark("L seen from the body"),
             position=self.sphere_centre + [0, 0, 1.3 * self.sphere_radius],
         )
 
         self.source = controls.refusable_dropdown(
             self.ctx,
-            "Body",
+            mark("Body"),
             tuple(BODIES),
-            "Tennis racket (mesh)",
+            mark("Tennis racket (mesh)"),
             apply=lambda: self.params.offer({}),
         )
         self.axis = controls.refusable_dropdown(
             self.ctx,
-            "Spin about principal axis",
+            mark("Spin about principal axis"),
             tuple(AXES),
-            "2 — intermediate (flips)",
+            mark("2 — intermediate (flips)"),
             apply=lambda: self.params.offer({}),
         )
         self.params = controls.ParameterPanel(
             self.ctx,
             [
-                controls.SliderSpec("spin", "spin Ω (rad/s)", 0.5, 20.0, 0.5, 6.0),
+                controls.SliderSpec("spin", mark("spin Ω (rad/s)"), 0.5, 20.0, 0.5, 6.0),
                 controls.SliderSpec(
                     "log_eps",
-                    "push off the axis, log₁₀ ε",
+                    mark("push off the axis, log₁₀ ε"),
                     -8.0,
                     -0.5,
                     0.5,
                     -3.0,
-                    hint="each off-axis component of ω is ε Ω at t = 0 (Ω: the spin about the chosen axis)",
+                    hint=mark("each off-axis component of ω is ε Ω at t = 0 (Ω: the spin about the chosen axis)"),
                 ),
-                controls.SliderSpec("I1", "I₁ (kg m², slider body)", 0.1, 5.0, 0.1, 3.0),
-                controls.SliderSpec("I2", "I₂ (kg m², slider body)", 0.1, 5.0, 0.1, 2.0),
-                controls.SliderSpec("I3", "I₃ (kg m², slider body)", 0.1, 5.0, 0.1, 1.0),
+                controls.SliderSpec("I1", mark("I₁ (kg m², slider body)"), 0.1, 5.0, 0.1, 3.0),
+                controls.SliderSpec("I2", mark("I₂ (kg m², slider body)"), 0.1, 5.0, 0.1, 2.0),
+                controls.SliderSpec("I3", mark("I₃ (kg m², slider body)"), 0.1, 5.0, 0.1, 1.0),
             ],
             apply=self.apply,
         )
-        self.moments_readout = controls.Readout(self.ctx, "I₁, I₂, I₃ (kg m²)", fmt="{}")
-        self.stability_readout = controls.Readout(self.ctx, "lecture: this axis is", fmt="{}")
-        self.rate_readout = controls.Readout(self.ctx, "growth rate λ (1/s)")
+        self.moments_readout = controls.Readout(self.ctx, mark("I₁, I₂, I₃ (kg m²)"), fmt="{}")
+        self.stability_readout = controls.Readout(self.ctx, mark("lecture: this axis is"), fmt="{}")
+        self.rate_readout = controls.Readout(self.ctx, mark("growth rate λ (1/s)"))
         self.first_flip_readout = controls.Readout(
-            self.ctx, "first flip, estimated from the linear growth: ln(1/ε)/λ (s)"
+            self.ctx, mark("first flip, estimated from the linear growth: ln(1/ε)/λ (s)")
         )
-        self.period_readout = controls.Readout(self.ctx, "measured flip period (s)")
+        self.period_readout = controls.Readout(self.ctx, mark("measured flip period (s)"))
         self.plot = gui.add_uplot(
             data=(np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2)),
             series=(
-                viser.uplot.Series(label="t (s)"),
+                viser.uplot.Series(label=mark("t (s)")),
                 viser.uplot.Series(
                     label="ω₁", stroke=plot_colour(draw.hex_colour("vermillion"), self.ctx.dark), width=2
                 ),
@@ -221,7 +226,7 @@ class TennisRacket(Scene):
                 ),
                 viser.uplot.Series(label="ω₃", stroke=plot_colour(draw.hex_colour("blue"), self.ctx.dark), width=2),
             ),
-            title="ω in body axes (rad/s)",
+            title=mark("ω in body axes (rad/s)"),
             axes=plot_axes(),
             scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
             aspect=1.6,
@@ -264,9 +269,12 @@ class TennisRacket(Scene):
         moments = validate_moments([values["I1"], values["I2"], values["I3"]])
         if not (moments[0] >= moments[1] >= moments[2]):
             raise ValueError(
-                f"order the moments I₁ ≥ I₂ ≥ I₃ (got {moments.tolist()}): the axes are numbered by their moment"
+                say(
+                    "order the moments I₁ ≥ I₂ ≥ I₃ (got {moments}): the axes are numbered by their moment",
+                    moments=str(moments.tolist()),
+                )
             )
-        return moments, box_for_moments(moments), "box"
+        return moments, box_for_moments(moments), mark("box")
 
     def apply(self, values: dict[str, float]) -> None:
         moments, mesh, label = self._body(values)
@@ -297,24 +305,28 @@ class TennisRacket(Scene):
         self.stability = stab
         symmetric = bool(moments[0] == moments[1] or moments[1] == moments[2])
         self.precession = model.precession_rates(omega0) if symmetric else None
-        self.moments_readout.set(", ".join(f"{m:.4g}" for m in moments))
+        self.moments_readout.set(say(_MOMENTS, I1=moments[0], I2=moments[1], I3=moments[2]))
         if self.precession is not None:
             # No intermediate axis: ω turns steadily about the symmetry axis (lecture's Ω), no flip.
-            self.stability_readout.set(f"{stab.kind} (two equal moments: it precesses, never flips)")
-            self.rate_readout.handle.label = "body precession Ω = ω_s (I⊥ − I_s)/I⊥ (rad/s)"
+            self.stability_readout.set(say("{kind} (two equal moments: it precesses, never flips)", kind=stab.kind))
+            self.rate_readout.handle.label = mark("body precession Ω = ω_s (I⊥ − I_s)/I⊥ (rad/s)")
             self.rate_readout.set(self.precession.body)
-            self.period_readout.handle.label = "measured precession period (s)"
+            self.period_readout.handle.label = mark("measured precession period (s)")
         else:
-            self.stability_readout.set(f"{stab.kind} ({'flips' if stab.kind == 'unstable' else 'wobbles'})")
+            self.stability_readout.set(
+                say("{kind} (flips)", kind=stab.kind)
+                if stab.kind == "unstable"
+                else say("{kind} (wobbles)", kind=stab.kind)
+            )
             self.rate_readout.handle.label = (
-                "growth rate λ (1/s)" if stab.kind == "unstable" else "wobble frequency (rad/s)"
+                mark("growth rate λ (1/s)") if stab.kind == "unstable" else mark("wobble frequency (rad/s)")
             )
             self.rate_readout.set(stab.rate)
             self.period_readout.handle.label = (
-                "measured flip period (s)" if stab.kind == "unstable" else "measured wobble period (s)"
+                mark("measured flip period (s)") if stab.kind == "unstable" else mark("measured wobble period (s)")
             )
         self.first_flip_readout.set(
-            math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else "— (a stable axis does not flip)"
+            math.log(1.0 / eps) / stab.rate if stab.kind == "unstable" else mark("— (a stable axis does not flip)")
         )
         self.flip_period = self.measured_flip_period()
         self.period_readout.set(self.flip_period)
@@ -355,22 +367,36 @@ class TennisRacket(Scene):
         return float(np.mean(tc[2:] - tc[:-2]))
 
     def describe(self, state: dict[str, Any]) -> str:
-        spun = (
-            f"Intermediate axis, {self.description} (moments {listing(tuple(self.moments), 'kg m²')}), spun at "
-            f"{amount(float(self.omega0[self.axis_index]), 'rad/s')} about axis {self.axis_index + 1}"
+        spun = say(
+            "Intermediate axis, {body} (moments {moments}), spun at {spin} about axis {axis}",
+            body=self.description,
+            moments=listing(tuple(self.moments), "kg m²"),
+            spin=amount(float(self.omega0[self.axis_index]), "rad/s"),
+            axis=self.axis_index + 1,
         )
         period = amount(self.flip_period, "s")
         if "flip" in self.held:  # a class question asks what it does next
-            return f"{spun}: what it does next is the class question."
+            return say("{spun}: what it does next is the class question.", spun=spun)
         if self.precession is not None:
-            return f"{spun}: two equal moments, so ω precesses at {amount(self.precession.body, 'rad/s')} in the body, every {period}, and never flips."
+            return say(
+                "{spun}: two equal moments, so ω precesses at {rate} in the body, every {period}, and never flips.",
+                spun=spun,
+                rate=amount(self.precession.body, "rad/s"),
+                period=period,
+            )
         if self.stability.kind == "unstable":
-            return f"{spun}, the intermediate one: it flips over and back every {period}, growing at {amount(self.stability.rate, '1/s')}."
-        return f"{spun}, a stable one: it wobbles every {period} and never flips."
+            return say(
+                "{spun}, the intermediate one: it flips over and back every {period}, growing at {rate}.",
+                spun=spun,
+                period=period,
+                rate=amount(self.stability.rate, "1/s"),
+            )
+        return say("{spun}, a stable one: it wobbles every {period} and never flips.", spun=spun, period=period)
 
     def accept(self, payload: Any) -> None:
         """Take a body from another scene: ``{"label", "mesh", "mass_properties"}``."""
-        label = f"{payload['label']} (from the explorer)"
+        # An option of the Body dropdown for as long as the scene lives: kept translatable.
+        label = keep(say("{label} (from the explorer)", label=payload["label"]))
         self.handed = {"label": label, "mesh": payload["mesh"], "mass_properties": payload["mass_properties"]}
         self.source.options = (*BODIES, label)
         previous = self.source.value

@@ -13,12 +13,15 @@ import numpy as np
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
+from app.language.words import mark, say
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Scene, register
 from app.scenes.wording import amount, angle
 from physics.free_body import FreeBody
 from physics.inertia import validate_moments
 from physics.rotations import frame_from_axis
+
+_MOMENTS = "{I1:.4g}, {I3:.4g}"  # numbers alone: written per locale, nothing to translate
 
 
 def cylinder_for_ratio(ratio: float, size: float) -> tuple[float, float]:
@@ -44,13 +47,15 @@ def _angle(u: np.ndarray, v: np.ndarray) -> float:
 @register
 class Wobble(Scene):
     name = "wobble"
-    title = "Torque-free wobble"
+    title = mark("Torque-free wobble")
     order = 20
     quantities: ClassVar[tuple[str, ...]] = ("L", "omega", "body_cone", "space_cone", "trace", "axes", "ghost")
-    caption = (
+    # "&lt;", as the panel shows it: the caption is sanitised as Markdown (app.guards.text.lecturer_markdown),
+    # which writes a "<" so, and the text shown must be the catalogs' message to be translated.
+    caption = mark(
         "**Torque-free symmetric body.** L is fixed in space. In the body, ω turns about the symmetry axis "
         "at Ω = ω₃ (I₁ − I₃)/I₁; in space the axis turns about L at φ̇ = L/I₁. The body cone (about the "
-        "axis) rolls on the space cone (about L) along ω. I₃/I₁ < 1: prolate (rod-like), > 1: oblate (disc). "
+        "axis) rolls on the space cone (about L) along ω. I₃/I₁ &lt; 1: prolate (rod-like), > 1: oblate (disc). "
         "The arrows L and ω keep their lengths (|L| and |ω| are constant here): both are drawn 1.1 m long."
     )
     camera = ((2.2, -2.2, 1.9), (0.0, 0.0, 1.15))
@@ -76,15 +81,15 @@ class Wobble(Scene):
             [
                 controls.SliderSpec(
                     "ratio",
-                    "I₃/I₁ (shape)",
+                    mark("I₃/I₁ (shape)"),
                     0.1,
                     2.5,
                     0.05,
                     1.6,
-                    hint="< 1 prolate (rod-like), > 1 oblate (disc); 2 is a flat disc, above is impossible",
+                    hint=mark("< 1 prolate (rod-like), > 1 oblate (disc); 2 is a flat disc, above is impossible"),
                 ),
-                controls.SliderSpec("spin", "|ω| (rad/s)", 0.2, 10.0, 0.1, 3.0),
-                controls.SliderSpec("tilt", "angle of ω from the axis (°)", 0.0, 89.0, 1.0, 20.0),
+                controls.SliderSpec("spin", mark("|ω| (rad/s)"), 0.2, 10.0, 0.1, 3.0),
+                controls.SliderSpec("tilt", mark("angle of ω from the axis (°)"), 0.0, 89.0, 1.0, 20.0),
             ],
             apply=self.apply,
         )
@@ -92,16 +97,16 @@ class Wobble(Scene):
             self.ctx,
             self.params,
             {
-                "disc (oblate)": {"ratio": 1.9},
-                "sphere-like (I₃ = I₁)": {"ratio": 1.0},
-                "rod-like (prolate)": {"ratio": 0.3},
+                mark("disc (oblate)"): {"ratio": 1.9},
+                mark("sphere-like (I₃ = I₁)"): {"ratio": 1.0},
+                mark("rod-like (prolate)"): {"ratio": 0.3},
             },
         )
-        self.body_view = self.ctx.server.gui.add_checkbox("Body view (ride with the body)", initial_value=False)
+        self.body_view = self.ctx.server.gui.add_checkbox(mark("Body view (ride with the body)"), initial_value=False)
         self.body_view.on_update(self.ctx.guarded(lambda _: self.ctx.restart()))
-        self.Omega_readout = controls.Readout(self.ctx, "Ω body precession (rad/s)")
-        self.phidot_readout = controls.Readout(self.ctx, "L/I₁ space precession (rad/s)")
-        self.moments_readout = controls.Readout(self.ctx, "I₁, I₃ (kg m², M = 1 kg)", fmt="{}")
+        self.Omega_readout = controls.Readout(self.ctx, mark("Ω body precession (rad/s)"))
+        self.phidot_readout = controls.Readout(self.ctx, mark("L/I₁ space precession (rad/s)"))
+        self.moments_readout = controls.Readout(self.ctx, mark("I₁, I₃ (kg m², M = 1 kg)"), fmt="{}")
         self.drift = controls.InvariantDrift(self.ctx, ("E", "|L|"), (draw.hex_colour("black"), draw.hex_colour("L")))
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", draw.cylinder_mesh(0.5, 0.5))
         self.traces += [self.drift, self.ghost]
@@ -132,7 +137,7 @@ class Wobble(Scene):
         rates = model.precession_rates(omega0)
         self.Omega_readout.set(rates.body)
         self.phidot_readout.set(rates.space)
-        self.moments_readout.set(f"{moments[0]:.4g}, {moments[2]:.4g}")
+        self.moments_readout.set(say(_MOMENTS, I1=moments[0], I3=moments[2]))
         self.ctx.restart()
 
     # -- the state
@@ -168,15 +173,18 @@ class Wobble(Scene):
         self.ghost.follow(state["t"], lambda Rg: (V @ Rg, self.centre_at(self.ghost.t)))
 
     def describe(self, state: dict[str, Any]) -> str:
-        return f"{self.title}: {self.wobble_words()}."
+        return say("{title}: {wobble}.", title=self.title, wobble=self.wobble_words())
 
     def wobble_words(self) -> str:
         """The torque-free wobble: the cone angle of the symmetry axis about L and the two precession rates."""
         rates, L_body = self.model.precession_rates(self.omega0), self.moments * self.omega0
         cone = math.atan2(math.hypot(L_body[0], L_body[1]), L_body[2])
-        return (
-            f"the symmetry axis turns about the fixed L at {amount(rates.space, 'rad/s')}, {angle(cone)} from it; "
-            f"in the body, ω turns about the axis at {amount(rates.body, 'rad/s')}"
+        return say(
+            "the symmetry axis turns about the fixed L at {space}, {cone} from it; in the body, ω turns about the "
+            "axis at {body}",
+            space=amount(rates.space, "rad/s"),
+            cone=angle(cone),
+            body=amount(rates.body, "rad/s"),
         )
 
     def columns(self, state: dict[str, Any]) -> dict[str, float]:

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+from app.language.words import mark, say
+
 __all__ = ["amount", "angle", "listing", "threshold_words", "tip_path"]
 
 DIGITS = 3
@@ -18,24 +20,32 @@ DIGITS = 3
 def amount(value: float, unit: str) -> str:
     """``value`` with its unit, e.g. ``amount(0.5037, "rad/s") == "0.504 rad/s"``; ∞ says "never"."""
     if not math.isfinite(value):
-        return "never" if value > 0 else "minus infinity"
-    return f"{value:.{DIGITS}g} {unit}"
+        return mark("never") if value > 0 else mark("minus infinity")
+    return say("{value:.3g} {unit}", value=value, unit=unit)  # DIGITS significant digits
 
 
 def angle(radians: float) -> str:
     """An angle in degrees, e.g. ``angle(math.pi / 4) == "45°"``."""
-    return f"{math.degrees(radians):.{DIGITS}g}°"
+    return say("{degrees:.3g}°", degrees=math.degrees(radians))  # DIGITS significant digits
 
 
 def listing(values: list[float] | tuple[float, ...], unit: str) -> str:
     """Several numbers of one unit: ``listing([1, 2, 3], "kg m²") == "1, 2 and 3 kg m²"``."""
-    words = [f"{v:.{DIGITS}g}" for v in values]
-    return (", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]) + f" {unit}"
+    # One template per count (DIGITS significant digits), so a language may order and join them its own way.
+    numbers = [float(v) for v in values]
+    if len(numbers) == 1:
+        return say("{value:.3g} {unit}", value=numbers[0], unit=unit)
+    if len(numbers) == 2:
+        return say("{a:.3g} and {b:.3g} {unit}", a=numbers[0], b=numbers[1], unit=unit)
+    if len(numbers) == 3:
+        return say("{a:.3g}, {b:.3g} and {c:.3g} {unit}", a=numbers[0], b=numbers[1], c=numbers[2], unit=unit)
+    words = [f"{v:.{DIGITS}g}" for v in numbers]  # never asked for by a scene: English
+    return ", ".join(words[:-1]) + " and " + words[-1] + f" {unit}"
 
 
 def threshold_words(L3: float, threshold: float) -> str:
     """Where the spin's L₃ (kg m²/s) is against the sleeping threshold 2√(M g ℓ I₁) (kg m²/s)."""
-    return "above the sleeping threshold" if abs(L3) > threshold else "below the sleeping threshold"
+    return mark("above the sleeping threshold") if abs(L3) > threshold else mark("below the sleeping threshold")
 
 
 def tip_path(Lz: float, L3: float, theta_min: float, theta_max: float) -> str:
@@ -48,5 +58,5 @@ def tip_path(Lz: float, L3: float, theta_min: float, theta_max: float) -> str:
     tiny = 1e-9 * max(abs(L3), abs(Lz), 1e-300)
     low, high = Lz - L3 * math.cos(theta_min), Lz - L3 * math.cos(theta_max)
     if abs(low) <= tiny or abs(high) <= tiny:
-        return "cusps"
-    return "waves" if (low > 0) == (high > 0) else "loops"
+        return mark("cusps")
+    return mark("waves") if (low > 0) == (high > 0) else mark("loops")

@@ -20,12 +20,16 @@ from app.contracts import ClientId, Sessions
 from app.guards.admission import Admission, Caps, install_admission
 from app.guards.event_loop import confine_events
 from app.guards.gate import install_gate
+from app.guards.language import Languages
 from app.guards.prop_hints import cache_prop_hints
 from app.guards.responses import peer_address
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
+from app.language.catalogs import SOURCE
+from app.language.words import mark, say
 from app.panel import look
+from app.panel.language_picker import LanguagePicker
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
 from app.scenes.base import Scene
 from app.serving.addresses import is_loopback
@@ -117,6 +121,7 @@ class App:
         lecture: str | None = None,
         answers: str | Path | None = None,
         caps: Caps | None = None,
+        lang: str = SOURCE,
     ) -> None:
         if state is not None:
             scene = parse_state(state)["scene"]  # refused here, before anything starts
@@ -137,11 +142,14 @@ class App:
         self.gate = install_gate(server)  # only the message types a page sends reach viser
         # Checked first, as a websocket opens: connections and sessions per address and per process.
         self.admission = install_admission(server, Admission(caps or Caps(), sessions_per_connection=private))
+        # Before anything is sent: each browser's messages pass through its language on the way out.
+        self.languages = Languages(server, lang)
         serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
         cache_prop_hints()  # a handle's type hints are looked up once per kind of handle, not per handle
         self.server = server
         self.host, self.port = host, server.get_port()
         self.voters = Voters(server)  # one identity per browser, kept across reconnects (PINs, votes)
+        self.languages.identity = self.voters.browser  # a browser's choice of language, kept likewise
         self.sessions: Sessions[Simulation] = Sessions()
         self.shared: Simulation | None = None
         self.classroom: Classroom | None = None
@@ -178,6 +186,8 @@ class App:
         except ValueError:
             server.stop()
             raise
+        server.on_client_connect(self._greet)
+        server.on_client_disconnect(lambda client: self.languages.forget(client.client_id))
         if start_loop:
             self.start()
 
@@ -255,6 +265,13 @@ class App:
             target, self._first, export=export_zip, fps=self.fps, share=self.share, dark=self.dark, **kwargs
         )
 
+    def _greet(self, client: viser.ClientHandle) -> None:
+        """A browser's panel gets its own Language dropdown (it reads the language its Accept-Language
+        prefers if we speak it, else ``--lang``: :meth:`app.guards.language.Languages.language`); a private
+        session's is added with its simulation."""
+        if not self.private:
+            LanguagePicker(client, self.languages)
+
     # ------------------------------------------------------------------ presenter mode
     @property
     def mode(self) -> str:
@@ -277,9 +294,9 @@ class App:
         if client is None:
             return
         if simulation is not None:
-            simulation.notify("Refused", reason, client=client, error=True)
+            simulation.notify(mark("Refused"), reason, client=client, error=True)
         else:  # a private browser whose session is still being made: told all the same
-            client.add_notification("Refused", reason, color="red", auto_close_seconds=NOTIFY_SECONDS)
+            client.add_notification(mark("Refused"), reason, color="red", auto_close_seconds=NOTIFY_SECONDS)
 
     def _follows(self, client: viser.ClientHandle) -> bool:
         """Whether a browser is drawn the shared simulation (not one exploring a copy of its own)."""
@@ -291,7 +308,7 @@ class App:
         owners = list(self.sessions)
         refused = self.admission.session_refusal(client.client_id, owners)
         if refused is not None:
-            raise ValueError(f"no copy of your own: {refused}")
+            raise ValueError(say("no copy of your own: {refused}", refused=refused))
         snapshot = self.shared.snapshot()
         copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
         copy.restore(snapshot)
@@ -311,6 +328,8 @@ class App:
                 session.load_lecture(self._lecture, check=False)
             if self.projector:
                 session.set_projector(True)
+            # After the scene is built: its own controls (the teacher's parameters) are known without it.
+            LanguagePicker(client, self.languages)
         except Exception:
             if departed(client):
                 return  # it left while its session was being built

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from app.language.words import say
+
 __all__ = ["NumericalFailure", "check_finite"]
 
 
@@ -24,10 +26,10 @@ def check_finite(state: dict[str, Any], where: str = "") -> None:
             check_finite(value, name + ".")
         elif isinstance(value, (float, int, np.floating, np.integer)) and not isinstance(value, bool):
             if not math.isfinite(float(value)):
-                raise NumericalFailure(f"{name} = {value} is not a finite number")
+                raise NumericalFailure(say("{name!s} = {value} is not a finite number", name=name, value=value))
         elif isinstance(value, np.ndarray) and value.dtype.kind in "fc":
             if not _all_finite(value):
-                raise NumericalFailure(f"{name} contains NaN or inf")
+                raise NumericalFailure(say("{name!s} contains NaN or inf", name=name))
         elif isinstance(value, (list, tuple)) and value and all(isinstance(v, (float, int, np.ndarray)) for v in value):
             check_finite({str(i): v for i, v in enumerate(value)}, name + "[")
 

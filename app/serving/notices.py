@@ -15,8 +15,12 @@ from typing import Any
 import viser
 
 from app.guards.text import markdown_text
+from app.language.words import say
 
 __all__ = ["NOTIFY_SECONDS", "Notices"]
+
+_STATUS = "⚠ **{title}**: {body}"
+"""The status line (markup alone, not for the translators): the title and the body are translated as values."""
 
 NOTIFY_SECONDS = 6.0
 """A notification closes by itself after this long (s); an identical one is not stacked meanwhile."""
@@ -69,7 +73,7 @@ class Notices:
                 pass
         if error and (client is None or self._own_browser):
             with self.lock:
-                self._status.content = f"⚠ **{markdown_text(title)}**: {markdown_text(body)}"
+                self._status.content = say(_STATUS, title=markdown_text(title), body=markdown_text(body))
 
     def clear_status(self) -> None:
         """Empty the status line (a change was accepted, or the scene changed)."""

@@ -23,6 +23,7 @@ from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
+from app.language.words import joined
 from app.panel.projector import Projector
 from app.panel.simulation_panel import EXPORT_ORDER, SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
@@ -551,7 +552,8 @@ class Simulation:
                         self.panel.measure.update(self.clock.t, state)
                     if changed or now - self._described_at >= DESCRIBE_SECONDS:
                         self._described_at = now
-                        self.panel.show_words(scene.describe(state) + self.panel.measure.event_words(self.clock.t))
+                        said, event = scene.describe(state), self.panel.measure.event_words(self.clock.t)
+                        self.panel.show_words(joined([said, event]) if event else said)
             except Exception as exc:  # noqa: BLE001
                 self.failed(exc)
                 return False

@@ -18,6 +18,7 @@ import viser
 
 from app.contracts import ClientId
 from app.guards.callbacks import first_argument, shielded
+from app.language.words import mark, say
 from app.teaching.lectures import Step
 from app.teaching.question_panel import QuestionPanel
 from app.teaching.questions import (
@@ -42,12 +43,12 @@ def parse_choices(text: str, choices: str) -> Ask:
     """The presenter's own question: its text and 2 to 5 choices, one a line (ValueError says what is wrong)."""
     text = text.strip() if isinstance(text, str) else ""
     if not text or len(text) > MAX_QUESTION:
-        raise ValueError(f"type a question of 1 to {MAX_QUESTION} characters")
+        raise ValueError(say("type a question of 1 to {most} characters", most=MAX_QUESTION))
     lines = [line.strip() for line in (choices if isinstance(choices, str) else "").splitlines() if line.strip()]
     if not 2 <= len(lines) <= len(LETTERS):
-        raise ValueError(f"type 2 to {len(LETTERS)} choices, one a line (got {len(lines)})")
+        raise ValueError(say("type 2 to {most} choices, one a line (got {got})", most=len(LETTERS), got=len(lines)))
     if any(len(line) > MAX_CHOICE for line in lines):
-        raise ValueError(f"a choice has at most {MAX_CHOICE} characters")
+        raise ValueError(say("a choice has at most {most} characters", most=MAX_CHOICE))
     return Ask(text, tuple(lines))
 
 
@@ -155,12 +156,12 @@ class ClassQuestions:
 
     def ask_from_panel(self, client: viser.ClientHandle, text: str, choices: str) -> None:
         if not self._presenting(client.client_id):
-            self._tell(client, "Refused", "Only the presenter asks the class.")
+            self._tell(client, mark("Refused"), mark("Only the presenter asks the class."))
             return
         try:
             ask = parse_choices(text, choices)
         except ValueError as exc:
-            self._tell(client, "Question not asked", str(exc))
+            self._tell(client, mark("Question not asked"), str(exc))
             return
         self.ask(ask, "asked from the panel")
 
@@ -168,7 +169,7 @@ class ClassQuestions:
         """A browser's answer: refused (with a message to that browser only) or kept, one per voter."""
         cid = client.client_id
         if self._presenting(cid):
-            self._tell(client, "Refused", "The presenter does not vote: the class does.")
+            self._tell(client, mark("Refused"), mark("The presenter does not vote: the class does."))
             return
         question = self.poll.current
         if question is not None and question.open and self._waiting and self.app.simulation.playing:
@@ -177,12 +178,12 @@ class ClassQuestions:
         with self._lock:
             voter = self._identity.get(cid)
         if voter is None:
-            self._tell(client, "Refused", "This browser is not following the lecture.")
+            self._tell(client, mark("Refused"), mark("This browser is not following the lecture."))
             return
         try:
             kept = self.poll.vote(voter, value)
         except VoteRefused as exc:
-            self._tell(client, "Answer refused", str(exc))
+            self._tell(client, mark("Answer refused"), str(exc))
             return
         question = self.poll.current
         count = self.poll.count()
@@ -194,7 +195,7 @@ class ClassQuestions:
     def reveal(self, client: viser.ClientHandle) -> None:
         """The presenter's "Show answers": close the vote, put the distribution on every screen."""
         if client is not None and not self._presenting(client.client_id):
-            self._tell(client, "Refused", "Only the presenter shows the answers.")
+            self._tell(client, mark("Refused"), mark("Only the presenter shows the answers."))
             return
         if self.poll.reveal() is None:
             return
@@ -227,7 +228,7 @@ class ClassQuestions:
     def save_for(self, client: viser.ClientHandle) -> None:
         """The presenter's "Save answers (CSV)": the file, downloaded by that browser."""
         if not self._presenting(client.client_id):
-            self._tell(client, "Refused", "Only the presenter saves the answers.")
+            self._tell(client, mark("Refused"), mark("Only the presenter saves the answers."))
             return
         client.send_file_download("answers.csv", self.poll.csv().encode(), save_immediately=True)
 

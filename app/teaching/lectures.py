@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from app.scenes import scene_names
+from app.teaching.lecture_words import LANGUAGE_KEYS, check_lecture_words, check_step_words, learn_words
 from app.teaching.questions import Ask, check_ask
 from app.teaching.states import parse_state
 
@@ -62,6 +63,8 @@ class Step:
     ask: Ask | None = None
     time: float | None = None
     replay: float | None = None
+    words: dict[str, dict[str, Any]] = field(default_factory=dict)
+    """The step's caption, question and choices in other languages (:mod:`app.teaching.lecture_words`)."""
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,8 @@ class Lecture:
     title: str
     steps: tuple[Step, ...]
     source: str = ""
+    titles: dict[str, str] = field(default_factory=dict)
+    """The title in other languages."""
 
 
 def find_lecture(name_or_path: str) -> Path:
@@ -112,14 +117,22 @@ def read_lecture(name_or_path: str, scenes: list[str] | None = None) -> Lecture:
     title = document.get("title", path.stem)
     if not isinstance(title, str):
         raise ValueError(f"{path}: title must be text")
-    unknown = set(document) - {"title", "step"}
+    unknown = set(document) - {"title", "step", *LANGUAGE_KEYS}
     if unknown:
         raise ValueError(f"{path}: unknown key {sorted(unknown)[0]!r} (a lecture has a title and [[step]] tables)")
+    titles = check_lecture_words(document, str(path))
     raw_steps = document.get("step")
     if not isinstance(raw_steps, list) or not raw_steps:
         raise ValueError(f"{path}: a lecture needs at least one [[step]]")
     steps = tuple(_step(raw, k, scenes, path) for k, raw in enumerate(raw_steps, start=1))
-    return Lecture(title, steps, str(path))
+    # Read, its translations are known to the app (as the catalogs' are): any reader of a language gets them.
+    learn_words({"title": title}, {lang: {"title": text} for lang, text in titles.items()})
+    for step in steps:
+        english: dict[str, Any] = {"caption": step.caption}
+        if step.ask is not None:
+            english |= {"question": step.ask.text, "choices": step.ask.choices}
+        learn_words(english, step.words)
+    return Lecture(title, steps, str(path), titles)
 
 
 def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
@@ -127,7 +140,7 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
     if not isinstance(raw, dict):
         raise ValueError(f"{where}: a step is a table of keys")
     for key in raw:
-        if key not in KEYS and key not in QUESTION_KEYS:
+        if key not in KEYS and key not in QUESTION_KEYS and key not in LANGUAGE_KEYS:
             raise ValueError(f"{where}: unknown key {key!r} (a step has {', '.join(KEYS + QUESTION_KEYS)})")
     ask = None
     if "question" in raw:
@@ -202,6 +215,7 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
         ask=ask,
         time=at,
         replay=replay,
+        words=check_step_words(raw, where, None if ask is None else ask.text, () if ask is None else ask.choices),
     )
 
 

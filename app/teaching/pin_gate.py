@@ -20,6 +20,7 @@ from collections.abc import Callable
 from typing import Any
 
 from app.contracts import ClientId
+from app.language.words import mark, say
 
 __all__ = [
     "ADDRESS_ATTEMPTS",
@@ -121,7 +122,7 @@ class PinGate:
             if len(self._room) >= CLASS_ATTEMPTS and len(tries) >= GUESSER:
                 wait = max(wait, 60.0 - (now - self._room[0]))
             if wait > 0.0:
-                return "Too many wrong PINs", f"Try again in {wait:.0f} s."
+                return mark("Too many wrong PINs"), say("Try again in {wait:.0f} s.", wait=wait)
             if not (isinstance(typed, str) and secrets.compare_digest(typed.strip().encode(), self.pin.encode())):
                 count += 1
                 tries.append(now)
@@ -129,7 +130,7 @@ class PinGate:
                 self._wrong[browser] = (0, now + LOCKOUT) if count >= ATTEMPTS else (count, 0.0)
                 self._address[address] = ([], now + LOCKOUT) if len(tries) >= ADDRESS_ATTEMPTS else (tries, 0.0)
                 self._tidy(now)
-                return "Wrong PIN", self.where
+                return mark("Wrong PIN"), self.where
             self._wrong.pop(browser, None)
             return None
 

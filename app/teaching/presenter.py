@@ -15,6 +15,7 @@ from app.contracts import ClientId
 from app.guards.broadcast import BroadcastView
 from app.guards.callbacks import shielded_handler
 from app.guards.inputs import guard_inputs
+from app.language.words import mark
 from app.teaching.pin_gate import ATTEMPTS, CLASS_ATTEMPTS, LOCKOUT, PinGate, check_pin, new_pin
 from app.teaching.presenter_panel import EXPLORING, FOLLOWING, PRESENTING, PresenterPanel
 
@@ -40,7 +41,7 @@ class Classroom:
 
     def __init__(self, app: App, pin: str, copy: Callable[[viser.ClientHandle], Simulation]) -> None:
         self.app = app
-        self.gate = PinGate(pin, "The presenter PIN is shown where the server was started.", identify=app.who)
+        self.gate = PinGate(pin, mark("The presenter PIN is shown where the server was started."), identify=app.who)
         self.pin = self.gate.pin
         self._copy = copy
         self.presenters: set[Any] = set()
@@ -57,7 +58,7 @@ class Classroom:
         """None for a presenter; for anyone else, why the lecture's controls do not take their changes."""
         if client_id in self.presenters:
             return None
-        return "You are following the lecturer: enter the presenter PIN to drive, or press “Explore on my own”."
+        return mark("You are following the lecturer: enter the presenter PIN to drive, or press “Explore on my own”.")
 
     def exploring(self, client_id: ClientId) -> bool:
         """Whether this browser has a copy of its own (and so no longer follows the lecture)."""
@@ -66,7 +67,8 @@ class Classroom:
     # ------------------------------------------------------------------ browsers come and go
     def _joined(self, client: viser.ClientHandle) -> None:
         guard_inputs(
-            client.gui, lambda _id, message: self.app.simulation.notify("Refused", message, client=client, error=True)
+            client.gui,
+            lambda _id, message: self.app.simulation.notify(mark("Refused"), message, client=client, error=True),
         )
         panel = PresenterPanel(client)
         with self._lock:
@@ -139,7 +141,7 @@ class Classroom:
             return copy
         panel = self._panels.get(cid)
         if panel is not None:
-            panel.explore.label = "Follow the lecturer"
+            panel.explore.label = mark("Follow the lecturer")
             panel.status.content = EXPLORING
         return copy
 
@@ -152,5 +154,5 @@ class Classroom:
         self.view.attach(cid)
         panel = self._panels.get(cid)
         if panel is not None:
-            panel.explore.label = "Explore on my own"
+            panel.explore.label = mark("Explore on my own")
             panel.status.content = PRESENTING if cid in self.presenters else FOLLOWING

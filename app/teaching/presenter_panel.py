@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import viser
 
+from app.language.words import mark
+
 __all__ = ["EXPLORING", "FOLLOWING", "PRESENTING", "PresenterPanel"]
 
-FOLLOWING = "**Following the lecturer.** The panel below shows the lecture; enter the PIN to drive it."
-PRESENTING = "**Presenting.** Your changes are what the class sees."
-EXPLORING = "**Exploring on your own.** Nobody else sees this copy; the lecture goes on without you."
+FOLLOWING = mark("**Following the lecturer.** The panel below shows the lecture; enter the PIN to drive it.")
+PRESENTING = mark("**Presenting.** Your changes are what the class sees.")
+EXPLORING = mark("**Exploring on your own.** Nobody else sees this copy; the lecture goes on without you.")
 
 
 class PresenterPanel:
@@ -19,9 +21,9 @@ class PresenterPanel:
     def __init__(self, client: viser.ClientHandle) -> None:
         gui = client.gui
         self.status = gui.add_markdown(FOLLOWING, order=-30)
-        self.pin = gui.add_text("Presenter PIN", initial_value="", order=-29)
-        self.present = gui.add_button("Present", order=-28)
-        self.explore = gui.add_button("Explore on my own", order=-27)
+        self.pin = gui.add_text(mark("Presenter PIN"), initial_value="", order=-29)
+        self.present = gui.add_button(mark("Present"), order=-28)
+        self.explore = gui.add_button(mark("Explore on my own"), order=-27)
 
     def presenting(self) -> None:
         self.status.content = PRESENTING

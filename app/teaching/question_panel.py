@@ -14,6 +14,7 @@ from typing import Any
 import viser
 
 from app.guards.text import html_text, markdown_text
+from app.language.words import joined, mark, say
 from app.teaching.questions import BINS, LETTERS, Question
 
 __all__ = ["QuestionPanel", "results_html"]
@@ -68,7 +69,7 @@ class QuestionPanel:
             self.folder.remove()
         gui = self.client.gui
         self.count = self.mine = self.choice = self.number = self.send = self.results = self.reveal = None
-        title = "Class question" if question is not None or presenter else "Question"
+        title = mark("Class question") if question is not None or presenter else mark("Question")
         self.folder = None
         with gui.add_folder(title, order=ORDER) as folder:
             if question is not None:
@@ -76,7 +77,7 @@ class QuestionPanel:
             if presenter:
                 self._presenter(question, count)
             elif question is None:
-                gui.add_markdown("*No question now: when the lecturer asks one, answer it here.*")
+                gui.add_markdown(mark("*No question now: when the lecturer asks one, answer it here.*"))
             else:
                 self._follower(question, mine)
             if question is not None and question.revealed_at is not None:
@@ -89,12 +90,14 @@ class QuestionPanel:
         if question.ask.range is not None:
             low, high = question.ask.range
             unit = question.ask.unit
-            self.number = gui.add_text(f"Your answer ({unit})" if unit else "Your answer", "", disabled=closed)
-            self.send = gui.add_button("Send my answer", disabled=closed, hint=f"A number from {low:g} to {high:g}")
+            label = say("Your answer ({unit})", unit=unit) if unit else mark("Your answer")
+            self.number = gui.add_text(label, "", disabled=closed)
+            hint = say("A number from {low:g} to {high:g}", low=low, high=high)
+            self.send = gui.add_button(mark("Send my answer"), disabled=closed, hint=hint)
             self.send.on_click(lambda event: self._on_vote(event.client, self.number.value))
         else:
             letters = list(LETTERS[: len(question.ask.choices)])
-            self.choice = gui.add_button_group("Your answer", letters, disabled=closed)
+            self.choice = gui.add_button_group(mark("Your answer"), letters, disabled=closed)
             self.choice.on_click(lambda event: self._on_vote(event.client, event.target.value))
         self.mine = gui.add_markdown(mine_text(question, mine))
 
@@ -103,16 +106,16 @@ class QuestionPanel:
         if question is not None:
             self.count = gui.add_markdown(count_text(question, count))
             if question.revealed_at is None:
-                self.reveal = gui.add_button("Show answers", icon=viser.Icon.CHART_BAR)
+                self.reveal = gui.add_button(mark("Show answers"), icon=viser.Icon.CHART_BAR)
                 self.reveal.on_click(lambda event: self._on_reveal(event.client))
-        with gui.add_folder("Ask the class", expand_by_default=question is None):
-            self.ask_text = gui.add_text("Question", "")
-            self.ask_choices = gui.add_text("Choices (one a line)", "", multiline=True)
-            self.ask_button = gui.add_button("Ask")
+        with gui.add_folder(mark("Ask the class"), expand_by_default=question is None):
+            self.ask_text = gui.add_text(mark("Question"), "")
+            self.ask_choices = gui.add_text(mark("Choices (one a line)"), "", multiline=True)
+            self.ask_button = gui.add_button(mark("Ask"))
             self.ask_button.on_click(
                 lambda event: self._on_ask(event.client, self.ask_text.value, self.ask_choices.value)
             )
-        self.save_button = gui.add_button("Save answers (CSV)", icon=viser.Icon.DOWNLOAD)
+        self.save_button = gui.add_button(mark("Save answers (CSV)"), icon=viser.Icon.DOWNLOAD)
         self.save_button.on_click(lambda event: self._on_save(event.client))
 
     def update(self, question: Question | None, mine: Any, count: int) -> None:
@@ -138,50 +141,82 @@ class QuestionPanel:
 
 
 def _answers(n: int) -> str:
-    return f"{n} answer{'' if n == 1 else 's'}"
+    return say("{n} answer", n=n) if n == 1 else say("{n} answers", n=n)
 
 
 def _said(question: Question) -> str:
     """The chart in words, for a screen reader (the chart is one image to it)."""
     ask, counts = question.ask, question.counts()
+    # Escaped part by part (the words around them have no & < > " '): the same text as escaping the whole,
+    # and each part still a said text, translated on the wire.
+    answers = _answers(len(question.votes))
     if ask.range is None:
-        parts = [f"{LETTERS[k]}: {n}" for k, n in enumerate(counts)]
-        right = "" if ask.answer is None else f"; the right answer is {LETTERS[int(ask.answer) - 1]}"
-        return html_text(f"{_answers(len(question.votes))}: " + ", ".join(parts) + right)
+        counted = joined([say("{letter}: {n}", letter=LETTERS[k], n=n) for k, n in enumerate(counts)], ", ")
+        if ask.answer is None:
+            return say("{answers}: {counted}", answers=answers, counted=counted)
+        return say(
+            "{answers}: {counted}; the right answer is {letter}",
+            answers=answers,
+            counted=counted,
+            letter=LETTERS[int(ask.answer) - 1],
+        )
     low, high = ask.range
     width = (high - low) / BINS
-    parts = [f"{low + k * width:.3g} to {low + (k + 1) * width:.3g}: {n}" for k, n in enumerate(counts) if n]
-    true = "" if question.true is None else f"; the true value is {question.true:.4g} {ask.unit}"
-    return html_text(f"{_answers(len(question.votes))} ({ask.unit}) " + ", ".join(parts) + true)
+    bins = [
+        say("{low:.3g} to {high:.3g}: {n}", low=low + k * width, high=low + (k + 1) * width, n=n)
+        for k, n in enumerate(counts)
+        if n
+    ]
+    unit = html_text(ask.unit)
+    if question.true is None:
+        return say("{answers} ({unit}) {bins}", answers=answers, unit=unit, bins=joined(bins, ", "))
+    return say(
+        "{answers} ({unit}) {bins}; the true value is {true:.4g} {unit}",
+        answers=answers,
+        unit=unit,
+        bins=joined(bins, ", "),
+        true=question.true,
+    )
 
 
 def _question_markdown(question: Question) -> str:
     ask = question.ask
-    lines = [f"**{markdown_text(ask.text)}**"]
+    lines = [say(_BOLD, text=markdown_text(ask.text))]
     if ask.range is not None:
         low, high = ask.range
-        lines.append(f"A number from {low:g} to {high:g} {markdown_text(ask.unit)}".rstrip() + ".")
+        unit = markdown_text(ask.unit)
+        if unit.strip():
+            lines.append(say("A number from {low:g} to {high:g} {unit}.", low=low, high=high, unit=unit.rstrip()))
+        else:
+            lines.append(say("A number from {low:g} to {high:g}.", low=low, high=high))
     else:
-        lines += [f"**{LETTERS[k]}.** {markdown_text(choice)}" for k, choice in enumerate(ask.choices)]
-    return "\n\n".join(lines)
+        lines += [say(_CHOICE, letter=LETTERS[k], text=markdown_text(choice)) for k, choice in enumerate(ask.choices)]
+    return joined(lines, "\n\n")
+
+
+_BOLD = "**{text}**"  # markup alone: the lecturer's question (a value, not a word of the catalogs)
+_CHOICE = "**{letter}.** {text}"  # markup alone: a choice of the lecturer's
 
 
 def count_text(question: Question, count: int) -> str:
     """The presenter's line: how many have answered, never what."""
-    state = "the vote is open" if question.open else "the vote is closed"
-    return f"**{_answers(count)}** so far; {state}."
+    if question.open:
+        return say("**{answers}** so far; the vote is open.", answers=_answers(count))
+    return say("**{answers}** so far; the vote is closed.", answers=_answers(count))
 
 
 def mine_text(question: Question, mine: Any) -> str:
     """A follower's line: their own answer, and whether they may still change it."""
+    unit = markdown_text(question.ask.unit)  # "" without one: the answer reads "**0.5 **", as it always has
     if mine is None:
-        said = "You have not answered yet."
+        said = mark("You have not answered yet.")
     elif isinstance(mine, float):
-        said = f"Your answer: **{mine:g} {markdown_text(question.ask.unit)}**".rstrip() + "."
+        said = say("Your answer: **{mine:g} {unit}**.", mine=mine, unit=unit)
     else:
-        said = f"Your answer: **{markdown_text(mine)}**."
-    more = " You may change it until the vote closes." if question.open else " The vote is closed."
-    return said + more
+        said = say("Your answer: **{mine}**.", mine=markdown_text(mine))
+    if question.open:
+        return say("{said} You may change it until the vote closes.", said=said)
+    return say("{said} The vote is closed.", said=said)
 
 
 def results_html(question: Question) -> str:
@@ -196,17 +231,13 @@ def results_html(question: Question) -> str:
         for k, (choice, n) in enumerate(zip(ask.choices, counts, strict=True)):
             right = ask.answer == k + 1
             colour = "#2a9d4b" if right else "#5b7fb8"
-            mark = " ✓" if right else ""
+            tick = " ✓" if right else ""
             rows.append(
-                f'<div style="{style}"><b>{LETTERS[k]}</b>{mark} {html_text(choice)}'
+                f'<div style="{style}"><b>{LETTERS[k]}</b>{tick} {html_text(choice)}'
                 f'<div style="display:flex;align-items:center;gap:6px"><div style="background:{colour};'
                 f'height:14px;width:{100 * n / top:.1f}%"></div><span>{n}</span></div></div>'
             )
-        return (
-            f'<div role="img" aria-label="{_said(question)}">'
-            + "".join(rows)
-            + f"<small>{_answers(total)}</small></div>"
-        )
+        return say(_BARS, said=_said(question), rows="".join(rows), answers=_answers(total))
     low, high = ask.range
     bars = "".join(
         f'<div title="{n}" style="flex:1;align-self:flex-end;background:#5b7fb8;height:{100 * n / top:.1f}%;'
@@ -218,10 +249,35 @@ def results_html(question: Question) -> str:
         x = 100 * (question.true - low) / (high - low)
         marker = f'<div style="position:absolute;left:{x:.1f}%;top:0;bottom:0;border-left:2px solid #d1495b"></div>'
     # The text keeps the page's colour (legible on the light and the dark look); the red is the line's.
-    true = "" if question.true is None else f" True value (red line): <b>{question.true:.4g} {html_text(ask.unit)}</b>."
-    return (
-        f'<div role="img" aria-label="{_said(question)}" style="{style}">'
-        f'<div style="position:relative;display:flex;height:80px;border-bottom:1px solid #888">{bars}{marker}</div>'
-        f'<div style="display:flex;justify-content:space-between"><span>{low:g}</span><span>{high:g} {html_text(ask.unit)}</span>'
-        f"</div><small>{_answers(total)} in {BINS} bars.{true}</small></div>"
+    unit = html_text(ask.unit)
+    if question.true is None:
+        small = say("{answers} in {bins} bars.", answers=_answers(total), bins=BINS)
+    else:
+        small = say(
+            "{answers} in {bins} bars. True value (red line): <b>{true:.4g} {unit}</b>.",
+            answers=_answers(total),
+            bins=BINS,
+            true=question.true,
+            unit=unit,
+        )
+    return say(
+        _HISTOGRAM,
+        said=_said(question),
+        style=style,
+        bars=bars,
+        marker=marker,
+        low=low,
+        high=high,
+        unit=unit,
+        small=small,
     )
+
+
+# Markup alone (not for the translators): the words are the values, each translated.
+_BARS = '<div role="img" aria-label="{said}">{rows}<small>{answers}</small></div>'
+_HISTOGRAM = (
+    '<div role="img" aria-label="{said}" style="{style}">'
+    '<div style="position:relative;display:flex;height:80px;border-bottom:1px solid #888">{bars}{marker}</div>'
+    '<div style="display:flex;justify-content:space-between"><span>{low:g}</span><span>{high:g} {unit}</span>'
+    "</div><small>{small}</small></div>"
+)

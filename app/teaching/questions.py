@@ -10,6 +10,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import re
 import threading
 import time
 from collections.abc import Callable, Hashable
@@ -18,6 +19,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from app.guards.text import csv_row
+from app.language.words import say
 from app.scenes.base import Scene
 
 __all__ = [
@@ -370,22 +372,45 @@ class Poll:
         return out.getvalue()
 
 
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,(\d{1,2}|\d{4,})")
+
+
+def _decimal_point(text: str) -> str:
+    """A number typed with a decimal comma, as a German or Spanish reader writes it (``0,5``), with a
+    point; a comma before exactly three digits (``1,500``: a thousand and a half, or one and a half?) is
+    left, and the answer is refused as before."""
+    return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
+
+
 def _answer(ask: Ask, value: Any) -> str | float:
     if ask.range is not None:
         if isinstance(value, str):
             try:
-                value = float(value.strip().replace("−", "-"))
+                value = float(_decimal_point(value.strip().replace("−", "-")))
             except ValueError:
-                raise VoteRefused(f"the answer is a number, got {value[:20]!r}") from None
+                raise VoteRefused(say("the answer is a number, got {value!r}", value=value[:20])) from None
         if not _finite(value):
-            raise VoteRefused(f"the answer is a finite number, got {str(value)[:20]}")
+            raise VoteRefused(say("the answer is a finite number, got {value!s}", value=str(value)[:20]))
         low, high = ask.range
         if not low <= value <= high:
-            raise VoteRefused(f"the answer is between {low:g} and {high:g} {ask.unit}, got {value:g}".rstrip())
+            refused = say(
+                "the answer is between {low:g} and {high:g} {unit}, got {value:g}",
+                low=low,
+                high=high,
+                unit=ask.unit,
+                value=value,
+            )
+            raise VoteRefused(refused)
         return float(value)
     letters = LETTERS[: len(ask.choices)]
     if isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= len(letters):
         return letters[value - 1]
     if isinstance(value, str) and len(value) == 1 and value in letters:
         return value
-    raise VoteRefused(f"there is no choice {str(value)[:20]!r}: the choices are {', '.join(letters)}")
+    raise VoteRefused(
+        say(
+            "there is no choice {value!r}: the choices are {letters!s}",
+            value=str(value)[:20],
+            letters=", ".join(letters),
+        )
+    )

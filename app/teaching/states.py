@@ -13,6 +13,7 @@ import zlib
 from typing import Any
 
 from app.guards.inputs import MAX_TEXT  # the longest text the panel's text box takes: a state text fits it
+from app.language.words import mark, say
 from app.scenes import scene_names
 
 PREFIX = "rbl1:"
@@ -30,17 +31,21 @@ def state_text(snapshot: dict[str, Any], camera: dict[str, list[float]] | None =
     Raises
     ------
     ValueError
-        If the scene holds a body handed over from another scene (a mesh: it has no short text).
+        If the scene holds a body handed over from another scene, or an uploaded file (neither has a short text).
     """
     if snapshot.get("payload") is not None:
         raise ValueError(
-            "this scene shows a body handed over from another scene; a state text cannot carry a mesh "
-            "(copy the state of the scene it came from instead)"
+            mark(
+                "this scene shows a body handed over from another scene; a state text cannot carry a mesh "
+                "(copy the state of the scene it came from instead)"
+            )
         )
     if "uploaded" in (snapshot.get("motion") or {}):
         raise ValueError(
-            "this scene shows an uploaded mesh; a state text cannot carry a mesh (upload the file again "
-            "where the state is opened)"
+            mark(
+                "this scene shows an uploaded mesh or recording; a state text cannot carry a file (upload the "
+                "file again where the state is opened)"
+            )
         )
     state = {
         "scene": snapshot["scene"],
@@ -74,31 +79,38 @@ def parse_state(text: Any, scenes: list[str] | None = None) -> dict[str, Any]:
         unpacked, or a field of the wrong type, not finite, or an unknown scene.
     """
     if not isinstance(text, str):
-        raise ValueError(f"a state text is text, got {type(text).__name__}")
+        raise ValueError(say("a state text is text, got {kind!s}", kind=type(text).__name__))
     text = text.strip()
     if len(text) > MAX_TEXT:
-        raise ValueError(f"a state text has at most {MAX_TEXT} characters, this one has {len(text)}")
+        raise ValueError(
+            say("a state text has at most {most} characters, this one has {length}", most=MAX_TEXT, length=len(text))
+        )
     if not text.startswith(PREFIX):
-        raise ValueError(f"not a Rigid Body Lab state: a state text starts with “{PREFIX}”")
+        raise ValueError(say("not a Rigid Body Lab state: a state text starts with “{prefix!s}”", prefix=PREFIX))
     body = text[len(PREFIX) :]
     try:
         packed = base64.urlsafe_b64decode(body + "=" * (-len(body) % 4))
         inflater = zlib.decompressobj()
         raw = inflater.decompress(packed, MAX_JSON + 1)
         if len(raw) > MAX_JSON or inflater.unconsumed_tail:
-            raise ValueError(f"this state text unpacks to more than {MAX_JSON} bytes: it is not a state")
+            raise ValueError(say("this state text unpacks to more than {most} bytes: it is not a state", most=MAX_JSON))
         if not inflater.eof:
-            raise ValueError("this state text is cut short (copy all of it)")
+            raise ValueError(mark("this state text is cut short (copy all of it)"))
         state = json.loads(raw.decode())
     except binascii.Error:  # (a ValueError: first)
-        raise ValueError(DAMAGED.format(what="it has a character a state text never has, or one too few")) from None
+        raise ValueError(_damaged(mark("it has a character a state text never has, or one too few"))) from None
     except zlib.error:
-        raise ValueError(DAMAGED.format(what="some of its characters were changed or lost")) from None
+        raise ValueError(_damaged(mark("some of its characters were changed or lost"))) from None
     except ValueError as exc:  # the JSON's, or a UnicodeDecodeError
         if "state text" in str(exc):
             raise
-        raise ValueError(DAMAGED.format(what="it does not unpack to a state")) from None
+        raise ValueError(_damaged(mark("it does not unpack to a state"))) from None
     return _checked(state, scenes)
+
+
+def _damaged(what: str) -> str:
+    """:data:`DAMAGED` saying ``what`` (a marked text), translatable."""
+    return say("this state text is damaged ({what}): copy it again, all of it, from “Copy state”", what=what)
 
 
 DAMAGED = "this state text is damaged ({what}): copy it again, all of it, from “Copy state”"
@@ -108,20 +120,20 @@ lecturer)."""
 
 def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:
     if not isinstance(state, dict):
-        raise ValueError("this state text does not hold a state")
+        raise ValueError(mark("this state text does not hold a state"))
     if scenes is None:
         scenes = scene_names()
     scene = state.get("scene")
     if scene not in scenes:
-        raise ValueError(f"this state is of a scene this app does not have: {str(scene)[:40]!r}")
+        raise ValueError(say("this state is of a scene this app does not have: {scene!r}", scene=str(scene)[:40]))
     controls = state.get("controls")
     if not isinstance(controls, list) or not all(
         isinstance(c, list) and len(c) == 2 and isinstance(c[0], str) and _value(c[1]) for c in controls
     ):
-        raise ValueError("this state's controls are not (name, value) pairs of numbers, text or on/off")
+        raise ValueError(mark("this state's controls are not (name, value) pairs of numbers, text or on/off"))
     motion = state.get("motion", {})
     if not isinstance(motion, dict) or not all(_numbers(v) for v in motion.values()):
-        raise ValueError("this state's motion is not lists of finite numbers")
+        raise ValueError(mark("this state's motion is not lists of finite numbers"))
     out: dict[str, Any] = {
         "scene": scene,
         "payload": None,
@@ -131,17 +143,25 @@ def _checked(state: Any, scenes: list[str] | None) -> dict[str, Any]:
     for key, low, high in (("time", -1e12, 1e12), ("speed", 0.0, 1e3)):
         value = state.get(key)
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-            raise ValueError(f"this state's {key} must be a number between {low:g} and {high:g}, got {value!r}")
+            raise ValueError(
+                say(
+                    "this state's {key!s} must be a number between {low:g} and {high:g}, got {value!r}",
+                    key=key,
+                    low=low,
+                    high=high,
+                    value=value,
+                )
+            )
         out[key] = float(value)
     if not isinstance(state.get("playing"), bool):
-        raise ValueError("this state's clock must be running or paused (true or false)")
+        raise ValueError(mark("this state's clock must be running or paused (true or false)"))
     out["playing"] = state["playing"]
     camera = state.get("camera")
     if camera is not None:
         if not isinstance(camera, dict) or not all(
             _numbers(camera.get(key)) and len(camera[key]) == 3 for key in ("position", "look_at")
         ):
-            raise ValueError("this state's camera must be a position and a look-at point, three numbers each")
+            raise ValueError(mark("this state's camera must be a position and a look-at point, three numbers each"))
         out["camera"] = {key: [float(x) for x in camera[key]] for key in ("position", "look_at")}
     return out
 

@@ -13,14 +13,16 @@ from typing import Any
 
 import viser
 
+from app.language.words import mark, say
+
 __all__ = ["NO_SESSION", "TeacherPanel"]
 
 NO_SESSION = "—"
 """The dropdown's only choice while no student is connected."""
 
-NAME_HINT = "Optional: shown to your teacher instead of your session's number."
+NAME_HINT = mark("Optional: shown to your teacher instead of your session's number.")
 
-WATCHED = "your teacher can see this session's scene, settings and time."
+WATCHED = mark("your teacher can see this session's scene, settings and time.")
 """What every student is told: the teacher's table shows their session."""
 
 
@@ -38,10 +40,12 @@ class TeacherPanel:
     def __init__(self, client: viser.ClientHandle, number: int) -> None:
         gui = client.gui
         self.gui = gui
-        self.number = gui.add_markdown(f"**Session {number}** · {WATCHED}", order=-33)
-        self.name = gui.add_text("Your name", initial_value="", hint=NAME_HINT, order=-32)
-        self.pin: Any = gui.add_text("Teacher PIN", initial_value="", order=-31)
-        self.open: Any = gui.add_button("Open teacher's view", order=-30)
+        self.number = gui.add_markdown(
+            say("**Session {number}** · {watched}", number=number, watched=WATCHED), order=-33
+        )
+        self.name = gui.add_text(mark("Your name"), initial_value="", hint=NAME_HINT, order=-32)
+        self.pin: Any = gui.add_text(mark("Teacher PIN"), initial_value="", order=-31)
+        self.open: Any = gui.add_button(mark("Open teacher's view"), order=-30)
         self.folder: Any = None
         self.table: Any = None
         self.choice: Any = None
@@ -56,11 +60,11 @@ class TeacherPanel:
         """Replace the PIN box by the teacher's view: the table, the sessions' numbers and Spotlight (returned)."""
         self.pin.remove()
         self.open.remove()
-        self.folder = self.gui.add_folder("Teacher's view", order=-29)
+        self.folder = self.gui.add_folder(mark("Teacher's view"), order=-29)
         with self.folder:
             self.table = self.gui.add_html(table_html)
-            self.choice = self.gui.add_dropdown("Session", tuple(numbers) or (NO_SESSION,))
-            self.spotlight = self.gui.add_button("Spotlight")
+            self.choice = self.gui.add_dropdown(mark("Session"), tuple(numbers) or (NO_SESSION,))
+            self.spotlight = self.gui.add_button(mark("Spotlight"))
         return self.spotlight
 
     def show_table(self, table_html: str) -> None:

@@ -63,9 +63,13 @@ class Voters:
 
     def identity(self, client_id: ClientId) -> str:
         """The voter a connected client counts as: its browser's token, or its connection alone."""
+        return self.browser(client_id) or f"connection {client_id}"
+
+    def browser(self, client_id: ClientId) -> str | None:
+        """The browser a connected client is (its token), or None if it came without a known token."""
         headers = request_headers(self._server, client_id)
         token = _token(headers.get("Cookie")) if headers is not None else None
-        return f"browser {token}" if self.known(token) else f"connection {client_id}"
+        return f"browser {token}" if self.known(token) else None
 
     def _respond(self, connection: Any, request: Any, response: Any) -> Any:
         """websockets' process_response: a page served to a browser without a known token sets one."""

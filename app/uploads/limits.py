@@ -7,9 +7,11 @@ applied on the wire (:mod:`app.guards.uploads`), the worker's by :mod:`app.uploa
 
 from __future__ import annotations
 
+import io
 import json
 import re
 import struct
+import zipfile
 from pathlib import PurePath
 
 __all__ = [
@@ -29,6 +31,11 @@ __all__ = [
     "MEMORY_LIMIT",
     "TIME_LIMIT",
     "READERS",
+    "MAX_MESSAGE",
+    "MAX_ZIP_ENTRIES",
+    "MAX_UNPACKED",
+    "MAX_ZIP_RATIO",
+    "RECORDING_FORMATS",
     "size_refusal",
     "check_size",
     "check_upload",
@@ -47,6 +54,17 @@ MAX_ACCESSORS = 4_000
 """Most accessors (typed views of its buffers) a GLB may have."""
 MAX_ELEMENTS = 3 * MAX_FACES * 3
 """Most numbers a GLB's accessors may hold together (vertices and indices, components counted)."""
+
+# A gyroscope recording: phyphox's CSV, or the zip it shares (a CSV and a few small meta files).
+RECORDING_FORMATS = ("csv", "zip")
+"""Extensions of a recording (the phone-toss scene): the size limit's advice is then about the recording."""
+MAX_ZIP_ENTRIES = 64
+"""Most files a zip may hold (phyphox's export: Raw Data.csv and three meta files)."""
+MAX_UNPACKED = 64 * 1024 * 1024
+"""Most bytes a zip's files may declare unpacked, together (an hour at 100 Hz is about 30 MB of CSV)."""
+MAX_ZIP_RATIO = 100
+"""Largest ratio of unpacked to packed bytes of a zip's file over 1 MB: a CSV of numbers packs 3 to 10
+times; a file packed 1000 times over is made to exhaust the reader (a zip bomb)."""
 
 # In flight, on the wire (app.guards.uploads).
 MAX_TRANSFERS = 8
@@ -73,6 +91,8 @@ TIME_LIMIT = 30.0
 """Seconds a worker may take to read one file."""
 READERS = 2
 """Workers that may read files at once (one per core of a small server)."""
+MAX_MESSAGE = 600
+"""Longest refusal sent back from a worker, characters (a reader may quote a cell of the file)."""
 
 _COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 
@@ -85,10 +105,12 @@ def size_refusal(name: str, n_bytes: int) -> str | None:
     """Why a file of ``n_bytes`` is refused (over :data:`MAX_BYTES`, read when called), or None."""
     if n_bytes <= MAX_BYTES:
         return None
-    return (
-        f"{name} is {_size_text(n_bytes)}; the limit is {_size_text(MAX_BYTES)}. "
-        "Simplify the mesh (fewer triangles) and upload it again."
+    advice = (
+        "Record a shorter stretch (a toss lasts a second) and upload it again."
+        if PurePath(name).suffix.lower().lstrip(".") in RECORDING_FORMATS
+        else "Simplify the mesh (fewer triangles) and upload it again."
     )
+    return f"{name} is {_size_text(n_bytes)}; the limit is {_size_text(MAX_BYTES)}. {advice}"
 
 
 def check_size(filename: str, content: bytes) -> None:
@@ -116,6 +138,8 @@ def check_declared_size(filename: str, content: bytes) -> None:
         _check_ply(name, content)
     elif ext == "obj":
         _check_obj(name, content)
+    elif ext == "zip":
+        _check_zip(name, content)
 
 
 def _too_many(name: str, what: str, count: int, limit: int) -> ValueError:
@@ -207,3 +231,37 @@ def _check_obj(name: str, content: bytes) -> None:
         raise _too_many(name, "faces", faces, MAX_FACES)
     if vertices > 3 * MAX_FACES:
         raise _too_many(name, "vertices", vertices, 3 * MAX_FACES)
+
+
+def _check_zip(name: str, content: bytes) -> None:
+    # The end record (the last 22 bytes, before a comment of at most 64 kB) says how many files the central
+    # directory lists: read before the directory itself, whose parsing costs a little per file.
+    end = content.rfind(b"PK\x05\x06", max(0, len(content) - 22 - 65535))
+    if end < 0 or end + 22 > len(content):
+        raise ValueError(f"{name} is not a zip archive (it has no zip directory); upload phyphox's shared .zip.")
+    (entries,) = struct.unpack_from("<H", content, end + 10)
+    if entries > MAX_ZIP_ENTRIES:
+        raise ValueError(
+            f"{name} holds {entries:,} files; a phyphox export holds a handful (at most {MAX_ZIP_ENTRIES})."
+        )
+    try:
+        with zipfile.ZipFile(io.BytesIO(content)) as archive:
+            infos = archive.infolist()
+    except (zipfile.BadZipFile, OSError, ValueError, NotImplementedError) as exc:
+        raise ValueError(f"{name} is a damaged zip archive ({exc}).") from None
+    if len(infos) > MAX_ZIP_ENTRIES:
+        raise ValueError(
+            f"{name} holds {len(infos):,} files; a phyphox export holds a handful (at most {MAX_ZIP_ENTRIES})."
+        )
+    unpacked = sum(info.file_size for info in infos)
+    if unpacked > MAX_UNPACKED:
+        raise ValueError(
+            f"{name} unpacks to {_size_text(unpacked)}; the limit is {_size_text(MAX_UNPACKED)}. "
+            "Record a shorter stretch and upload it again."
+        )
+    for info in infos:
+        if info.file_size > 1024 * 1024 and info.file_size > MAX_ZIP_RATIO * max(info.compress_size, 1):
+            raise ValueError(
+                f"{name} packs {PurePath(info.filename).name[:80]} {info.file_size / max(info.compress_size, 1):,.0f} "
+                f"times over (a recording packs at most {MAX_ZIP_RATIO} times): it is not a phyphox export."
+            )

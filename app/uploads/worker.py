@@ -1,23 +1,28 @@
-"""Reading an uploaded mesh in a worker process with its own memory and time limits.
+"""Reading an uploaded file (a mesh, a gyroscope recording) in a worker process with its own memory and time
+limits.
 
 The file is checked first (:func:`app.uploads.limits.check_upload`, in this process: a refused file costs
-no worker), then read by :func:`app.uploads.reading.body_from_parsed_upload` in a process capped at
+no worker), then read by :func:`app.uploads.reading.body_from_parsed_upload` (a mesh) or fitted by
+:func:`app.uploads.gyro.fit_toss_upload` (a recording) in a process capped at
 :data:`~app.uploads.limits.MEMORY_LIMIT` and killed after :data:`~app.uploads.limits.TIME_LIMIT`; at most
 :data:`~app.uploads.limits.READERS` run at once, and an upload finding them busy is refused at once.
 """
 
 from __future__ import annotations
 
+import errno
 import multiprocessing
 import threading
+from collections.abc import Callable
 from multiprocessing.connection import Connection
 from pathlib import PurePath
 from typing import Any
 
-from app.uploads.limits import MEMORY_LIMIT, READERS, TIME_LIMIT, check_upload
+from app.uploads.gyro import TossFit, fit_toss_upload
+from app.uploads.limits import MAX_MESSAGE, MEMORY_LIMIT, READERS, TIME_LIMIT, check_upload
 from app.uploads.reading import NotWatertightError, UploadedBody, body_from_parsed_upload
 
-__all__ = ["ReadersBusy", "body_in_worker"]
+__all__ = ["ReadersBusy", "body_in_worker", "toss_fit_in_worker"]
 
 _readers = threading.BoundedSemaphore(READERS)
 
@@ -26,27 +31,53 @@ class ReadersBusy(ValueError):
     """Every reader is busy with another upload: this one is refused, to be sent again shortly."""
 
 
+def _refusal(text: str) -> tuple[str, str]:
+    # A reader may quote the file (a header cell): the message stays short, whatever the file holds.
+    return ("refused", text if len(text) <= MAX_MESSAGE else text[: MAX_MESSAGE - 1] + "…")
+
+
 def _read(conn: Connection, filename: str, content: bytes, use_convex_hull: bool, memory: int) -> None:
-    """The worker: limits first, then the ordinary checks; the outcome goes back as plain data."""
+    """The mesh worker: limits first, then the ordinary checks; the outcome goes back as plain data."""
+
+    def read() -> tuple[Any, ...]:
+        try:
+            return ("done", body_from_parsed_upload(filename, content, use_convex_hull=use_convex_hull))
+        except NotWatertightError as exc:
+            return ("open", str(exc), exc.hull)
+
+    _run(conn, filename, memory, read)
+
+
+def _fit(conn: Connection, filename: str, content: bytes, chosen: int | None, memory: int) -> None:
+    """The recording worker: read, find the tosses, fit; the outcome goes back as plain data."""
+    _run(conn, filename, memory, lambda: ("done", fit_toss_upload(filename, content, chosen)))
+
+
+def _memory_text(n_bytes: int) -> str:
+    return f"{n_bytes / 2**30:.0f} GB" if n_bytes >= 2**30 else f"{n_bytes / 2**20:.0f} MB"
+
+
+def _run(conn: Connection, filename: str, memory: int, work: Callable[[], tuple[Any, ...]]) -> None:
     import resource
 
     resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
     name = PurePath(filename or "upload").name
     outcome: tuple[Any, ...]
+    too_big = f"{name} needs more than {_memory_text(memory)} of memory to read; simplify it."
     try:
-        outcome = ("body", body_from_parsed_upload(filename, content, use_convex_hull=use_convex_hull))
-    except NotWatertightError as exc:
-        outcome = ("open", str(exc), exc.hull)
+        outcome = work()
     except MemoryError:
-        outcome = ("refused", f"{name} needs more than {memory / 2**30:.0f} GB of memory to read; simplify it.")
+        outcome = _refusal(too_big)
+    except OSError as exc:  # the memory limit met by the operating system (a temporary file, a thread)
+        outcome = _refusal(too_big if exc.errno == errno.ENOMEM else f"{name} could not be read ({exc}).")
     except ValueError as exc:
-        outcome = ("refused", str(exc))
-    except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable mesh"
-        outcome = ("refused", f"{name} could not be read ({type(exc).__name__}: {exc}).")
+        outcome = _refusal(str(exc))
+    except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable file"
+        outcome = _refusal(f"{name} could not be read ({type(exc).__name__}: {exc}).")
     try:
         conn.send(outcome)
     except MemoryError:
-        conn.send(("refused", f"{name} is too large to send back from the reader; simplify it."))
+        conn.send(_refusal(f"{name} is too large to send back from the reader; simplify it."))
     finally:
         conn.close()
 
@@ -71,6 +102,39 @@ def body_in_worker(
         Every other refusal, including a file over the declared-size limits, a worker that ran out of
         memory or time; the message names the file and the limit.
     """
+    outcome = _in_worker(_read, filename, content, use_convex_hull, memory_limit, time_limit)
+    if outcome[0] == "open":
+        raise NotWatertightError(outcome[1], outcome[2])
+    body: UploadedBody = outcome[1]
+    return body
+
+
+def toss_fit_in_worker(
+    filename: str,
+    content: bytes,
+    chosen: int | None = None,
+    *,
+    memory_limit: int = MEMORY_LIMIT,
+    time_limit: float = TIME_LIMIT,
+) -> TossFit:
+    """:func:`app.uploads.gyro.fit_toss_upload` in a worker process with memory and time limits.
+
+    Raises
+    ------
+    ReadersBusy
+        :data:`READERS` workers are reading other uploads (a ValueError: the message says to try again).
+    ValueError
+        Every refusal: over the size limits (a zip's declared contents too), not gyroscope data, no toss, a
+        toss too short, too slow or clipped, a worker out of memory or time; the message names the file.
+    """
+    result: TossFit = _in_worker(_fit, filename, content, chosen, memory_limit, time_limit)[1]
+    return result
+
+
+def _in_worker(
+    target: Callable[..., None], filename: str, content: bytes, option: Any, memory_limit: int, time_limit: float
+) -> tuple[Any, ...]:
+    """Check the file, take a reader's place and run ``target`` in a worker: its outcome, or a ValueError."""
     name = PurePath(filename or "upload").name
     check_upload(filename, content)
     if not _readers.acquire(blocking=False):
@@ -79,42 +143,45 @@ def body_in_worker(
             "Upload it again in a few seconds."
         )
     try:
-        return _read_in_worker(name, filename, content, use_convex_hull, memory_limit, time_limit)
+        outcome = _read_in_worker(target, name, filename, content, option, memory_limit, time_limit)
     finally:
         _readers.release()
+    if outcome[0] == "refused":
+        raise ValueError(outcome[1])
+    return outcome
 
 
 def _read_in_worker(
-    name: str, filename: str, content: bytes, use_convex_hull: bool, memory_limit: int, time_limit: float
-) -> UploadedBody:
+    target: Callable[..., None],
+    name: str,
+    filename: str,
+    content: bytes,
+    option: Any,
+    memory_limit: int,
+    time_limit: float,
+) -> tuple[Any, ...]:
     """One worker process reads the file (the caller holds a reader's place)."""
     context = multiprocessing.get_context("forkserver")
-    # The fork server imports this module (trimesh, numpy) once; each worker forks from it ready to read in
-    # about 15 ms instead of importing them anew (0.7 s an upload). Only the first start of the fork server
-    # reads the list; "__main__" is its default, kept so that a worker does not run the main script again.
+    # The fork server imports this module (trimesh, numpy, scipy) once; each worker forks from it ready to
+    # read in about 15 ms instead of importing them anew (0.7 s an upload). Only the first start of the fork
+    # server reads the list; "__main__" is its default, kept so that a worker does not run the main script again.
     context.set_forkserver_preload(["__main__", __name__])
     receiver, sender = context.Pipe(duplex=False)
-    worker = context.Process(target=_read, args=(sender, filename, content, use_convex_hull, memory_limit), daemon=True)
+    worker = context.Process(target=target, args=(sender, filename, content, option, memory_limit), daemon=True)
     worker.start()
     sender.close()
     try:
         if not receiver.poll(time_limit):
             raise ValueError(f"{name} took more than {time_limit:.0f} s to read; simplify it and upload it again.")
         try:
-            outcome = receiver.recv()
+            outcome: tuple[Any, ...] = receiver.recv()
         except EOFError:
             raise ValueError(
-                f"{name} needs more than {memory_limit / 2**30:.0f} GB of memory to read; simplify it."
+                f"{name} needs more than {_memory_text(memory_limit)} of memory to read; simplify it."
             ) from None
     finally:
         receiver.close()
         if worker.is_alive():
             worker.kill()
         worker.join(timeout=5.0)
-    kind = outcome[0]
-    if kind == "body":
-        body: UploadedBody = outcome[1]
-        return body
-    if kind == "open":
-        raise NotWatertightError(outcome[1], outcome[2])
-    raise ValueError(outcome[1])
+    return outcome

@@ -1,11 +1,11 @@
 """app/'s packages import one way (docs/architecture.md): rooms, serving, teaching, scenes, recording, drawing,
-panel, guards, uploads; a package imports only the packages after it in that list."""
+panel, guards, uploads, language; a package imports only the packages after it in that list."""
 
 from __future__ import annotations
 
 from tests.test_architecture import import_graph, read_modules
 
-ORDER = ("rooms", "serving", "teaching", "scenes", "recording", "drawing", "panel", "guards", "uploads")
+ORDER = ("rooms", "serving", "teaching", "scenes", "recording", "drawing", "panel", "guards", "uploads", "language")
 
 
 def package_of(module: str) -> str | None:

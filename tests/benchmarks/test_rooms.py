@@ -7,6 +7,7 @@ import pytest
 import zstandard
 
 from benchmarks.rooms import BODY, isolation_problems, longest_gap, picker_and_nodes, rate, report, scene_titles
+from benchmarks.rooms_teacher import report_lines
 
 
 def _wire(messages: list[dict]) -> bytes:
@@ -81,3 +82,21 @@ def test_the_report_judges_each_target() -> None:
     assert "longest gap between two frames 300 ms" in text and "— NOT met (no gap over 250 ms)" in text
     assert "1 joins while the killed process was down, on ['127.0.0.3:1']" in text and "1 after it was back" in text
     assert "answered 4.5 s after the kill" in text
+
+
+def test_the_teachers_table_rows_judge_the_one_second_bound() -> None:
+    result = {
+        "sessions": 60,
+        "rows": 60,
+        "latencies": [0.2, 0.4, 0.3],
+        "idle": {"commands": 12.0, "bytes_in": 9000.0, "bytes_out": 350.0},
+        "watched": {"commands": 20.0, "bytes_in": 9100.0, "bytes_out": 27000.0},
+        "seconds": 5.0,
+    }
+    text = "\n".join(report_lines(result))
+    assert "| change on process 2 → teacher's table on process 1: median | 300 ms |" in text
+    assert "| same, slowest of 3 | 400 ms |" in text
+    assert "| 12.0, 9000, 350 |" in text and "| 20.0, 9100, 27000 |" in text
+    assert "within 1 s of a change: slowest 0.40 s — met" in text
+    slow = "\n".join(report_lines(result | {"latencies": [0.2, 1.5]}))
+    assert "slowest 1.50 s — NOT met" in slow

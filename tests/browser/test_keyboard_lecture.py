@@ -203,6 +203,9 @@ def scene_by_keyboard(page: Any, app: Any, name: str) -> None:
     elif name == "free_fall":
         step, _, _ = slider_step(app, "tilt")
         nudge(page, app, "tilt", "angle of ω from the axis", "ArrowLeft", value(app, "tilt") - step)
+    elif name == "phone_toss":
+        first = app.scene.toss.options[1]  # the bundled first toss alone, fitted again in the upload worker
+        choose(page, "Toss", first, lambda: app.scene.result.chosen == 0, "the first toss from the Toss dropdown")
     else:
         raise AssertionError(f"no keyboard walk for scene {name!r}")
 
@@ -315,7 +318,7 @@ def test_a_whole_lecture_and_every_scenes_controls_by_keyboard_alone(chromium) -
             page.get_by_text("angle of ω from the axis", exact=False).first.wait_for(timeout=30_000)
             scene_by_keyboard(page, app, "free_fall")
             assert sorted(visited) == sorted(
-                ["inertia_explorer", "pendulum", "wobble", "tennis_racket", "heavy_top", "free_fall"]
+                ["inertia_explorer", "pendulum", "wobble", "tennis_racket", "heavy_top", "phone_toss", "free_fall"]
             )
             assert re.search(r"\S", live(page)[0])
         finally:

@@ -24,6 +24,7 @@ from tests.harness import (
     running_app,
     wait_for,
 )
+from tests.uploading import upload
 
 pytestmark = pytest.mark.browser
 
@@ -41,13 +42,6 @@ def page_and_client(explorer_app, chromium):
     page, client = open_page(chromium, explorer_app)
     yield page, client
     page.close()
-
-
-def upload(page, name: str, content: bytes) -> None:
-    """Send a file through the scene's upload button (its hidden <input type=file>)."""
-    page.locator("input[type=file]").first.set_input_files(
-        {"name": name, "mimeType": "application/octet-stream", "buffer": content}
-    )
 
 
 def box_stl(extents=(0.3, 0.2, 0.1)) -> bytes:

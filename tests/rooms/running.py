@@ -4,7 +4,8 @@ read as it comes, clients through the proxy (a cookie as a browser gets it, vise
 * :func:`rooms_file` — a rooms file on free loopback ports (127.0.0.2/.3 stand in for other machines);
 * :func:`running_department` — the command running it; always stopped (SIGTERM, then SIGKILL) on exit;
 * :func:`room_cookie` — the cookie nginx gives a browser's first visit to a private room, and who answered;
-* :func:`proxied` — a websocket to ``/ROOM`` through the proxy with viser's subprotocol, as the page opens it.
+* :func:`proxied` — a websocket to ``/ROOM`` through the proxy with viser's subprotocol, as the page opens it;
+* :func:`redis_server` — Debian's ``redis-server`` on a free loopback port, as ``rigid-body-lab rooms`` runs it.
 
 Used by ``tests/rooms`` and ``benchmarks/rooms.py``; loopback only.
 """
@@ -31,6 +32,7 @@ from websockets.sync.client import ClientConnection, connect
 
 from app.rooms.cli import READY
 from app.rooms.nginx import BACKEND_HEADER, NginxMissing, find_nginx
+from app.rooms.redis_server import RedisMissing, find_redis, redis_answers, redis_command
 from app.rooms.supervisor import port_free
 from tests.harness import CAMERA_MESSAGE
 
@@ -205,7 +207,11 @@ def ours(pid: int) -> bool:
         command = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
     except OSError:
         return False
-    return b"app" in command or any(part.endswith(b"nginx") or part.startswith(b"nginx") for part in command)
+    return (
+        b"app" in command
+        or any(part.endswith(b"nginx") or part.startswith(b"nginx") for part in command)
+        or any(b"redis-server" in part for part in command)
+    )
 
 
 def room_cookie(port: int, room: str) -> tuple[str, str]:
@@ -252,3 +258,51 @@ def backend_of(ws: ClientConnection) -> str:
     every process nginx tried: the last one answered)."""
     assert ws.response is not None
     return str(ws.response.headers.get(BACKEND_HEADER, "")).split(",")[-1].strip()
+
+
+def redis_or_skip() -> str:
+    """redis-server's binary, or a skip saying how to install it (a skip fails CI)."""
+    try:
+        return find_redis()
+    except RedisMissing as exc:
+        pytest.skip(str(exc))
+
+
+class RedisServer:
+    """``redis-server`` on 127.0.0.1:``port`` as ``rigid-body-lab rooms`` starts it; it can be killed and
+    started again on the same port."""
+
+    def __init__(self, port: int | None = None, config: Path | None = None, password: str | None = None) -> None:
+        self.binary = redis_or_skip()
+        self.port = port or _free_on("127.0.0.1")
+        self.config, self.password = config, password  # a redis_conf file and its password, or neither
+        self.process: subprocess.Popen[bytes] | None = None
+
+    def start(self, timeout: float = 20.0) -> None:
+        config = None if self.config is None else str(self.config)
+        self.process = subprocess.Popen(
+            redis_command(self.binary, "127.0.0.1", self.port, config),
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        deadline = time.monotonic() + timeout
+        while not redis_answers("127.0.0.1", self.port, password=self.password):
+            if self.process.poll() is not None or time.monotonic() > deadline:
+                raise AssertionError(f"redis-server did not answer on 127.0.0.1:{self.port}")
+            time.sleep(0.05)
+
+    def kill(self) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.process.kill()
+            self.process.wait(timeout=10)
+
+
+@contextlib.contextmanager
+def redis_server(config: Path | None = None, password: str | None = None) -> Iterator[RedisServer]:
+    """A running :class:`RedisServer` (with the password ``config`` sets), killed when the block ends."""
+    server = RedisServer(config=config, password=password)
+    server.start()
+    try:
+        yield server
+    finally:
+        server.kill()

@@ -14,7 +14,16 @@ import app.serving.app
 from app.__main__ import main as app_main
 from app.rooms.cli import check_ports
 from app.rooms.cli import main as rooms_main
-from app.rooms.config import PIN_VARIABLE, Backend, RoomsError, app_arguments, parse_rooms, pin_environment, read_rooms
+from app.rooms.config import (
+    PIN_VARIABLE,
+    Backend,
+    RoomsError,
+    app_arguments,
+    parse_rooms,
+    pin_environment,
+    pool_environment,
+    read_rooms,
+)
 from app.rooms.nginx import NginxMissing, find_nginx
 from tests.harness import free_port
 
@@ -76,6 +85,30 @@ def test_each_mode_is_the_apps_command_line() -> None:
     assert (nopin.pin, nopin.pin_given) == ("424242", False)  # drawn once, so a restart keeps it
 
 
+def test_a_pool_with_a_teacher_pin_shares_its_table_through_redis() -> None:
+    d = department(
+        [
+            {"name": "lab", "mode": "private", "processes": 2, "pin": "2468"},
+            {"name": "solo", "mode": "private", "pin": "1357"},  # one process: its table is its own
+            {"name": "open", "mode": "private", "processes": 2},  # no teacher PIN: no table
+        ]
+    )
+    lab, solo, open_ = d.rooms
+    assert d.redis == ("127.0.0.1", 8006) and not d.redis_given  # started here, after the rooms' ports
+    assert (lab.shares_table, solo.shares_table, open_.shares_table) == (True, False, False)
+    assert pin_environment(lab) == {PIN_VARIABLE: "2468"} and pin_environment(open_) == {}
+    assert pool_environment(d, lab, lab.backends[1]) == {"RBL_REDIS": "127.0.0.1:8006", "RBL_POOL": "lab 2 2"}
+    assert pool_environment(d, solo, solo.backends[0]) == {} == pool_environment(d, open_, open_.backends[0])
+    # Two machines: the Redis named in the file, which both reach.
+    far = department(
+        [{"name": "lab", "mode": "private", "pin": "2468", "hosts": ["10.0.0.5:8101", "10.0.0.6:8101"]}],
+        redis="10.0.0.5:6379",
+    )
+    assert far.redis == ("10.0.0.5", 6379) and far.redis_given
+    assert pool_environment(far, far.rooms[0], far.rooms[0].backends[0])["RBL_REDIS"] == "10.0.0.5:6379"
+    assert department([{"name": "a", "mode": "private", "processes": 2}]).redis is None  # no teacher: no Redis
+
+
 REFUSALS = [
     # (rooms, top-level keys, words the message must contain)
     (
@@ -105,7 +138,15 @@ REFUSALS = [
     ([{"name": "a", "mode": "presenter", "pin": "1234567890123"}], {}, ["room 'a'", "'pin'", "4 to 12 digits"]),
     ([{"name": "a", "mode": "presenter", "pin": "12ab56"}], {}, ["room 'a'", "'pin'", "4 to 12 digits"]),
     ([{"name": "a", "mode": "presenter", "pin": 123456}], {}, ["room 'a'", "'pin'", "as a string"]),
-    ([{"name": "a", "mode": "private", "pin": "123456"}], {}, ["room 'a'", "'pin'", "presenter room"]),
+    ([{"name": "a", "mode": "shared", "pin": "123456"}], {}, ["room 'a'", "'pin'", "teacher's view", "shared"]),
+    ([{"name": "a", "mode": "private", "pin": "12"}], {}, ["room 'a'", "'pin'", "4 to 12 digits"]),
+    ([{"name": "a", "mode": "shared"}], {"redis": "nowhere:x"}, ["'redis'", "port"]),
+    ([{"name": "a", "mode": "shared"}], {"redis": "127.0.0.1:8000"}, ["'redis'", "already used", "proxy"]),
+    (
+        [{"name": "a", "mode": "private", "pin": "1234", "hosts": ["10.0.0.5:8101", "10.0.0.6:8101"]}],
+        {},
+        ["'redis'", "room 'a'", "other machines", "loopback", "redis = "],
+    ),
     ([{"name": "a", "mode": "private", "processes": 0}], {}, ["room 'a'", "'processes'", "at least 1, got 0"]),
     ([{"name": "a", "mode": "private", "processes": -2}], {}, ["room 'a'", "'processes'", "at least 1"]),
     ([{"name": "a", "mode": "presenter", "processes": 2}], {}, ["room 'a'", "'processes'", "only a private room"]),

@@ -213,3 +213,68 @@ def test_systemd_accepts_the_units(written: Path) -> None:
         ).stdout
         exposure = float(re.search(r"Overall exposure level for \S+: ([0-9.]+)", rating).group(1))  # type: ignore[union-attr]
         assert exposure < 5.0, (name, rating[-300:])
+
+
+TWO_MACHINES = """
+listen = "0.0.0.0:80"
+redis = "10.0.0.5:6379"
+[[room]]
+name = "homework"
+mode = "private"
+pin = "246810"
+hosts = ["10.0.0.5:8101", "10.0.0.6:8101"]
+"""
+
+
+def test_a_pool_over_two_machines_gets_a_redis_unit_and_its_address(tmp_path: Path) -> None:
+    path = tmp_path / "rooms.toml"
+    path.write_text(TWO_MACHINES)
+    out = tmp_path / "out"
+    assert rooms_main([str(path), "--write", str(out)]) == 0
+    units = out / "systemd"
+    redis_unit = _service(units / "rigid-body-lab-redis.service")
+    service = redis_unit["Service"]
+    command = shlex.split(service["ExecStart"])
+    # The password: in a 0600 file of root's, handed to the service as a credential, never on a command line.
+    assert command[0].endswith("redis-server") and command[1] == "${CREDENTIALS_DIRECTORY}/redis.conf"
+    assert service["LoadCredential"] == f"redis.conf:{out / 'secrets' / 'redis.conf'}"
+    conf = out / "secrets" / "redis.conf"
+    assert stat.S_IMODE(conf.stat().st_mode) == 0o600
+    password = re.fullmatch(r"requirepass (\S{24,})\n", conf.read_text()).group(1)  # type: ignore[union-attr]
+    flags = dict(zip(command[2::2], command[3::2], strict=True))
+    # On the address the other machine reaches; nothing written to disk; a memory ceiling.
+    assert flags["--bind"] == "10.0.0.5" and flags["--port"] == "6379" and flags["--save"] == ""
+    assert flags["--appendonly"] == "no" and flags["--maxmemory"] == "64mb" and flags["--protected-mode"] == "no"
+    assert redis_unit["Unit"]["Before"] == "rigid-body-lab-homework-1.service"  # the process on its machine
+    for index in (1, 2):
+        unit = (units / f"rigid-body-lab-homework-{index}.service").read_text()
+        assert 'Environment="RBL_REDIS=10.0.0.5:6379"' in unit
+        assert f'Environment="RBL_POOL=homework {index} 2"' in unit
+        assert "246810" not in unit and password not in unit  # secrets: in the environment files only
+        environment = (out / "secrets" / f"rigid-body-lab-homework-{index}.env").read_text()
+        assert environment == f"{PIN_VARIABLE}=246810\nRBL_REDIS_PASSWORD={password}\n"
+    assert password not in (units / "rigid-body-lab-redis.service").read_text()
+    readme = (out / "README.txt").read_text()
+    assert "10.0.0.5: rigid-body-lab-redis.service rigid-body-lab-homework-1.service" in readme
+    assert "Redis at 10.0.0.5:6379" in readme and "firewall" in readme
+    result = subprocess.run(
+        ["systemd-analyze", "verify", str(units / "rigid-body-lab-redis.service")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0 and result.stderr.strip() == "", result.stderr
+
+
+def test_a_pool_on_this_machine_gets_redis_on_loopback(tmp_path: Path) -> None:
+    path = tmp_path / "rooms.toml"
+    path.write_text(
+        'listen = "127.0.0.1:8000"\n[[room]]\nname = "lab"\nmode = "private"\nprocesses = 2\npin = "1234"\n'
+    )
+    out = tmp_path / "out"
+    assert rooms_main([str(path), "--write", str(out)]) == 0
+    command = shlex.split(_service(out / "systemd" / "rigid-body-lab-redis.service")["Service"]["ExecStart"])
+    flags = dict(zip(command[2::2], command[3::2], strict=True))
+    assert (flags["--bind"], flags["--port"], flags["--protected-mode"]) == ("127.0.0.1", "8003", "yes")
+    target = _service(out / "systemd" / "rigid-body-lab.target")["Unit"]["Wants"].split()
+    assert "rigid-body-lab-redis.service" in target

@@ -5,7 +5,6 @@
 from __future__ import annotations
 
 import math
-import threading
 from types import SimpleNamespace
 
 import numpy as np
@@ -21,6 +20,7 @@ from app.uploads.reading import body_from_upload
 from assets import mass_properties
 from physics.inertia import box, parallel_axis
 from tests.harness import FRAME, open_scene
+from tests.uploading import lock_is_free
 
 
 def _box_stl(extents=(0.3, 0.2, 0.1)) -> bytes:
@@ -193,28 +193,14 @@ def test_upload_is_parsed_outside_the_lock_and_swapped_in_under_it(app, monkeypa
     sc = open_scene(app, "inertia_explorer")
     free = {}
 
-    def lock_is_free() -> bool:
-        # Asked from another thread (this one could re-enter its own RLock): could a frame run now?
-        out = []
-
-        def probe() -> None:
-            out.append(app.simulation.lock.acquire(blocking=False))
-            if out[0]:
-                app.simulation.lock.release()
-
-        thread = threading.Thread(target=probe)
-        thread.start()
-        thread.join()
-        return out[0]
-
     def parse(filename, content, **kw):
-        free["parse"] = lock_is_free()
+        free["parse"] = lock_is_free(app.simulation.lock)
         return body_from_upload(filename, content, **kw)
 
     adopt = sc._adopt
 
     def swap(body, client):
-        free["swap"] = lock_is_free()
+        free["swap"] = lock_is_free(app.simulation.lock)
         return adopt(body, client)
 
     monkeypatch.setattr(explorer_module, "body_in_worker", parse)

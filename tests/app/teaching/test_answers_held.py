@@ -20,7 +20,7 @@ DECLARING = sorted(name for name, cls in REGISTRY.items() if cls.answers)
 
 
 def test_the_scenes_that_questions_ask_about_declare_their_answers():
-    assert DECLARING == ["heavy_top", "pendulum", "tennis_racket"]
+    assert DECLARING == ["heavy_top", "pendulum", "phone_toss", "tennis_racket"]
     quantities = {a.quantity for name in DECLARING for a in REGISTRY[name].answers}
     assert quantities == {"centre_of_percussion", "precession_rate", "flip"}
 
@@ -113,6 +113,7 @@ def test_the_shipped_questions_say_what_they_ask_about_and_give_what_is_needed()
         (6, ("flip",)),
         (7, ("precession_rate",)),
         (9, ("precession_rate",)),
+        (12, ("flip",)),
     ]
     with running_app(start_loop=False) as app:
         app.simulation.load_lecture(lecture)

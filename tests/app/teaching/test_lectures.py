@@ -26,9 +26,10 @@ def _write(tmp_path, text: str):
 def test_the_shipped_lecture_follows_the_lectures_order_and_every_step_shows():
     lecture = read_lecture("rigid-body-motion")  # found by name
     scenes = [step.scene for step in lecture.steps]
-    order = ["inertia_explorer", "pendulum", "wobble", "tennis_racket", "heavy_top"]
+    # The lecture's sections in its order, then the class measures the flip themselves.
+    order = ["inertia_explorer", "pendulum", "wobble", "tennis_racket", "heavy_top", "phone_toss"]
     assert [s for i, s in enumerate(scenes) if i == 0 or s != scenes[i - 1]] == order
-    assert lecture.steps[-1].preset == "sleeping top with friction: falls"  # friction last
+    assert lecture.steps[-2].preset == "sleeping top with friction: falls"  # friction last of the theory
     with running_app(start_loop=False) as app:
         app.simulation.load_lecture(lecture)  # every step applied once: presets and values all accepted
         for k, step in enumerate(lecture.steps):
@@ -167,6 +168,24 @@ def test_the_shipped_captions_state_what_each_step_shows():
         from app.scenes.heavy_top import TOUCH
 
         _shows(captions[11], math.degrees(TOUCH), 3)
+        # 13: the bundled tosses' fit, as the panel states it: the ratios, the residual, the half turns of
+        # each toss (fitted and measured alike) and the share of |L| the drag took in the first.
+        s = at(12)
+        fit = s.result.fit
+        assert s.result.source.startswith("example toss") and fit.axes[1] == "x"
+        for value in fit.moments[:2]:
+            _shows(captions[12], value)
+        _shows(captions[12], fit.residual, 3)
+        assert all(h.predicted.size == h.measured.size == 2 for h in fit.half_turn_times)
+        assert "2 half turns in each toss" in captions[12]
+        assert f"|L| down {fit.momentum_loss(0):.1%} in the first" in captions[12]
+        # ω_x reverses at each half turn, ω_z keeps its sign and is largest where ω_x crosses zero.
+        assert "ω_x, the spin about the middle axis" in captions[12] and "ω_z" in captions[12]
+        for k, seg in enumerate(fit.segments):
+            w = fit.predict(seg.times, k)
+            assert w[:, 0].min() < 0.0 < w[:, 0].max() and (w[:, 2].min() > 0.0 or w[:, 2].max() < 0.0)
+            crossing = int(np.argmin(np.abs(w[:, 0])))
+            assert abs(w[crossing, 2]) > 0.9 * np.max(np.abs(w[:, 2]))
 
 
 BAD_FILES = {
@@ -357,7 +376,7 @@ def test_a_wheel_installs_the_lectures_and_the_command_line_finds_them(tmp_path)
     lines = dict(line.split(" ", 1) for line in run.stdout.splitlines() if line[:3] in ("APP", "LEC"))
     assert lines["APP"].startswith(str(site))  # the installed app, not the source tree
     path, steps = lines["LECTURE"].rsplit(" ", 1)
-    assert path == str(site / "lectures" / "rigid-body-motion.toml") and int(steps) == 12
+    assert path == str(site / "lectures" / "rigid-body-motion.toml") and int(steps) == 13
 
 
 def test_a_step_opens_at_a_time_and_replays_the_seconds_before(tmp_path):

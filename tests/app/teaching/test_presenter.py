@@ -268,7 +268,8 @@ def test_a_followers_upload_is_refused_before_anything_reads_it(lecture, monkeyp
         # The scene's own callback asks first too (a file viser completed before the browser lost the right).
         client = app.server.get_clients()[cid]
         refused = scene.upload_refusals
-        scene._on_upload(SimpleNamespace(client=client, target=scene.upload))
+        for callback in scene.upload._impl.update_cb:  # the callback viser runs for the upload button
+            callback(SimpleNamespace(client=client, target=scene.upload))
         assert not parsed and scene.uploaded is None
         assert scene.upload_refusals == refused + 1 and "following the lecturer" in scene.last_upload_message
         # A presenter's file is read.

@@ -30,6 +30,7 @@ PIN = "4321"
 RACKET = 6  # the shipped lecture's steps (0-based) with a question
 PENDULUM = 2
 STEADY = 9
+PHONE = 12
 
 
 # ------------------------------------------------------------------ the model
@@ -97,8 +98,9 @@ def test_a_lecture_with_a_bad_question_is_refused_naming_the_step_and_the_key(tm
 def test_the_shipped_lecture_asks_the_precession_the_flip_and_the_centre_of_percussion():
     steps = read_lecture("rigid-body-motion").steps
     asked = {k: step.ask for k, step in enumerate(steps) if step.ask is not None}
-    assert set(asked) == {PENDULUM, RACKET, 7, STEADY}
+    assert set(asked) == {PENDULUM, RACKET, 7, STEADY, PHONE}
     assert asked[RACKET].choices[asked[RACKET].answer - 1] == "flips over and back, again and again"
+    assert asked[PHONE].choices[asked[PHONE].answer - 1].startswith("turns over") and asked[PHONE].about == ("flip",)
     assert "sense of the spin" in asked[7].choices[asked[7].answer - 1]
     assert (asked[PENDULUM].truth, asked[PENDULUM].unit, asked[PENDULUM].range) == (
         "centre_of_percussion",
@@ -424,3 +426,16 @@ def test_a_scene_states_its_own_true_values_and_refuses_a_quantity_it_has_not():
             scene.truth("centre_of_percussion")
         app.switch_scene("pendulum")
         assert app.scene.truth("centre_of_percussion") == app.scene.model.effective_length
+
+
+def test_a_number_answer_may_be_typed_with_a_decimal_comma():
+    """A German or Spanish reader writes 0,5: taken as 0.5. A comma before three digits (1,500: a thousand
+    and a half, or one and a half?) is refused as before."""
+    poll = Poll()
+    poll.ask(Ask("Rate?", unit="rad/s", range=(-2.0, 2.0)), "step 10")
+    assert poll.vote("a", "0,5") == 0.5
+    assert poll.vote("b", " −1,25 ") == -1.25
+    with pytest.raises(VoteRefused, match="the answer is a number, got '1,500'"):
+        poll.vote("c", "1,500")
+    with pytest.raises(VoteRefused, match="the answer is a number"):
+        poll.vote("c", "1,2,3")

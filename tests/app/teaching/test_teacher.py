@@ -410,3 +410,33 @@ def test_bad_spotlights_are_refused_to_the_teacher_only(lab):
         assert own.snapshot()["scene"] == before["scene"]
         assert len(app.sessions[student].messages) == told  # the teacher's refusals went to the teacher only
         assert still_connected(teacher_ws, app=own) and still_connected(student_ws, app=app.sessions[student])
+
+
+def test_a_pool_process_numbers_its_own_and_says_when_the_pools_table_is_unreachable(monkeypatch):
+    """Process 2 of a pool of 3 whose Redis does not answer (nothing listens on port 1): it numbers its
+    sessions 2, 5, 8, shows its own sessions under a notice, and refuses a Spotlight of another process's
+    number with the reason; its own sessions are spotlighted as ever."""
+    monkeypatch.setenv("RBL_REDIS", "127.0.0.1:1")
+    monkeypatch.setenv("RBL_POOL", "homework 2 3")
+    with running_app("heavy_top", private=True, pin=PIN, start_loop=False) as app, contextlib.ExitStack() as stack:
+        assert app.teacher.place is not None and app.teacher.pool is not None
+        teacher_ws, teacher = _teacher(app, stack)
+        _, student = _join(app, stack)
+        assert (app.teacher.number_of(teacher), app.teacher.number_of(student)) == (2, 5)
+        app.teacher.pool.start()  # the loop does not run here: the pool's thread alone
+        wait_for(lambda: app.teacher.pool.failures >= 1, what="a cycle that Redis did not answer")
+        assert app.teacher.pool.writes == 0 and not app.teacher.pool.available
+        rows = app.teacher.refresh()
+        table = app.teacher.panel_of(teacher).table.content
+        assert [row.number for row in rows] == [5] and "Redis at 127.0.0.1:1" in table and "cannot be reached" in table
+        client, own = app.server.get_clients()[teacher], app.sessions[teacher]
+        assert not app.teacher.spotlight(client, "3")  # process 3's number
+        title, body = own.messages[-1]
+        assert title == "Refused" and body.startswith("Session 3: the pool's shared table (Redis at 127.0.0.1:1)")
+        assert app.teacher.spotlight(client, "5") and own.messages[-1][0] == "Spotlight"
+        # A request from the pool for a session here is answered with its state text, read only.
+        assert app.teacher.answer(5).startswith("rbl") and app.teacher.answer(5) == app.teacher.answer(5)
+        with pytest.raises(ValueError, match="teacher's view"):
+            app.teacher.answer(2)
+        with pytest.raises(ValueError, match="not connected"):
+            app.teacher.answer(8)
