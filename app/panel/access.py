@@ -37,6 +37,8 @@ __all__ = ["FILLED_BLUE", "FOCUS", "KEYS", "PATCH", "SCRIPT", "keys_markdown"]
 KEYS = (
     ("Space", "play or pause"),
     ("→ or .", "one step (paused); in a lecture → is the next step and . the clock's step"),
+    ("← or ,", "one step back (paused); in a lecture ← is the previous step and , the clock's step back"),
+    ("Shift+← / Shift+→", "the timeline one second back / on (paused)"),
     ("R", "reset to t = 0"),
     (
         "Page Down / Page Up, ↓ / ↑, → / ←",
@@ -128,9 +130,8 @@ SCRIPT = r"""(() => {
   // Shortcuts (KEYS): the panel's own buttons clicked, so a key does exactly what the button does (and is
   // refused on the server just the same for a follower). A lecture is loaded when its Next button is
   // shown: then the arrows step the lecture, as a clicker that sends arrows expects, and '.' the clock.
-  const KEYS = {' ': ['Pause', 'Play'], '.': ['Step'], r: ['Reset'], R: ['Reset'],
-                PageDown: ['Next'], PageUp: ['Previous'], ArrowDown: ['Next'], ArrowUp: ['Previous'],
-                ArrowLeft: ['Previous']};
+  const KEYS = {' ': ['Pause', 'Play'], '.': ['Step'], ',': ['Step back'], r: ['Reset'], R: ['Reset'],
+                PageDown: ['Next'], PageUp: ['Previous'], ArrowDown: ['Next'], ArrowUp: ['Previous']};
   const TYPING = 'input, textarea, select, [contenteditable=true], [role=slider], [role=combobox], '
     + '[role=listbox], [role=option], [role=dialog], [role=menu]';
   const shown = (names) => [...document.querySelectorAll('button')].find(
@@ -170,7 +171,10 @@ SCRIPT = r"""(() => {
     }
     if (e.altKey || e.ctrlKey || e.metaKey || target.closest(TYPING)) return;
     if (e.key === ' ' && target.closest('button, [role=button], a')) return;  // presses what has the focus
-    const names = e.key === 'ArrowRight' ? (shown(['Next']) ? ['Next'] : ['Step']) : KEYS[e.key];
+    // Shift+←/→: the timeline's jump of a second; ←/→ a lecture's steps when one is shown, else the clock's.
+    const jump = e.shiftKey && {ArrowLeft: ['\u22121 s'], ArrowRight: ['+1 s']}[e.key];
+    const names = jump || (e.key === 'ArrowRight' ? (shown(['Next']) ? ['Next'] : ['Step'])
+      : e.key === 'ArrowLeft' ? (shown(['Previous']) ? ['Previous'] : ['Step back']) : KEYS[e.key]);
     if (!names) return;
     const button = shown(names);
     if (!button) return;
@@ -189,6 +193,9 @@ STYLE = f"""<style>
   --mantine-primary-color-filled: {FILLED_BLUE[0]} !important;
   --mantine-primary-color-filled-hover: {FILLED_BLUE[1]} !important; }}
 .u-title, .u-legend, .u-legend * {{ font-size: 14px !important; }}
+/* viser's button groups are Mantine's outline buttons, light blue on white (3.56:1): the focus blue. */
+.mantine-Button-root[data-variant=outline] {{ --button-color: var(--rbl-focus) !important;
+  --button-bd: 1px solid var(--rbl-focus) !important; }}
 :root {{ --rbl-focus: {FOCUS[0]}; }}
 :root[data-mantine-color-scheme=dark] {{ --rbl-focus: {FOCUS[1]}; }}
 :focus-visible, .mantine-Input-input:focus, [role=slider]:focus {{

@@ -86,6 +86,15 @@ class InvariantDrift:
         del self.times[:-DRIFT_POINTS]
         self.handle.data = (np.array(self.times), *(np.array(d) for d in self.drifts))
 
+    def rewind(self, t: float) -> None:
+        """The clock went back or on to ``t`` (s, the timeline): the samples after ``t`` go (the reference
+        stays: the drift is still measured from the start), and the next frame samples."""
+        keep = sum(1 for s in self.times if s <= t)
+        del self.times[keep:]
+        for drifts in self.drifts:
+            del drifts[keep:]
+        self._calls = 0
+
     def latest(self) -> dict[str, float]:
         """The newest log₁₀ drift of each invariant (what the plot shows at its right end)."""
         return {name: d[-1] for name, d in zip(self.names, self.drifts) if d}

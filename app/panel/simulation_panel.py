@@ -14,18 +14,22 @@ from app.guards.handles import uuid_of
 from app.language.words import mark
 from app.panel import look
 from app.panel.access import keys_markdown
+from app.panel.measure_panel import MeasurePanel
 from app.panel.projector import LEAVE
 from app.panel.speed import POSITION_MARKS, POSITION_STEP, speed_at, speed_label
+from app.panel.timeline_panel import TimelinePanel
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
     from app.serving.simulation import Simulation
 
-__all__ = ["EXPORT_ORDER", "LAST_ORDER", "SimulationPanel"]
+__all__ = ["EXPORT_ORDER", "LAST_ORDER", "TIMELINE_ORDER", "SimulationPanel"]
 
 PROJECTOR_HINT = "Projector mode: the panel a slim bar, the caption and the key plot large over the view"
 
 LAST_ORDER = 1e6
 """viser's panel order of what comes after the scene's folder (legend, state, export)."""
+TIMELINE_ORDER = LAST_ORDER - 3
+"""The Timeline folder's place: right under the scene's folder, above the projector's switch."""
 EXPORT_ORDER = LAST_ORDER + 2
 """The Export folder's place (:mod:`app.recording.export_folder`): after the State folder, before Keyboard."""
 
@@ -36,7 +40,7 @@ class SimulationPanel:
     Parameters
     ----------
     sim : Simulation
-        What the controls drive (``guarded``, ``set_playing``, ``step``, ``restart``, ``set_speed``,
+        What the controls drive (``guarded``, ``set_playing``, ``step``, ``timeline``, ``restart``, ``set_speed``,
         ``state_text``, ``open_state``, ``notify``, ``pick``).
     titles : dict
         Scene title -> scene name, in picker order.
@@ -82,6 +86,9 @@ class SimulationPanel:
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
         style.content = look.STYLE + look.PATCH + look.hide_number_box(uuid_of(self.speed_slider))
+        self.timeline = TimelinePanel(sim, gui, order=TIMELINE_ORDER)  # the time slider, Step back, Replay
+        self.step_back_button = self.timeline.step_back_button
+        self.measure = MeasurePanel(sim, gui, order=LAST_ORDER + 0.5)  # events, stopwatch, angle
         with gui.add_folder(mark("State"), expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text(mark("State text"), initial_value="", hint=mark("Copy state writes it here"))
             self.copy_state_button = gui.add_button(mark("Copy state"), icon=viser.Icon.COPY)
@@ -93,7 +100,7 @@ class SimulationPanel:
         self.status = gui.add_markdown("")
         self.legend = gui.add_html("", order=LAST_ORDER)
         self.handles: list[Any] = [style, title, self.scene_picker, self.words, self.projector_button, clock, state]
-        self.handles += [keyboard]
+        self.handles += [keyboard, self.measure.folder, self.timeline.folder]
         self.handles += [self.status, self.legend]
 
     def show_playing(self, playing: bool) -> None:
@@ -111,6 +118,9 @@ class SimulationPanel:
         for handle in (self.play_button, self.step_button, self.reset_button, self.speed_slider):
             if handle.disabled == running:
                 handle.disabled = not running
+        self.timeline.enable(running)
+        if self.measure.folder.visible != running:  # nothing moves in a still scene: nothing to measure
+            self.measure.folder.visible = running
 
     def show_words(self, text: str) -> None:
         """Put the motion in words in the live region; an unchanged text is not sent (nor announced)."""

@@ -78,6 +78,17 @@ class TimePlot:
         self.values: list[list[float]] = [[] for _ in range(self.width)]
         self._frames = 0
 
+    def rewind(self, t: float) -> None:
+        """The clock went back or on to ``t`` (s, the timeline): the samples after ``t`` go, those before stay,
+        and the next frame samples."""
+        keep = sum(1 for s in self.times if s <= t)
+        del self.times[keep:]
+        for column in self.values:
+            del column[keep:]
+        self._frames = 0
+        if len(self.times) >= 2:
+            self.handle.data = (np.array(self.times), *(np.array(column) for column in self.values))
+
     def sample(self, t: float, *values: float) -> None:
         """A frame at time ``t`` (s) with the quantities' ``values``: every ``every``-th one is kept and sent.
 

@@ -11,6 +11,10 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from app.contracts import SceneContext
 from app.language.words import say
+from physics.events import MotionEvent, events_between
+from physics.free_body_trajectory import FreeBodyTrajectory
+from physics.heavy_top import HeavyTopTrajectory
+from physics.pendulum import PendulumTrajectory
 
 if TYPE_CHECKING:
     from app.panel.controls import ParameterPanel, Presets
@@ -165,6 +169,51 @@ class Scene:
         """Back to t = 0 with the current parameters (the clock's reset and ``ctx.restart()``)."""
         for trace in self.traces:
             trace.clear()
+
+    def earliest(self) -> float:
+        """The earliest time the timeline can go back to, s (default 0: an exact motion from its start)."""
+        return 0.0
+
+    def rewind(self, t: float) -> None:
+        """The clock jumped to ``t`` (s), back or ahead (the timeline): every piece that keeps a past forgets
+        what it drew after ``t``. A piece with ``rewind(t)`` (a time plot) keeps what came before ``t``; the
+        other :attr:`traces` (a trace, an integrator's ghost) start again from ``t``."""
+        pieces: dict[int, Any] = {id(p): p for p in self.traces}
+        pieces.update((id(p), p) for p in vars(self).values() if callable(getattr(p, "rewind", None)))
+        for piece in pieces.values():
+            rewind = getattr(piece, "rewind", None)
+            if callable(rewind):
+                rewind(t)
+            else:
+                piece.clear()
+
+    def events(self, t0: float, t1: float) -> list[MotionEvent]:
+        """The motion's events in ``[t0, t1]`` (s of the clock), from its exact solution
+        (:func:`physics.events.events_between`): the flip's half-turns, the nutation's turning points, the
+        swing's. Default: those of the scene's ``motion`` when it is an exact trajectory; none otherwise."""
+        motion = getattr(self, "motion", None)
+        if isinstance(motion, (FreeBodyTrajectory, HeavyTopTrajectory, PendulumTrajectory)):
+            return events_between(motion, t0, t1)
+        return []
+
+    def vectors(self, state: dict[str, Any]) -> dict[str, Any]:
+        """The drawn directions at a state :meth:`compute` gave, by name (``"L"``, ``"ω"``,
+        ``"symmetry axis"``; the vertical is added by the measure), each shape (3,) in space, for the angle
+        between two of them. Default: from the state's ``L``, ``omega``/``omega_space`` and ``axis`` (or the
+        attitude's third column); a scene with other names overrides it."""
+        found: dict[str, Any] = {}
+        R = state.get("R")
+        L = state.get("L", getattr(self, "L_space", None))  # a torque-free body's L is fixed in space
+        if L is not None:
+            found["L"] = L
+        omega = state.get("omega", state.get("omega_space"))
+        if omega is not None:
+            found["ω"] = omega
+        if "axis" in state:
+            found["symmetry axis"] = state["axis"]
+        elif R is not None:
+            found["symmetry axis"] = R[:, 2]
+        return found
 
     def teardown(self) -> None:
         """Release what is not a node under ``ctx.root`` or GUI in the scene folder (default: nothing)."""

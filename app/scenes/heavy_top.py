@@ -26,12 +26,22 @@ from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle, threshold_words, tip_path
 from physics import G
 from physics.heavy_top import HeavyTop, friction_stepper, on_the_table, touch_angle
+from physics.history import SteppedHistory
 from physics.integrators import BlanesMoan6, GravityTorque, advance
 
 LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
 ELL = 0.5  # pivot-to-centre-of-mass distance used to split M g ℓ into M and ℓ for the stepping model (m)
 PLOT_HZ = 5.0  # the U(θ) plot is refreshed at most this often (it sends four arrays to every browser)
 PLOT_POINTS = 180  # one a degree: a smooth curve at a quarter of the bytes of a finer grid
+STEP = 1.0 / 240.0
+"""The friction top's grid step (s): its state at time t is the one at the grid time ``k STEP`` at or
+before t, the same bits whether reached playing, scrubbing back or stepping forward again."""
+KEPT = 300.0
+"""How far back (s) the friction top's timeline reaches: its history (:class:`physics.history.SteppedHistory`)
+keeps a checkpoint every :data:`CHECKPOINT` steps of the last five minutes (125 kB)."""
+CHECKPOINT = 60
+"""Steps between checkpoints (0.25 s): a scrub recomputes at most 59 steps (about 1.5 ms; a scrub and its
+frame 0.97 ms on average, ``python -m benchmarks.scrub``)."""
 
 
 # A static θ range: viser 1.1.1's client loses an auto x scale when the plot's scales are sent again
@@ -247,7 +257,7 @@ class HeavyTopScene(Scene):
             (draw.hex_colour("black"), draw.hex_colour("L"), draw.hex_colour("bluish_green")),
         )
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", TOP_MESH)
-        self.traces += [self.drift, self.ghost]
+        self.traces += [self.drift, self.ghost, self.nutation]
         self._plot_time = 0.0
         self._y_range: tuple[float, float] | None = None
         self.apply(self.params.values)
@@ -303,19 +313,33 @@ class HeavyTopScene(Scene):
         self.R = sol.attitude[0].copy()
         self.L_body = self.top.moments * sol.omega_body[0]
         self.landed = False  # the friction top has come to rest on the table
+        self._start_history(0.0)
         self._plot_time = 0.0
         self._curve_key = None
         self._y_range = None
         self.nutation.clear()
 
     def snapshot(self) -> dict[str, Any]:
-        # The friction top's stepped state.
-        return {"R": self.R.copy(), "L_body": self.L_body.copy(), "landed": [float(self.landed)]}
+        # The friction top's stepped state, and the grid time it holds at.
+        t = self.history.time if self.history is not None else self._history_t0
+        t = self.ctx.time if t is None else t
+        return {"R": self.R.copy(), "L_body": self.L_body.copy(), "landed": [float(self.landed)], "t": [t]}
 
     def restore(self, motion: dict[str, Any]) -> None:
         if motion:
             self.R, self.L_body = np.array(motion["R"], dtype=float), np.array(motion["L_body"], dtype=float)
             self.landed = bool(motion.get("landed", [0.0])[0])
+            # A state written before it kept its time starts its history at the first frame's time.
+            self._start_history(float(motion["t"][0]) if "t" in motion else None)
+
+    def events(self, t0: float, t1: float) -> list[Any]:
+        # With friction the motion is stepped: no closed form to solve the turning points from.
+        return [] if self.values["friction"] > 0.0 else super().events(t0, t1)
+
+    def earliest(self) -> float:
+        if self.values["friction"] > 0.0 and self.history is not None:
+            return self.history.earliest
+        return 0.0
 
     # -- the state
     def _friction_stepper(self) -> Any:
@@ -329,20 +353,35 @@ class HeavyTopScene(Scene):
             self._stepper, self._stepper_key = friction_stepper(top, c, method=BlanesMoan6), key
         return self._stepper
 
-    def _step_friction(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
-        if dt <= 0.0:
-            return self.R, self.L_body
-        n = max(1, math.ceil(dt / (1.0 / 240.0)))  # steps of at most 1/240 s
-        state = advance(self._friction_stepper(), np.concatenate([self.R.ravel(), self.L_body]), dt / n, n)
-        return state[:9].reshape(3, 3), state[9:].copy()
+    def _start_history(self, t0: float | None) -> None:
+        """The friction top's history from the stepping state at time ``t0`` (s; None: at the next frame's)."""
+        self.history: SteppedHistory | None = None
+        self._history_t0 = t0
+
+    def _table_step(self, state: np.ndarray) -> np.ndarray:
+        """One grid step of the friction top, the table's contact folded in: ``(R row-major, L_body,
+        landed)``, shape (13,). Lying on the table it rests (a deterministic function of the state alone)."""
+        if state[12]:
+            return state
+        moved = advance(self._friction_stepper(), state[:12], STEP, 1)
+        R, L_body, landed = on_the_table(moved[:9].reshape(3, 3), moved[9:], False, TOUCH)
+        return np.concatenate([R.ravel(), L_body, [float(landed)]])
+
+    def _stepped(self, t: float) -> tuple[np.ndarray, np.ndarray, bool]:
+        """The friction top at time ``t`` (s): its history's state at the grid time at or before ``t``."""
+        if self.history is None:
+            start = np.concatenate([self.R.ravel(), self.L_body, [float(self.landed)]])
+            t0 = t if self._history_t0 is None else self._history_t0
+            self.history = SteppedHistory(self._table_step, start, STEP, t0=t0, keep=KEPT, checkpoint_every=CHECKPOINT)
+        state = self.history.seek(max(t, self.history.earliest))
+        return state[:9].reshape(3, 3), state[9:12], bool(state[12])
 
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         top = self.top
         moments = top.moments
         landed = self.landed
         if self.values["friction"] > 0.0:
-            R, L_body = (self.R, self.L_body) if landed else self._step_friction(dt)
-            R, L_body, landed = on_the_table(R, L_body, landed, TOUCH)
+            R, L_body, landed = self._stepped(t)
         else:
             now = self.motion.at(t)
             R, L_body = now.attitude, moments * now.omega_body

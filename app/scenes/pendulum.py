@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -18,6 +19,7 @@ from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle
 from assets import load_mesh, mass_properties
 from physics import G
+from physics.events import events_between
 from physics.inertia import MassProperties, rod
 from physics.pendulum import PhysicalPendulum
 
@@ -222,6 +224,17 @@ class Pendulum(Scene):
         self.start = (*self.release, 0.0)  # θ, θ̇ and the time they hold at
         self.last_strike = None
         self.swing.clear()
+
+    def earliest(self) -> float:
+        # A strike starts a new swing: the timeline goes back to the blow, not into the swing before it.
+        return float(self.start[2])
+
+    def events(self, t0: float, t1: float) -> list[Any]:
+        # The swing's own clock starts at the release or the last strike (self.start's time).
+        start = self.start[2]
+        self.state_at(start)  # the swing solved (once per swing)
+        swing = events_between(self._motion, max(t0, start) - start, max(t1, start) - start)
+        return [replace(e, time=e.time + start) for e in swing]
 
     # -- the strike --------------------------------------------------------------------------------
     def state_at(self, t: float) -> tuple[float, float]:

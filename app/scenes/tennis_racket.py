@@ -411,6 +411,18 @@ class TennisRacket(Scene):
         super().reset()
         self._hist_n = 0
 
+    def vectors(self, state: dict[str, Any]) -> dict[str, Any]:
+        R, w = state["R"], state["omega_body"]
+        # The racket has no symmetry axis: the axis it was spun about stands for it (it is what flips).
+        return {"L": self.L_space, "ω": R @ w, "symmetry axis": R[:, self.axis_index]}
+
+    def rewind(self, t: float) -> None:
+        super().rewind(t)
+        # The ω plot keeps its samples up to t (they are in time order, oldest first).
+        n = min(self._hist_n, HISTORY)
+        order = np.arange(self._hist_n - n, self._hist_n) % HISTORY
+        self._hist_n -= n - int(np.count_nonzero(self._hist_t[order] <= t))
+
     # -- the state --------------------------------------------------------------------------------
     def compute(self, t: float, dt: float) -> dict[str, Any]:
         now = self.motion.at(t)

@@ -23,6 +23,7 @@ from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
+from app.language.words import joined
 from app.panel.projector import Projector
 from app.panel.simulation_panel import EXPORT_ORDER, SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
@@ -33,6 +34,7 @@ from app.serving.clock import Clock
 from app.serving.finite import NumericalFailure, check_finite
 from app.serving.framing import FOV, first_view, show_scene_to
 from app.serving.notices import NOTIFY_SECONDS, Notices
+from app.serving.timeline import Timeline
 from app.teaching.following import Following
 from app.teaching.lectures import Lecture
 
@@ -114,6 +116,7 @@ class Simulation:
         self._described_at = -math.inf  # monotonic time of the last description (DESCRIBE_SECONDS)
         self._building: Scene | None = None  # the scene whose build() is running (see guarded)
         self.following = Following(self)
+        self.timeline = Timeline(self)  # the clock moved by hand, and replays (its controls are the panel's)
 
         # One window for its browsers, as a scene switch (see switch_scene): the grid, the panel and the first
         # scene arrive together.
@@ -361,6 +364,7 @@ class Simulation:
         """t = 0 with the current parameters (the Reset button; scenes call it after a parameter change)."""
         with self.lock:
             self.clock.t = 0.0
+            self.timeline.restart()
             if self.scene is not None:
                 self.scene.reset()
             self._dirty = True
@@ -377,6 +381,8 @@ class Simulation:
         with self.lock:
             if self.scene is not None and self.scene.static:
                 playing = False
+            if self.clock.playing and not playing:
+                self._dirty = True  # the paused frame shows the time it stopped at (the timeline's slider)
             self.clock.playing = bool(playing)
             self.panel.show_playing(self.clock.playing)
             if self.clock.playing:
@@ -442,6 +448,7 @@ class Simulation:
                 self.server.initial_camera.position = position
                 self.server.initial_camera.look_at = look_at
             self.clock.t = 0.0
+            self.timeline.restart()
             if cls.static or previous is None or previous.static:  # a still scene has no clock; after one, play
                 self.set_playing(not cls.static)
             self.panel.show_clock(not cls.static)
@@ -520,9 +527,10 @@ class Simulation:
             if scene is None or self.closed or self.gone():
                 return False
             advance = self.clock.advance(wall_dt)
+            t_before = self.clock.t
             if advance == 0.0 and not self._dirty:
                 return False
-            t_new = self.clock.t + advance
+            t_new = self.timeline.clamp(self.clock.t + advance)  # a replay stops at its end
             changed = self._dirty  # a change of parameters, scene, time or clock: describe at once
             try:
                 state = scene.compute(t_new, advance)
@@ -531,6 +539,7 @@ class Simulation:
                 self.failed(exc)
                 return False
             self.clock.t = t_new
+            self.timeline.after_frame(wall_dt, t_new - t_before)
             try:
                 with self.server.atomic():
                     scene.draw(state)
@@ -539,9 +548,12 @@ class Simulation:
                     if now - self._last_time_text > 0.1 or not self.clock.playing:
                         self._last_time_text = now
                         self.time_text.value = f"{self.clock.t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
+                        self.panel.timeline.show(self.clock.t, self.timeline.earliest(), self.timeline.reached)
+                        self.panel.measure.update(self.clock.t, state)
                     if changed or now - self._described_at >= DESCRIBE_SECONDS:
                         self._described_at = now
-                        self.panel.show_words(scene.describe(state))
+                        said, event = scene.describe(state), self.panel.measure.event_words(self.clock.t)
+                        self.panel.show_words(joined([said, event]) if event else said)
             except Exception as exc:  # noqa: BLE001
                 self.failed(exc)
                 return False

@@ -1,6 +1,7 @@
 """Following a lecture: its steps in the panel with Previous and Next, each step put on the simulation.
 
-A step sets a state or a scene, then its dropdown choices, preset, slider values and camera; a step with
+A step sets a state or a scene, then its dropdown choices, preset, slider values and camera, the time it
+opens at and a replay of the seconds before; a step with
 ``seconds`` moves on by itself; a step with a question waits, paused at t = 0, and tells its
 ``listeners`` (:mod:`app.teaching.class_questions`). The simulation followed is any object with the methods used here
 (:class:`app.serving.simulation.Simulation`).
@@ -172,3 +173,7 @@ def apply_step(sim: Simulation, step: Step) -> None:
             raise ValueError(f"values were refused: {params.last_refusal}")
     if step.camera is not None:
         sim.set_camera(step.camera["position"], step.camera["look_at"])
+    if step.time is not None:  # the step opens paused at this instant (the timeline)
+        sim.timeline.seek(step.time)
+    if step.replay is not None:  # then shows the last seconds again at 0.1×
+        sim.timeline.start_replay(step.replay)

@@ -36,11 +36,16 @@ LECTURES = _shipped_folder()
 MAX_BYTES = 1_000_000
 """Largest lecture file read, bytes."""
 
-KEYS = ("scene", "preset", "choices", "values", "caption", "camera", "seconds", "state")
+KEYS = ("scene", "preset", "choices", "values", "caption", "camera", "seconds", "state", "time", "replay")
 QUESTION_KEYS = ("question", "answer", "unit", "range", "truth", "about")
 """A step's question (:func:`app.teaching.questions.check_ask`); its ``choices`` are then a list of texts."""
 
-__all__ = ["LECTURES", "Lecture", "Step", "find_lecture", "read_lecture"]
+MAX_STEP_TIME = 300.0
+"""The latest time a step may open at, s (the friction top's history reaches 300 s ahead in one go)."""
+MAX_REPLAY = 60.0
+"""The longest span a step may replay, s (at 0.1× a minute takes ten)."""
+
+__all__ = ["LECTURES", "MAX_REPLAY", "MAX_STEP_TIME", "Lecture", "Step", "find_lecture", "read_lecture"]
 
 
 @dataclass(frozen=True)
@@ -56,6 +61,8 @@ class Step:
     seconds: float | None = None
     state: str | None = None
     ask: Ask | None = None
+    time: float | None = None
+    replay: float | None = None
     words: dict[str, dict[str, Any]] = field(default_factory=dict)
     """The step's caption, question and choices in other languages (:mod:`app.teaching.lecture_words`)."""
 
@@ -192,6 +199,10 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
         isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not 0.5 <= seconds <= 86_400
     ):
         raise ValueError(f"{where}, seconds: between 0.5 and 86400, got {seconds!r}")
+    at = _seconds(raw, "time", where, 0.0, MAX_STEP_TIME)
+    replay = _seconds(raw, "replay", where, 0.1, MAX_REPLAY)
+    if replay is not None and at is None:
+        raise ValueError(f"{where}, replay: replays the seconds before the step's `time`, which it lacks")
     return Step(
         scene=scene,
         preset=preset,
@@ -202,5 +213,17 @@ def _step(raw: Any, k: int, scenes: list[str], path: Path) -> Step:
         seconds=None if seconds is None else float(seconds),
         state=state,
         ask=ask,
+        time=at,
+        replay=replay,
         words=check_step_words(raw, where, None if ask is None else ask.text, () if ask is None else ask.choices),
     )
+
+
+def _seconds(raw: dict[str, Any], key: str, where: str, low: float, high: float) -> float | None:
+    """A step's number of seconds under ``key``, from ``low`` to ``high``, or None if not given."""
+    value = raw.get(key)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+        raise ValueError(f"{where}, {key}: a number of seconds from {low:g} to {high:g}, got {value!r}")
+    return float(value)

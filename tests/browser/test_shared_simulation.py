@@ -28,8 +28,8 @@ def test_page_loads_with_the_picker_and_the_clock(live_app, page_and_client):
     page, client = page_and_client
     assert client.client_id in live_app.server.get_clients()
     page.get_by_text("Rigid Body Lab").first.wait_for()
-    for label in ("Pause", "Step", "Reset"):
-        assert page.get_by_role("button", name=label).count() == 1
+    for label in ("Pause", "Step", "Reset"):  # exact: "Step back" is another button
+        assert page.get_by_role("button", name=label, exact=True).count() == 1
     assert page.locator("input[value='Heavy top']").count() >= 1  # the visible input and Mantine's hidden one
 
 

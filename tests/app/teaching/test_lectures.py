@@ -377,3 +377,40 @@ def test_a_wheel_installs_the_lectures_and_the_command_line_finds_them(tmp_path)
     assert lines["APP"].startswith(str(site))  # the installed app, not the source tree
     path, steps = lines["LECTURE"].rsplit(" ", 1)
     assert path == str(site / "lectures" / "rigid-body-motion.toml") and int(steps) == 13
+
+
+def test_a_step_opens_at_a_time_and_replays_the_seconds_before(tmp_path):
+    path = _write(
+        tmp_path,
+        '[[step]]\nscene = "tennis_racket"\ntime = 1.8\n\n'
+        '[[step]]\nscene = "tennis_racket"\ntime = 2.5\nreplay = 1.5\n\n[[step]]\nscene = "wobble"\n',
+    )
+    with running_app(start_loop=False) as app:
+        sim = app.simulation
+        sim.load_lecture(read_lecture(path))
+        app.frame(1.0 / 60.0)
+        assert sim.time == 1.8 and not sim.playing  # opened paused at the instant
+        sim.go_to_step(1)
+        replay = sim.timeline.replay
+        assert replay is not None and (replay.start, replay.end) == (1.0, 2.5) and sim.speed == 0.1 and sim.playing
+        app.frame(1.0 / 60.0)
+        assert 1.0 < sim.time < 1.01
+        sim.go_to_step(2)  # a new scene: the replay is over, the speed of before
+        assert sim.timeline.replay is None and sim.speed == 1.0 and sim.time == 0.0
+
+
+@pytest.mark.parametrize(
+    ("step", "message"),
+    [
+        ("time = -1", "time: a number of seconds from 0 to 300"),
+        ("time = 301", "time: a number of seconds from 0 to 300"),
+        ('time = "soon"', "time: a number of seconds"),
+        ("time = 2\nreplay = 0", "replay: a number of seconds from 0.1 to 60"),
+        ("time = 2\nreplay = nan", "replay: a number of seconds"),
+        ("replay = 2", "replay: replays the seconds before the step's `time`"),
+    ],
+)
+def test_a_bad_time_or_replay_is_refused_naming_the_step(tmp_path, step, message):
+    with pytest.raises(ValueError, match=re.escape(message)) as refused:
+        read_lecture(_write(tmp_path, f'[[step]]\nscene = "pendulum"\n\n[[step]]\nscene = "pendulum"\n{step}\n'))
+    assert "step 2" in str(refused.value)
