@@ -14,6 +14,8 @@ sends back is read back into English (:func:`app.language.words.english_option`,
 from __future__ import annotations
 
 import dataclasses
+import html
+import json
 import threading
 import weakref
 from collections import OrderedDict
@@ -36,9 +38,13 @@ LANG_MARKER = '<span hidden data-rbl-lang="en"></span>'
 ``<html lang>`` from it (:mod:`app.panel.access`), so a screen reader pronounces the page right."""
 
 
-def lang_marker(lang: str) -> str:
-    """:data:`LANG_MARKER` as a browser reading ``lang`` receives it."""
-    return LANG_MARKER.replace('"en"', f'"{check_language(lang)}"')
+def lang_marker(lang: str, words: tuple[str, ...] = ()) -> str:
+    """:data:`LANG_MARKER` as a browser reading ``lang`` receives it: its language, and the translations of
+    ``words`` (what the page's own script writes or looks for, ``app.panel.access.PAGE_WORDS``) as JSON."""
+    lang = check_language(lang)
+    said = {word: translate(word, lang) for word in words if translate(word, lang) != word}
+    extra = f" data-rbl-words='{html.escape(json.dumps(said, ensure_ascii=False))}'" if said else ""
+    return LANG_MARKER.replace('"en"', f'"{lang}"' + extra)
 
 
 _TEXT = frozenset(
@@ -68,6 +74,9 @@ class Languages:
         Installed before any browser connects.
     default : str
         The language of a browser that has not chosen one (``rigid-body-lab --lang``).
+    page_words : tuple of str
+        What the page's own script writes or looks for (``app.panel.access.PAGE_WORDS``), sent translated in
+        each browser's language marker (:func:`lang_marker`).
 
     Attributes
     ----------
@@ -79,8 +88,9 @@ class Languages:
     REMEMBERED = 10_000
     """Browsers whose choice is remembered (the newest)."""
 
-    def __init__(self, server: viser.ViserServer, default: str = SOURCE) -> None:
+    def __init__(self, server: viser.ViserServer, default: str = SOURCE, page_words: tuple[str, ...] = ()) -> None:
         self.default = check_language(default)
+        self.page_words = tuple(page_words)
         self.identity: Callable[[ClientId], str | None] | None = None
         self._server = server
         self._langs: dict[ClientId, str] = {}
@@ -207,16 +217,17 @@ class Languages:
         if isinstance(message, _messages.GuiUpdateMessage):
             choice = message.uuid in self._choices
             updates = {
-                k: _words(v, lang) if k in _TEXT or (choice and k == "value") else v for k, v in message.updates.items()
+                k: _words(v, lang, self.page_words) if k in _TEXT or (choice and k == "value") else v
+                for k, v in message.updates.items()
             }
             return _messages.GuiUpdateMessage(message.uuid, updates)
         changes: dict[str, Any] = {}
         for field in dataclasses.fields(message):
             value = getattr(message, field.name)
             if field.name == "props" and dataclasses.is_dataclass(value):
-                changes["props"] = _translated_props(value, lang)
+                changes["props"] = _translated_props(value, lang, self.page_words)
             elif field.name in _TEXT or (field.name == "value" and isinstance(message, _CHOICES)):
-                changes[field.name] = _words(value, lang)
+                changes[field.name] = _words(value, lang, self.page_words)
         if all(changes[name] is getattr(message, name) for name in changes):
             return message
         return dataclasses.replace(message, **changes)
@@ -226,25 +237,28 @@ def _has_words(field: str) -> bool:
     return field in _TEXT or field in ("props", "updates")
 
 
-def _translated_props(props: Any, lang: str) -> Any:
+def _translated_props(props: Any, lang: str, page_words: tuple[str, ...]) -> Any:
     changes = {}
     for field in dataclasses.fields(props):
         value = getattr(props, field.name)
         if field.name in _TEXT:
-            changes[field.name] = _words(value, lang)
+            changes[field.name] = _words(value, lang, page_words)
         elif field.name in ("series", "axes") and isinstance(value, tuple):
-            changes[field.name] = tuple(_words(part, lang) if isinstance(part, dict) else part for part in value)
+            changes[field.name] = tuple(
+                _words(part, lang, page_words) if isinstance(part, dict) else part for part in value
+            )
     return dataclasses.replace(props, **changes) if changes else props
 
 
-def _words(value: Any, lang: str) -> Any:
-    """A prop's value with its words translated: a text, a tuple of texts, a plot series' ``label``."""
+def _words(value: Any, lang: str, page_words: tuple[str, ...]) -> Any:
+    """A prop's value with its words translated: a text, a tuple of texts, a plot series' ``label``; the
+    language marker made for ``lang`` (with ``page_words``)."""
     if isinstance(value, str):
         if value == LANG_MARKER:
-            return lang_marker(lang)
+            return lang_marker(lang, page_words)
         return translate(value, lang)
     if isinstance(value, tuple):
-        return tuple(_words(v, lang) for v in value)
+        return tuple(_words(v, lang, page_words) for v in value)
     if isinstance(value, dict) and isinstance(value.get("label"), str):
         return {**value, "label": translate(value["label"], lang)}
     return value

@@ -32,20 +32,42 @@ from __future__ import annotations
 
 import html
 
-__all__ = ["FILLED_BLUE", "FOCUS", "KEYS", "PATCH", "SCRIPT", "keys_markdown"]
+from app.language.words import joined, keep, mark, say
+
+PAGE_WORDS = (
+    mark("Pause"),
+    mark("Play"),
+    mark("Step"),
+    mark("Step back"),
+    mark("Reset"),
+    mark("Next"),
+    mark("Previous"),
+    mark("Configuration and diagnostics"),
+    mark("Return to the controls"),
+    mark("Commands"),
+    mark("Share"),
+    mark("Close the notification"),
+    mark("3D view of the simulation"),
+    mark("button"),
+)
+"""The words :data:`SCRIPT` writes (names for viser's unnamed buttons and the 3D view) or looks for (the
+buttons its shortcuts press), in English: each page receives their translations in its language marker
+(:func:`app.guards.language.lang_marker`)."""
+
+__all__ = ["PAGE_WORDS", "FILLED_BLUE", "FOCUS", "KEYS", "PATCH", "SCRIPT", "keys_markdown"]
 
 KEYS = (
-    ("Space", "play or pause"),
-    ("→ or .", "one step (paused); in a lecture → is the next step and . the clock's step"),
-    ("← or ,", "one step back (paused); in a lecture ← is the previous step and , the clock's step back"),
-    ("Shift+← / Shift+→", "the timeline one second back / on (paused)"),
-    ("R", "reset to t = 0"),
+    ("Space", mark("play or pause")),
+    ("→ or .", mark("one step (paused); in a lecture → is the next step and . the clock's step")),
+    ("← or ,", mark("one step back (paused); in a lecture ← is the previous step and , the clock's step back")),
+    ("Shift+← / Shift+→", mark("the timeline one second back / on (paused)")),
+    ("R", mark("reset to t = 0")),
     (
         "Page Down / Page Up, ↓ / ↑, → / ←",
-        "next / previous lecture step (what a presentation clicker sends), when a lecture is loaded",
+        mark("next / previous lecture step (what a presentation clicker sends), when a lecture is loaded"),
     ),
-    ("Tab / Shift+Tab", "the next / previous control; sliders take ← → ↑ ↓, Page Up/Down, Home/End"),
-    ("Enter or Space", "on a folder's title (Clock, State, Export, Keyboard): open or close it"),
+    ("Tab / Shift+Tab", mark("the next / previous control; sliders take ← → ↑ ↓, Page Up/Down, Home/End")),
+    ("Enter or Space", mark("on a folder's title (Clock, State, Export, Keyboard): open or close it")),
 )
 """The keyboard map shown in the panel's Keyboard folder. The shortcuts are not taken while the focus is in
 a text field, a slider or a dropdown (which use these keys themselves), nor Space on a focused button
@@ -54,7 +76,8 @@ a text field, a slider or a dropdown (which use these keys themselves), nor Spac
 
 def keys_markdown() -> str:
     """The keyboard map as markdown for the panel."""
-    return "\n".join(f"- **{key}**: {what}" for key, what in KEYS)
+    # A markup template (not for the translators): each line's words are the catalogs'.
+    return keep(joined([say("- **{key}**: {what}", key=key, what=what) for key, what in KEYS], "\n"))
 
 
 FILLED_BLUE = ("#1971c2", "#1864ab")
@@ -69,13 +92,25 @@ SCRIPT = r"""(() => {
   window.rblAccess = true;
   const ICONS = {adjustments: 'Configuration and diagnostics', 'arrow-back': 'Return to the controls',
                  'list-search': 'Commands', share: 'Share'};
+  for (const icon in ICONS) ICONS[icon] = [ICONS[icon]];
   const CONTROLS = 'input:not([type=hidden]), textarea, select, [role=slider], [role=combobox]';
+  // The page's language and its words (app.guards.language.lang_marker): the marker each browser receives
+  // in its own language names it, and carries the translations of the words this script writes or seeks.
+  const marker = () => document.querySelector('[data-rbl-lang]');
+  const said = (english) => {
+    const m = marker();
+    try { return (m && JSON.parse(m.getAttribute('data-rbl-words') || '{}')[english]) || english; }
+    catch (err) { return english; }
+  };
   const text = (el) => (el ? el.textContent || '' : '').replace(/\s+/g, ' ').trim();
   const named = (el) => text({textContent: el.getAttribute('aria-label') || ''}) !== ''
     || !!(el.getAttribute('aria-labelledby') && document.getElementById(el.getAttribute('aria-labelledby')))
     || (el.labels && el.labels.length > 0);
   const set = (el, name, value) => { if (el.getAttribute(name) !== value) el.setAttribute(name, value); };
   function fix() {
+    const m = marker();
+    if (m && document.documentElement.lang !== m.getAttribute('data-rbl-lang'))
+      document.documentElement.lang = m.getAttribute('data-rbl-lang');
     for (const label of document.querySelectorAll('label[for]')) {
       const row = label.closest('.mantine-Flex-root');
       if (!row) continue;
@@ -87,11 +122,11 @@ SCRIPT = r"""(() => {
     }
     for (const b of document.querySelectorAll('button, [role=button]')) {
       if (text(b) || named(b) || b.getAttribute('title')) continue;
-      if (b.closest('.mantine-Notification-root')) { set(b, 'aria-label', 'Close the notification'); continue; }
+      if (b.closest('.mantine-Notification-root')) { set(b, 'aria-label', said('Close the notification')); continue; }
       const icon = b.querySelector('svg[class*="tabler-icon-"]');
       const key = icon ? [...icon.classList].find(c => c.startsWith('tabler-icon-') && c.length > 12) : null;
       const name = key ? key.slice(12) : '';
-      set(b, 'aria-label', ICONS[name] || (name ? name.replace(/-/g, ' ') : 'button'));
+      set(b, 'aria-label', ICONS[name] ? said(ICONS[name][0]) : (name ? name.replace(/-/g, ' ') : said('button')));
     }
     for (const img of document.querySelectorAll('img:not([alt])')) {
       const link = img.closest('a[title]');
@@ -124,7 +159,7 @@ SCRIPT = r"""(() => {
     const view = document.querySelector('canvas[data-engine]');
     if (view) {
       set(view, 'role', 'img');
-      set(view, 'aria-label', '3D view of the simulation' + (text(words) ? ': ' + text(words) : ''));
+      set(view, 'aria-label', said('3D view of the simulation') + (text(words) ? ': ' + text(words) : ''));
     }
   }
   // Shortcuts (KEYS): the panel's own buttons clicked, so a key does exactly what the button does (and is
@@ -134,8 +169,10 @@ SCRIPT = r"""(() => {
                 PageDown: ['Next'], PageUp: ['Previous'], ArrowDown: ['Next'], ArrowUp: ['Previous']};
   const TYPING = 'input, textarea, select, [contenteditable=true], [role=slider], [role=combobox], '
     + '[role=listbox], [role=option], [role=dialog], [role=menu]';
-  const shown = (names) => [...document.querySelectorAll('button')].find(
-    b => names.includes(text(b)) && b.offsetParent);
+  const shown = (names) => {
+    const any = names.flatMap(n => [n, said(n)]);  // a button's English name, or the page's language's
+    return [...document.querySelectorAll('button')].find(b => any.includes(text(b)) && b.offsetParent);
+  };
   document.addEventListener('keydown', (e) => {
     const target = e.target.closest ? e.target : document.body;
     if (target.closest('.rbl-folder') && (e.key === 'Enter' || e.key === ' ')) {

@@ -24,7 +24,7 @@ if TYPE_CHECKING:  # annotations only: the simulation is above this package
 
 __all__ = ["EXPORT_ORDER", "LAST_ORDER", "TIMELINE_ORDER", "SimulationPanel"]
 
-PROJECTOR_HINT = "Projector mode: the panel a slim bar, the caption and the key plot large over the view"
+PROJECTOR_HINT = mark("Projector mode: the panel a slim bar, the caption and the key plot large over the view")
 
 LAST_ORDER = 1e6
 """viser's panel order of what comes after the scene's folder (legend, state, export)."""

@@ -29,6 +29,7 @@ from app.guards.wire import departed
 from app.language.catalogs import SOURCE
 from app.language.words import mark, say
 from app.panel import look
+from app.panel.access import PAGE_WORDS
 from app.panel.language_picker import LanguagePicker
 from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
 from app.scenes.base import Scene
@@ -143,7 +144,7 @@ class App:
         # Checked first, as a websocket opens: connections and sessions per address and per process.
         self.admission = install_admission(server, Admission(caps or Caps(), sessions_per_connection=private))
         # Before anything is sent: each browser's messages pass through its language on the way out.
-        self.languages = Languages(server, lang)
+        self.languages = Languages(server, lang, PAGE_WORDS)
         serialize_once()  # a message to many browsers is serialized once (presenter and shared mode)
         cache_prop_hints()  # a handle's type hints are looked up once per kind of handle, not per handle
         self.server = server
