@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import Any
 
 from app.guards.text import lecturer_markdown
-from app.language.words import mark
+from app.language.words import mark, transformed
 from app.panel.look import MIN_TEXT_PX
 
 __all__ = [
@@ -170,7 +170,7 @@ class Projector:
             self.row.options = options
         if caption != self._caption_text and self.caption is not None:
             self._caption_text = caption
-            self.caption.content = lecturer_markdown(caption)
+            self.caption.content = transformed(caption, lecturer_markdown)  # still translatable
         if plot is None or not plot.visible:
             self._drop_plot()
             return

@@ -23,7 +23,7 @@ from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
-from app.language.words import joined
+from app.language.words import joined, transformed
 from app.panel.projector import Projector
 from app.panel.simulation_panel import EXPORT_ORDER, SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
@@ -464,7 +464,7 @@ class Simulation:
         try:
             with self._folder:
                 if cls.caption:
-                    scene.caption_markdown = self.server.gui.add_markdown(lecturer_markdown(cls.caption))
+                    scene.caption_markdown = self.server.gui.add_markdown(transformed(cls.caption, lecturer_markdown))
                 scene.build()
         finally:
             self._building = None

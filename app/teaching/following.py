@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import viser
 
 from app.guards.text import lecturer_markdown
+from app.language.words import joined, say, transformed
 from app.teaching.lectures import Lecture, Step
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
@@ -96,8 +97,16 @@ class Following:
             return
         if caption is not None:
             self.caption_shown = caption
-        head = f"**{lecture.title}** — step {self.step_index + 1} of {len(lecture.steps)}"
-        self.text.content = lecturer_markdown(f"{head}\n\n{self.step_text()}".rstrip())
+        head = say(
+            "**{title}** — step {number} of {count}",
+            title=lecture.title,
+            number=self.step_index + 1,
+            count=len(lecture.steps),
+        )
+        body = transformed(self.step_text(), str.rstrip)
+        text = say("{head}\n\n{body}", head=head, body=body) if body.strip() else head
+        # Sanitized as a whole, still translatable: a reader of German gets the German, sanitized alike.
+        self.text.content = transformed(text, lecturer_markdown)
         self.sim.request_redraw()  # projector mode shows the step's text too (the next frame)
 
     def step_text(self) -> str:
@@ -108,10 +117,15 @@ class Following:
             return ""
         step = lecture.steps[self.step_index]
         if step.ask is not None and not self.caption_shown:
-            return f"**Question.** {step.ask.text}\n\n*Answer in your panel; the demonstration follows.*"
+            return say(
+                "**Question.** {question}\n\n*Answer in your panel; the demonstration follows.*", question=step.ask.text
+            )
         if step.ask is not None and not self.listeners:  # nobody collects answers: ask it aloud
-            choices = "\n".join(f"{chr(65 + k)}. {c}" for k, c in enumerate(step.ask.choices))
-            return f"**Question.** {step.ask.text}\n\n{choices}\n\n{step.caption}".replace("\n\n\n\n", "\n\n")
+            lines = [say("{letter}. {choice}", letter=chr(65 + k), choice=c) for k, c in enumerate(step.ask.choices)]
+            rest = joined([part for part in (joined(lines, "\n"), step.caption) if part], "\n\n")
+            if not rest:
+                return say("**Question.** {question}", question=step.ask.text)
+            return say("**Question.** {question}\n\n{rest}", question=step.ask.text, rest=rest)
         return step.caption
 
     def advance_if_due(self) -> None:
