@@ -16,8 +16,8 @@ from app.language.words import mark
 
 __all__ = ["LanguagePicker", "PICKER_ORDER"]
 
-PICKER_ORDER = 1e6 + 4
-"""Below the panel's State and Keyboard folders (``app.panel.simulation_panel.LAST_ORDER`` + 4)."""
+PICKER_ORDER = 1e6 + 2.5
+"""After the panel's Export folder, before its Keyboard folder (``app.panel.simulation_panel.LAST_ORDER`` + 2.5)."""
 
 
 class LanguagePicker:
