@@ -96,6 +96,8 @@ class Languages:
         self._langs: dict[ClientId, str] = {}
         self._chosen: OrderedDict[str, str] = OrderedDict()  # a browser's identity -> its choice
         self._choices: set[str] = set()  # uuids of dropdowns and button groups
+        self._texts: set[str] = set()  # uuids of text boxes
+        self._readouts: set[str] = set()  # uuids of text boxes shown disabled: a readout, whose value is words
         self._copies: dict[int, _Copies] = {}
         self._lock = threading.Lock()
         self._install()
@@ -159,7 +161,7 @@ class Languages:
                 continue
             props = impl.props
             updates = {k: getattr(props, k) for k in _TEXT if hasattr(props, k) and getattr(props, k) is not None}
-            if uuid in self._choices and hasattr(impl, "value"):
+            if (uuid in self._choices or uuid in self._readouts) and hasattr(impl, "value"):
                 updates["value"] = impl.value
             if updates:
                 out.append(_messages.GuiUpdateMessage(uuid, updates))
@@ -189,10 +191,18 @@ class Languages:
         if kind in _PLAIN:
             return message
         lang = self.language(client_id)
+        if isinstance(message, _messages.GuiTextMessage):
+            self._texts.add(message.uuid)
+            (self._readouts.add if message.props.disabled else self._readouts.discard)(message.uuid)
+        elif isinstance(message, _messages.GuiUpdateMessage) and message.uuid in self._texts:
+            if "disabled" in message.updates:  # a box made editable is a student's text: never translated
+                (self._readouts.add if message.updates["disabled"] else self._readouts.discard)(message.uuid)
         if isinstance(message, _CHOICES):
             self._choices.add(message.uuid)
         elif isinstance(message, _messages.GuiRemoveMessage):
             self._choices.discard(message.uuid)
+            self._texts.discard(message.uuid)
+            self._readouts.discard(message.uuid)
         if lang == SOURCE:
             return message
         if not dataclasses.is_dataclass(message) or not any(_has_words(f.name) for f in dataclasses.fields(message)):
@@ -215,7 +225,7 @@ class Languages:
 
     def _translate(self, message: Any, lang: str) -> Any:
         if isinstance(message, _messages.GuiUpdateMessage):
-            choice = message.uuid in self._choices
+            choice = message.uuid in self._choices or message.uuid in self._readouts
             updates = {
                 k: _words(v, lang, self.page_words) if k in _TEXT or (choice and k == "value") else v
                 for k, v in message.updates.items()
@@ -226,11 +236,15 @@ class Languages:
             value = getattr(message, field.name)
             if field.name == "props" and dataclasses.is_dataclass(value):
                 changes["props"] = _translated_props(value, lang, self.page_words)
-            elif field.name in _TEXT or (field.name == "value" and isinstance(message, _CHOICES)):
+            elif field.name in _TEXT or (field.name == "value" and self._valued(message)):
                 changes[field.name] = _words(value, lang, self.page_words)
         if all(changes[name] is getattr(message, name) for name in changes):
             return message
         return dataclasses.replace(message, **changes)
+
+    def _valued(self, message: Any) -> bool:
+        """Whether a control's value is words: a dropdown's option, a readout's text."""
+        return isinstance(message, _CHOICES) or message.uuid in self._readouts
 
 
 def _has_words(field: str) -> bool:

@@ -23,7 +23,7 @@ from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
-from app.language.words import joined, transformed
+from app.language.words import joined, say, transformed
 from app.panel.projector import Projector
 from app.panel.simulation_panel import EXPORT_ORDER, SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
@@ -547,7 +547,7 @@ class Simulation:
                     now = time.monotonic()
                     if now - self._last_time_text > 0.1 or not self.clock.playing:
                         self._last_time_text = now
-                        self.time_text.value = f"{self.clock.t:.2f}"  # type: ignore[misc]  # viser 1.1.1 typing
+                        self.time_text.value = say("{t:.2f}", t=self.clock.t)  # type: ignore[misc]  # viser 1.1.1 typing
                         self.panel.timeline.show(self.clock.t, self.timeline.earliest(), self.timeline.reached)
                         self.panel.measure.update(self.clock.t, state)
                     if changed or now - self._described_at >= DESCRIBE_SECONDS:

@@ -125,3 +125,30 @@ def test_a_browsers_choice_is_kept_when_its_page_is_loaded_again(app: Any) -> No
     with raw_client(app, headers=cookie) as again, raw_client(app, headers={"Accept-Language": "de"}) as other:
         assert "单步" in labels(received_until(again, lambda ms: "单步" in labels(ms)))
         assert "Schritt" in labels(received_until(other, lambda ms: "Schritt" in labels(ms)))
+
+
+def test_a_readouts_value_is_words_and_a_students_text_is_not(app: Any) -> None:
+    """A read-only text box (a readout, the clock's time) shows words and numbers: each reader gets them in
+    their language; an editable one holds what someone typed: never changed."""
+    from app.language.words import say
+
+    languages: Languages = app.languages
+    languages.choose(-4, "de")
+    readout = _messages.GuiTextMessage(
+        "r",
+        "",
+        "root",
+        _messages.GuiTextProps(order=0, label="Time (s)", hint=None, visible=True, disabled=True, multiline=False),
+    )
+    typed = _messages.GuiTextMessage(
+        "t",
+        "",
+        "root",
+        _messages.GuiTextProps(order=1, label="Your name", hint=None, visible=True, disabled=False, multiline=False),
+    )
+    for message in (readout, typed):
+        languages.translated(message, -4)
+    time = say("{t:.2f}", t=12.5)
+    assert languages.translated(_messages.GuiUpdateMessage("r", {"value": time}), -4).updates == {"value": "12,50"}
+    assert languages.translated(_messages.GuiUpdateMessage("t", {"value": time}), -4).updates == {"value": "12.50"}
+    languages.forget(-4)
