@@ -14,6 +14,7 @@ from app.language.catalogs import PSEUDO
 from app.language.pseudo import CLOSE, OPEN
 from app.language.words import translate
 from app.scenes import REGISTRY, scene_names
+from tests.browser.axe_scan import axe_source, counts, scan
 from tests.harness import VIEWPORT, quiet, running_app, wait_for
 
 pytestmark = pytest.mark.browser
@@ -28,15 +29,11 @@ VISER_OWN = (
 )
 """viser's own words (its client's source, pinned with viser, writes them; no message carries them)."""
 
-UNITS = {"rad", "kg", "Hz", "CM", "RK", "RK4", "csv", "CSV", "ZIP", "zip", "phyphox", "PIN"}
-"""Tokens that are the same in every language: units, abbreviations, names."""
+UNITS = {"rad", "kg", "Hz", "CM", "RK", "RK4", "csv", "CSV", "ZIP", "zip", "phyphox", "PIN", "Rigid", "Body", "Lab"}
+"""Tokens that are the same in every language: units, abbreviations, names (the product's)."""
 
-PANEL_TEXT = """() => {
-  const root = document.querySelector('.mantine-ScrollArea-root') || document.body;
-  return [...document.querySelectorAll('body *')]
-    .filter(el => el.children.length === 0 && el.offsetParent !== null && el.textContent.trim())
-    .map(el => el.textContent.trim()).join('\\n');
-}"""
+PAGE_TEXT = "() => document.body.innerText"
+"""What a reader sees: the visible text of the page (a pseudo-translated span may cross elements)."""
 
 
 def english_left(text: str) -> list[str]:
@@ -86,7 +83,91 @@ def test_no_english_is_left_in_any_scene_under_the_pseudo_locale(chromium: Any, 
         title = translate(REGISTRY[name].title, PSEUDO)
         page.wait_for_function("(t) => document.body.innerText.includes(t)", arg=title, timeout=60_000)
         quiet(page, 0.5, 10.0)
-        left = english_left(page.evaluate(PANEL_TEXT))
+        left = english_left(page.evaluate(PAGE_TEXT))
         assert left == [], f"{name}: English left on the page: {left}"
+    finally:
+        page.close()
+
+
+PIN = "482913"
+LANG_OF_PAGE = "() => document.documentElement.lang"
+LABELS = """() => [...document.querySelectorAll('label, button')].map(e => e.textContent.trim()).filter(t => t)"""
+
+
+def test_a_follower_reading_spanish_follows_a_lecturer_reading_german(chromium: Any) -> None:
+    """Presenter mode: the lecturer's page asks for German, the follower's for Spanish (their browsers'
+    Accept-Language); each reads its own, the lecturer's scene switch reaches the follower, in Spanish, and
+    the clock's time is written with a decimal comma on both."""
+    with running_app("heavy_top", presenter=True, pin=PIN) as app:
+        lecturer = open_in(chromium, app, LOCALES["de"])
+        try:
+            lecturer.wait_for_function(f"{LANG_OF_PAGE} === 'de'", timeout=60_000)
+            pin_label = translate("Presenter PIN", "de")
+            # viser breaks a label after its hyphens (<wbr>): the label's whole text, not one text node.
+            pin_box = (
+                f"xpath=//label[normalize-space(.)='{pin_label}']/ancestor::div[contains(@class,'Flex-root')][1]//input"
+            )
+            lecturer.locator(pin_box).first.fill(PIN)
+            client_id = max(app.server.get_clients())
+            wait_for(lambda: app.classroom._panels[client_id].pin.value == PIN, 30, what="the PIN")
+            lecturer.get_by_role("button", name=translate("Present", "de")).first.click()
+            wait_for(lambda: client_id in app.classroom.presenters, 30, what="the page to present")
+            follower = open_in(chromium, app, LOCALES["es"])
+            try:
+                follower.wait_for_function(f"{LANG_OF_PAGE} === 'es'", timeout=60_000)
+                app.simulation.switch_scene("tennis_racket")
+                title = REGISTRY["tennis_racket"].title
+                for page, lang in ((lecturer, "de"), (follower, "es")):
+                    page.wait_for_function(
+                        "(t) => document.body.innerText.includes(t)", arg=translate(title, lang), timeout=60_000
+                    )
+                    labels = page.evaluate(LABELS)
+                    assert translate("Step", lang) in labels and "Step" not in labels
+                    # The clock's time, a readout: "1,23" in both languages (a decimal comma).
+                    page.wait_for_function(
+                        """() => [...document.querySelectorAll('input[disabled]')].some(i => /^\\d+,\\d\\d$/.test(i.value))""",
+                        timeout=60_000,
+                    )
+                assert translate(title, "de") != translate(title, "es")
+            finally:
+                follower.close()
+        finally:
+            lecturer.close()
+
+
+@pytest.mark.parametrize("lang", ["de", "es", "zh"])
+def test_axe_finds_nothing_in_each_language(chromium: Any, lang: str) -> None:
+    """WCAG 2.1 AA in each language: the page's lang names it (3.1.1), every control is named in it."""
+    with running_app("heavy_top") as app:
+        page = open_in(chromium, app, LOCALES[lang])
+        try:
+            page.wait_for_function(f"{LANG_OF_PAGE} === '{lang}'", timeout=60_000)
+            page.wait_for_function(
+                "(t) => document.body.innerText.includes(t)", arg=translate("Step", lang), timeout=60_000
+            )
+            quiet(page, 0.5, 10.0)
+            assert counts(scan(page, axe_source())) == {}
+        finally:
+            page.close()
+
+
+OVERFLOW = """() => {
+  const panel = [...document.querySelectorAll('.mantine-Paper-root')].find(p => p.textContent.includes('⟦'));
+  const box = panel.getBoundingClientRect();
+  return [...panel.querySelectorAll('label, button, p, span')]
+    .filter(e => e.offsetParent !== null && e.textContent.trim())
+    .filter(e => { const r = e.getBoundingClientRect(); return r.right > box.right + 1 || r.left < box.left - 1; })
+    .map(e => e.textContent.trim().slice(0, 40));
+}"""
+
+
+def test_a_text_forty_percent_longer_still_fits_the_panel(chromium: Any, pseudo_app: Any) -> None:
+    """Under the pseudo-locale every text is at least 40% longer: nothing spills out of the panel (labels and
+    buttons wrap), so German, which runs about 30% longer than English, fits too."""
+    page = open_in(chromium, pseudo_app)
+    try:
+        page.wait_for_function("() => document.documentElement.lang === 'en-XA'", timeout=60_000)
+        quiet(page, 0.5, 10.0)
+        assert page.evaluate(OVERFLOW) == []
     finally:
         page.close()
