@@ -39,8 +39,17 @@ def main(argv: list[str] | None = None) -> None:
         "and fitted, into --out/phone_toss.png (the README's uses a real toss, not the project's to commit)",
     )
     parser.add_argument("--toss", type=int, default=1, help="with --phone-toss: the toss shown (1: the first)")
+    parser.add_argument(
+        "--language",
+        metavar="LANG",
+        help="the README's shot in another language: the shipped lecture's racket step in a browser reading "
+        "LANG (de, es, zh), into --out/language_LANG.png",
+    )
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.language is not None:
+        language(args.out / f"language_{args.language}.png", args.language)
+        return
     if args.phone_toss is not None:
         phone_toss(args.out / "phone_toss.png", args.phone_toss, args.toss - 1)
         return
@@ -226,6 +235,26 @@ def phone_toss(path: Path, recording: Path, toss: int, seconds: float = 4.0) -> 
         time.sleep(2.0)
         page.screenshot(path=str(path))
         print(f"phone toss: {path}", flush=True)
+
+
+LOCALES = {"de": "de-DE", "es": "es-ES", "zh": "zh-CN"}
+
+
+def language(path: Path, lang: str, seconds: float = 8.0) -> None:
+    """The shipped lecture at its tennis-racket step in a browser whose language is ``lang``: every word of
+    the panel and the step's caption in it, numbers written as it writes them."""
+    with running_app("tennis_racket", lecture="rigid-body-motion") as app, launch_chromium() as browser:
+        page = browser.new_page(viewport={"width": 1280, "height": 800}, locale=LOCALES[lang])
+        page.goto(app.url, wait_until="domcontentloaded")
+        page.wait_for_selector("canvas", timeout=90_000)
+        steps = app.simulation.lecture.steps
+        app.go_to_step(next(k for k, step in enumerate(steps) if step.scene == "tennis_racket"))
+        app.set_playing(True)
+        time.sleep(seconds)
+        page.evaluate(_CLOSE_NOTIFICATIONS)
+        time.sleep(0.5)
+        page.screenshot(path=str(path))
+        print(f"{lang}: {path}", flush=True)
 
 
 if __name__ == "__main__":
