@@ -275,12 +275,9 @@ def _words(value: Any, lang: str, page_words: tuple[str, ...]) -> Any:
         return tuple(_words(v, lang, page_words) for v in value)
     if isinstance(value, dict) and isinstance(value.get("label"), str):
         return {**value, "label": translate(value["label"], lang)}
-    if (
-        dataclasses.is_dataclass(value)
-        and not isinstance(value, type)
-        and isinstance(getattr(value, "label", None), str)
-    ):
-        return dataclasses.replace(value, label=translate(value.label, lang))  # a slider's mark
+    label = getattr(value, "label", None)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type) and isinstance(label, str):
+        return dataclasses.replace(value, label=translate(label, lang))  # a slider's mark
     return value
 
 
