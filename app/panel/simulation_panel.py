@@ -156,7 +156,7 @@ class SimulationPanel:
             # viser's text props re-declare ``value``: mypy then misses the handle's setter.
             self.state_box.value = self.sim.state_text(client)  # type: ignore[misc]
         except ValueError as exc:
-            self.sim.notify("No state text", str(exc), client=client, error=True)
+            self.sim.notify(mark("No state text"), str(exc), client=client, error=True)
 
     def on_open_state(self, event: Any) -> None:
         """Open state: go to the state the text box holds, or tell the browser why not."""
@@ -164,4 +164,4 @@ class SimulationPanel:
         try:
             self.sim.open_state(self.state_box.value)
         except ValueError as exc:
-            self.sim.notify("State refused", str(exc), client=client, error=True)
+            self.sim.notify(mark("State refused"), str(exc), client=client, error=True)

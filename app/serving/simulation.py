@@ -23,7 +23,7 @@ from app.guards.handles import NO_VALUE, gui_inputs, prop
 from app.guards.inputs import guard_inputs
 from app.guards.text import lecturer_markdown
 from app.guards.wire import departed, resend_poses, unsent
-from app.language.words import joined, say, transformed
+from app.language.words import joined, mark, say, transformed
 from app.panel.projector import Projector
 from app.panel.simulation_panel import EXPORT_ORDER, SimulationPanel
 from app.panel.speed import SPEED_MAX, SPEED_MIN, position_of, speed_label
@@ -321,7 +321,7 @@ class Simulation:
             client = event_client(args)
             reason = self.refusal(client.client_id) if client is not None else None
             if reason is not None:  # an upload or a click that did not pass through the input checks
-                self.notify("Refused", reason, client=client, error=True)
+                self.notify(mark("Refused"), reason, client=client, error=True)
                 return None
             with self.lock:
                 if self.closed or self.gone():
@@ -348,7 +348,7 @@ class Simulation:
     def _refuse_input(self, client_id: ClientId, message: str) -> None:
         client = next((c for c in self.clients() if c.client_id == client_id), None)
         if client is not None:
-            self.notify("Refused", message, client=client, error=True)
+            self.notify(mark("Refused"), message, client=client, error=True)
 
     def request_redraw(self) -> None:
         self._dirty = True
@@ -374,7 +374,7 @@ class Simulation:
         with self.lock:
             self.set_playing(False)
             if reason:
-                self.notify("Paused", reason, error=True)
+                self.notify(mark("Paused"), reason, error=True)
 
     def set_playing(self, playing: bool) -> None:
         """Play or pause; a still scene (``Scene.static``) stays paused at t = 0."""

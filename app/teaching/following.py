@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import viser
 
 from app.guards.text import lecturer_markdown
-from app.language.words import joined, say, transformed
+from app.language.words import joined, mark, say, transformed
 from app.teaching.lectures import Lecture, Step
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
@@ -59,10 +59,10 @@ class Following:
             self.lecture = lecture
             if self.folder is None:
                 gui = sim.server.gui
-                with gui.add_folder("Lecture", order=-1.0) as folder:
+                with gui.add_folder(mark("Lecture"), order=-1.0) as folder:
                     self.text = gui.add_markdown("")
-                    previous = gui.add_button("Previous", icon=viser.Icon.CHEVRON_LEFT)
-                    following = gui.add_button("Next", icon=viser.Icon.CHEVRON_RIGHT)
+                    previous = gui.add_button(mark("Previous"), icon=viser.Icon.CHEVRON_LEFT)
+                    following = gui.add_button(mark("Next"), icon=viser.Icon.CHEVRON_RIGHT)
                 previous.on_click(sim.guarded(lambda _: self.go_to(self.step_index - 1)))
                 following.on_click(sim.guarded(lambda _: self.go_to(self.step_index + 1)))
                 self.folder = folder
@@ -81,7 +81,7 @@ class Following:
             try:
                 apply_step(sim, step)
             except ValueError as exc:  # checked when loaded; a body handed over since may refuse it
-                sim.notify(f"Step {index + 1} could not be shown", str(exc), error=True)
+                sim.notify(say("Step {number} could not be shown", number=index + 1), str(exc), error=True)
             if step.ask is not None:  # predict, then watch: the demonstration waits for the answers
                 sim.set_playing(False)
                 sim.restart()
