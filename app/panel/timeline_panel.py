@@ -9,6 +9,7 @@ callback too (viser calls them for any assignment): that one is not a browser's 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import viser
@@ -94,10 +95,24 @@ class TimelinePanel:
                 icon=viser.Icon.PLAYER_TRACK_PREV,
                 hint=mark("The last seconds again, slowly; then as before"),
             )
-        self.slider.on_update(sim.guarded(self._on_slide))
-        self.jump.on_click(sim.guarded(lambda event: sim.timeline.jump(-1.0 if event.target.value == BACK else 1.0)))
-        self.replay_button.on_click(sim.guarded(self._on_replay))
-        self.step_back_button.on_click(sim.guarded(lambda _: sim.timeline.step_back()))
+        # A move the clock cannot make (nothing to replay yet, too far ahead) is refused to whoever asked.
+        self.slider.on_update(sim.guarded(self._refused_to_sender(self._on_slide)))
+        self.jump.on_click(
+            sim.guarded(
+                self._refused_to_sender(lambda event: sim.timeline.jump(-1.0 if event.target.value == BACK else 1.0))
+            )
+        )
+        self.replay_button.on_click(sim.guarded(self._refused_to_sender(self._on_replay)))
+        self.step_back_button.on_click(sim.guarded(self._refused_to_sender(lambda _: sim.timeline.step_back())))
+
+    def _refused_to_sender(self, fn: Callable[[Any], object]) -> Callable[[Any], None]:
+        def told(event: Any) -> None:
+            try:
+                fn(event)
+            except ValueError as exc:
+                self.sim.notify(mark("Refused"), str(exc), client=getattr(event, "client", None), error=True)
+
+        return told
 
     def _on_slide(self, event: Any) -> None:
         if self.showing:

@@ -13,6 +13,8 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from app.language.words import say
+
 if TYPE_CHECKING:  # annotations only: the simulation imports this module
     from app.serving.simulation import Simulation
 
@@ -93,8 +95,12 @@ class Timeline:
         with sim.lock:
             if value > max(self.reached, sim.time) + MAX_JUMP:
                 raise ValueError(
-                    f"the time may go at most {MAX_JUMP:g} s beyond the furthest reached "
-                    f"({self.reached:.3f} s), got {value!r} s"
+                    say(
+                        "the time may go at most {most:g} s beyond the furthest reached ({reached:.3f} s), got {t} s",
+                        most=MAX_JUMP,
+                        reached=self.reached,
+                        t=value,
+                    )
                 )
             scene = sim.scene
             if scene is None or scene.static:
@@ -142,7 +148,9 @@ class Timeline:
             end = before.end if before is not None else sim.time
             start = max(end - length, self.earliest())
             if start >= end:
-                raise ValueError(f"there is nothing to replay yet: the motion is at its start (t = {end:.3f} s)")
+                raise ValueError(
+                    say("there is nothing to replay yet: the motion is at its start (t = {t:.3f} s)", t=end)
+                )
             self.seek(start)
             sim.set_speed(slow)  # ValueError for a speed the slider does not have
             self.replay = Replay(start, end, slow, speed_before, playing_before)
