@@ -4,9 +4,8 @@ A student who types the bare address finds the room. The page is static (written
 configuration), small, readable on a phone, and says nothing secret (no PIN, no backend address).
 
 Its words are the catalogs' (:mod:`app.language`): ``landing_html(department, lang)`` writes the page in one
-language. nginx serves one page, written in English; a page per language (chosen by nginx from the
-browser's ``Accept-Language``, e.g. with a ``map``) is for the rooms' configuration to write, and is not
-done yet.
+language; the rooms' nginx configuration carries one per language and serves the one the browser asks for
+first (:mod:`app.rooms.nginx`).
 """
 
 from __future__ import annotations

@@ -31,6 +31,7 @@ import os
 import shutil
 from pathlib import Path
 
+from app.language.catalogs import LANGUAGES, SOURCE
 from app.rooms.config import Department, Room
 from app.rooms.landing import landing_html
 
@@ -122,6 +123,12 @@ def rooms_conf(department: Department, *, backend_header: bool = False) -> str:
         '    ""      close;',
         "}",
         "",
+        "# The landing page's language: the first the browser asks for, if the app speaks it (else English).",
+        "map $http_accept_language $rbl_lang {",
+        f"    default {SOURCE};",
+        *(f"    ~*^{lang}\\b {lang};" for lang in LANGUAGES if lang != SOURCE),
+        "}",
+        "",
     ]
     private = [room for room in department.rooms if room.mode == "private"]
     lines += _cookie_maps(private)
@@ -186,11 +193,22 @@ def _upstream(room: Room) -> list[str]:
     return lines
 
 
-def _server(department: Department, backend_header: bool) -> list[str]:
-    page = landing_html(department)
+def _landing(department: Department, lang: str) -> str:
+    page = landing_html(department, lang)
     for forbidden in ("'", "\\", "$"):  # the page is one single-quoted nginx string without variables
         if forbidden in page:
             raise ValueError(f"the landing page contains {forbidden!r}, which an nginx string cannot carry")
+    return page
+
+
+def _server(department: Department, backend_header: bool) -> list[str]:
+    page = _landing(department, SOURCE)
+    # One page per language, chosen by $rbl_lang (an if that only returns: nginx's safe use of if).
+    translated = [
+        f"        if ($rbl_lang = {lang}) {{ return 200 '{_landing(department, lang)}'; }}"
+        for lang in LANGUAGES
+        if lang != SOURCE
+    ]
     lines = [
         "server {",
         f"    listen {department.listen};",
@@ -211,6 +229,8 @@ def _server(department: Department, backend_header: bool) -> list[str]:
         "    location = / {",
         "        default_type text/html;",
         "        add_header Cache-Control no-cache;",
+        "        add_header Vary Accept-Language;",
+        *translated,
         f"        return 200 '{page}';",
         "    }",
         "    location / {",

@@ -228,10 +228,13 @@ def room_cookie(port: int, room: str) -> tuple[str, str]:
         connection.close()
 
 
-def get(port: int, path: str, cookie: str | None = None) -> http.client.HTTPResponse:
-    """A GET through the proxy (no redirect followed); the response, its body read into ``.body``."""
+def get(
+    port: int, path: str, cookie: str | None = None, headers: dict[str, str] | None = None
+) -> http.client.HTTPResponse:
+    """A GET through the proxy (no redirect followed); the response, its body read into ``.body``
+    (``headers``: more request headers, an Accept-Language say)."""
     connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
-    connection.request("GET", path, headers={"Cookie": cookie} if cookie else {})
+    connection.request("GET", path, headers={**({"Cookie": cookie} if cookie else {}), **(headers or {})})
     response = connection.getresponse()
     response.body = response.read()  # type: ignore[attr-defined]
     connection.close()

@@ -9,6 +9,7 @@ restarted after SIGKILL, and the clean stop (last: it stops the department).
 from __future__ import annotations
 
 import contextlib
+import html
 import os
 import re
 import signal
@@ -20,6 +21,7 @@ from typing import Any
 
 import pytest
 
+from app.language.words import translate
 from app.rooms.supervisor import answers, port_free
 from tests.harness import received, wait_for
 from tests.rooms.running import (
@@ -102,6 +104,22 @@ def test_the_landing_page_lists_the_rooms_and_a_bare_room_address_is_redirected(
     room = get(department.port, "/mech101/")
     assert room.status == 200 and b"<!doctype html>" in room.body[:200].lower()  # type: ignore[attr-defined]
     assert get(department.port, "/nowhere/").status == 404
+
+
+@pytest.mark.parametrize(
+    ("accept", "lang"), [("de-DE,de;q=0.9,en;q=0.8", "de"), ("zh-CN,zh;q=0.9", "zh"), ("es", "es"), ("fr-FR,fr", "en")]
+)
+def test_the_landing_page_is_in_the_browsers_first_language(
+    department: RunningDepartment, accept: str, lang: str
+) -> None:
+    """nginx picks the page in the language the browser asks for first, if the app speaks it (else English),
+    and says it varies with Accept-Language (a cache keeps one per language)."""
+    landing = get(department.port, "/", headers={"Accept-Language": accept})
+    page = landing.body.decode()  # type: ignore[attr-defined]
+    assert landing.status == 200 and landing.getheader("Vary") == "Accept-Language"
+    assert f'<html lang="{lang}">' in page
+    assert html.escape(translate("Choose your room:", lang), quote=True) in page
+    assert '<a href="/mech101/">mech101</a>' in page
 
 
 def test_each_room_routes_to_its_process_and_a_follower_sees_only_its_rooms_scene(
