@@ -20,8 +20,7 @@ pytestmark = pytest.mark.browser
 
 SIZES = ((1280, 800), (390, 844))
 
-SHOWN = """(text) => { const el = document.querySelector('.rbl-motion');
-    return !!el && el.textContent === text; }"""
+WORDS = "() => { const el = document.querySelector('.rbl-motion'); return el ? el.textContent : null; }"
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +36,8 @@ def show(page: Any, sim: Any, name: str) -> None:
     title, frames = REGISTRY[name].title, sim.frames
     # Its words are said. A still scene (the explorer) has no clock: it draws when asked to.
     wait_for(lambda: (sim.request_redraw(), sim.frames > frames + 1)[1], what=f"{name}'s first frames")
-    page.wait_for_function(SHOWN, arg=sim.panel.said, timeout=30_000)
+    # The words change as the motion goes (its last event): the page's are compared with the newest said.
+    wait_for(lambda: page.evaluate(WORDS) == sim.panel.said, 30, what=f"{name}'s words in the page")
     page.get_by_text(title, exact=True).first.wait_for(state="visible", timeout=30_000)
 
 

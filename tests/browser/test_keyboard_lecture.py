@@ -194,8 +194,13 @@ def scene_by_keyboard(page: Any, app: Any, name: str) -> None:
         step, _, _ = slider_step(app, "spin")
         nudge(page, app, "spin", "spin ω₃ (rad/s)", "ArrowRight", value(app, "spin") + step)
         page.wait_for_function(f"() => document.querySelector('[aria-live=polite]').textContent !== {text!r}")
-        page.wait_for_function(
-            "(t) => document.querySelector('[aria-live=polite]').textContent === t", arg=app.shared.panel.said
+        # Compared with the newest words said (they change as the motion goes: its last event).
+        wait_for(
+            lambda: (
+                page.evaluate("() => document.querySelector('[aria-live=polite]').textContent") == app.shared.panel.said
+            ),
+            30,
+            what="the live text to say the server's words",
         )
         after, _ = live(page)
         assert after != text

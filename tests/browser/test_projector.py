@@ -82,7 +82,8 @@ def test_the_presenters_switch_puts_every_follower_in_projector_mode_with_the_an
         for page in (lecturer, follower):  # followers see the presenter's switch
             page.evaluate(CLOSE_NOTIFICATIONS)
             wait_for(lambda page=page: (page.evaluate(CAPTION) or {}).get("shown"), 60, what="the large caption")
-        wait_for(lambda: follower.evaluate(PLOT), 60, what="the large plot")
+        # Drawn, not only placed: on a loaded page uPlot sizes its canvas a few frames after the panel appears.
+        wait_for(lambda: (follower.evaluate(PLOT) or {}).get("width"), 60, what="the large plot drawn")
 
         # The panel a slim bar (it narrows and then folds: on a loaded page the fold can come after the caption).
         def slim() -> list | None:
