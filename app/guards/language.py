@@ -53,6 +53,8 @@ _TEXT = frozenset(
 """Props and updates that hold words (a dropdown's ``value`` too, see :data:`_CHOICES`; ``text``: a label's in
 the 3D scene, such as "centre of mass")."""
 _CHOICES = (_messages.GuiDropdownMessage, _messages.GuiButtonGroupMessage)
+_WORDY: set[type] = set()
+"""Message types that may carry words, learnt as they come; read and added to on viser's loop only."""
 _PLAIN: set[type] = set()
 """Message types with no words (poses, points, meshes), learnt as they come; read on viser's loop only."""
 
@@ -188,25 +190,30 @@ class Languages:
     def translated(self, message: Any, client_id: ClientId) -> Any:
         """``message`` as the browser ``client_id`` reads it."""
         kind = type(message)
-        if kind in _PLAIN:
+        if kind in _PLAIN:  # a frame's poses: most of the stream, one lookup whatever the language
             return message
-        lang = self.language(client_id)
+        if kind is _messages.GuiRemoveMessage:  # an element gone: forgotten (it carries no words)
+            self._choices.discard(message.uuid)
+            self._texts.discard(message.uuid)
+            self._readouts.discard(message.uuid)
+            return message
+        if kind not in _WORDY:
+            if not dataclasses.is_dataclass(message) or not any(
+                _has_words(f.name) for f in dataclasses.fields(message)
+            ):
+                _PLAIN.add(kind)
+                return message
+            _WORDY.add(kind)
         if isinstance(message, _messages.GuiTextMessage):
             self._texts.add(message.uuid)
             (self._readouts.add if message.props.disabled else self._readouts.discard)(message.uuid)
         elif isinstance(message, _messages.GuiUpdateMessage) and message.uuid in self._texts:
             if "disabled" in message.updates:  # a box made editable is a student's text: never translated
                 (self._readouts.add if message.updates["disabled"] else self._readouts.discard)(message.uuid)
-        if isinstance(message, _CHOICES):
+        elif isinstance(message, _CHOICES):
             self._choices.add(message.uuid)
-        elif isinstance(message, _messages.GuiRemoveMessage):
-            self._choices.discard(message.uuid)
-            self._texts.discard(message.uuid)
-            self._readouts.discard(message.uuid)
+        lang = self.language(client_id)
         if lang == SOURCE:
-            return message
-        if not dataclasses.is_dataclass(message) or not any(_has_words(f.name) for f in dataclasses.fields(message)):
-            _PLAIN.add(kind)
             return message
         key = id(message)
         copies = self._copies.get(key)

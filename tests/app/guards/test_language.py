@@ -152,3 +152,19 @@ def test_a_readouts_value_is_words_and_a_students_text_is_not(app: Any) -> None:
     assert languages.translated(_messages.GuiUpdateMessage("r", {"value": time}), -4).updates == {"value": "12,50"}
     assert languages.translated(_messages.GuiUpdateMessage("t", {"value": time}), -4).updates == {"value": "12.50"}
     languages.forget(-4)
+
+
+def test_a_removed_readout_is_forgotten_in_every_language(app: Any) -> None:
+    """An English browser's stream teaches the same as any: a readout removed (its uuid reused by nothing we
+    made) no longer has its value translated."""
+    from app.language.words import say
+
+    languages: Languages = app.languages
+    languages.choose(-5, "de")
+    props = _messages.GuiTextProps(order=0, label="x", hint=None, visible=True, disabled=True, multiline=False)
+    languages.translated(_messages.GuiTextMessage("gone", "", "root", props), -6)  # -6: an English browser
+    time = say("{t:.2f}", t=3.5)
+    assert languages.translated(_messages.GuiUpdateMessage("gone", {"value": time}), -5).updates == {"value": "3,50"}
+    languages.translated(_messages.GuiRemoveMessage("gone"), -6)
+    assert languages.translated(_messages.GuiUpdateMessage("gone", {"value": time}), -5).updates == {"value": "3.50"}
+    languages.forget(-5)
