@@ -70,6 +70,23 @@ def _moved(page: Any, before: str) -> str | None:
     return now if now != before else None
 
 
+def _open_list(page: Any, label: str) -> str:
+    """Press ↓ on the focused dropdown until its list is open (at most five presses, as a user would press
+    again when a busy page did not take the key or a re-render took the focus); returns the highlighted
+    option."""
+    for press in range(1, 6):
+        now = focused(page)
+        if not (now["name"].startswith(label) and now["role"] == "combobox"):
+            tab_to(page, label, "combobox", back=True)  # a re-render took the focus away: back to the dropdown
+        page.keyboard.press("ArrowDown")
+        try:
+            return wait_for(lambda: page.evaluate(HIGHLIGHTED), 4, what=f"the open list of {label!r}")
+        except AssertionError:
+            if press == 5:
+                raise
+    raise AssertionError("unreachable")
+
+
 def choose(page: Any, label: str, option: str, done: Any, what: str) -> None:
     """Choose ``option`` in the dropdown labelled ``label``: Tab to it, ↓ opens the list, ↓ moves through
     it, Enter takes the highlighted option; until ``done()`` holds on the server. As a user would, a key the
@@ -77,8 +94,7 @@ def choose(page: Any, label: str, option: str, done: Any, what: str) -> None:
     after Enter, is opened again (at most twice)."""
     for attempt in (1, 2, 3):
         tab_to(page, label, "combobox", back=True)
-        page.keyboard.press("ArrowDown")
-        now = wait_for(lambda: page.evaluate(HIGHLIGHTED), 10, what=f"the open list of {label!r}")
+        now = _open_list(page, label)
         for _ in range(40):
             if now == CLOSED or now.strip() == option:
                 break
