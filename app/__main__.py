@@ -1,6 +1,6 @@
 """The ``rigid-body-lab`` command: start the viser server and print the addresses to open.
 
-``rigid-body-lab export --scene NAME [--preset P | --state TEXT] --seconds S --out DIR`` records a motion
+``rigid-body-lab export --scene NAME [--preset P | --state TEXT] --seconds S --out DIR [--lang L]`` records a motion
 without a browser instead (:mod:`app.recording.export`); ``rigid-body-lab rooms ROOMS.toml [--write DIR]`` serves a
 department's rooms behind nginx (:mod:`app.rooms`).
 """
@@ -20,6 +20,7 @@ def plain(doc: str) -> str:
 
 def export_main(argv: list[str]) -> None:
     """``rigid-body-lab export``: write DIR/index.html, DIR/NAME.csv and DIR/NAME.png."""
+    from app.language.catalogs import LANGUAGES, PSEUDO
     from app.recording.export import EXPORT_FPS, MAX_SECONDS, terminal_progress
     from app.scenes import scene_names
     from app.serving.app import export
@@ -43,6 +44,12 @@ def export_main(argv: list[str]) -> None:
     )
     parser.add_argument("--fps", type=float, default=EXPORT_FPS, help="frames (CSV rows) per simulated second")
     parser.add_argument("--out", required=True, help="the directory to write (created if missing)")
+    parser.add_argument(
+        "--lang",
+        default="en",
+        choices=(*LANGUAGES, PSEUDO),
+        help="the language of the page's words (its scene's labels); the CSV's columns are symbols and units",
+    )
     args = parser.parse_args(argv)
     if args.scene is None and args.state is None:
         parser.error("give --scene NAME (or --state TEXT)")
@@ -55,6 +62,7 @@ def export_main(argv: list[str]) -> None:
             state=args.state,
             fps=args.fps,
             progress=terminal_progress,
+            lang=args.lang,
         )
     except ValueError as exc:
         parser.error(str(exc))

@@ -31,7 +31,7 @@ from app.guards.responses import request_headers
 from app.language.catalogs import PSEUDO, SOURCE, check_language, negotiate
 from app.language.words import translate
 
-__all__ = ["LANG_MARKER", "Languages", "lang_marker"]
+__all__ = ["LANG_MARKER", "Languages", "lang_marker", "recording_in"]
 
 LANG_MARKER = '<span hidden data-rbl-lang="en"></span>'
 """An Html element's content that each browser receives naming its own language: the page's script sets
@@ -286,6 +286,38 @@ def _words(value: Any, lang: str, page_words: tuple[str, ...]) -> Any:
     if dataclasses.is_dataclass(value) and not isinstance(value, type) and isinstance(label, str):
         return dataclasses.replace(value, label=translate(label, lang))  # a slider's mark
     return value
+
+
+def recording_in(serializer: Any, lang: str) -> None:
+    """Translate, in place, the words of a recording (``viser.ViserServer.get_scene_serializer``, before its
+    ``as_html``) for readers of ``lang``: the 3D scene's labels, as a browser reading ``lang`` sees them
+    live (an export's page, ``rigid-body-lab export --lang``). The recording holds serialized messages
+    (dicts), whose words sit in the fields, props and updates named in :data:`_TEXT`."""
+    lang = check_language(lang)
+    if lang == SOURCE:
+        return
+    recorded = serializer._messages
+    for index, (moment, message) in enumerate(recorded):
+        changed = _dict_words(message, lang)
+        for part in ("props", "updates"):
+            if isinstance(message.get(part), dict):
+                inner = _dict_words(message[part], lang)
+                if inner is not message[part]:
+                    changed = {**changed, part: inner}
+        if changed is not message:
+            recorded[index] = (moment, changed)
+
+
+def _dict_words(fields: dict[str, Any], lang: str) -> dict[str, Any]:
+    """``fields`` with the values of its word-bearing keys translated (itself if none changed)."""
+    changes = {}
+    for key in _TEXT.intersection(fields):
+        value = fields[key]
+        words = [translate(v, lang) if isinstance(v, str) else v for v in value] if isinstance(value, list) else None
+        now = words if words is not None else _words(value, lang, ())
+        if now != value:
+            changes[key] = now
+    return {**fields, **changes} if changes else fields
 
 
 _SERVED: weakref.WeakSet[Languages] = weakref.WeakSet()

@@ -17,7 +17,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from app.guards.handles import scene_nodes
+from app.guards.language import recording_in
 from app.guards.text import csv_row
+from app.language.catalogs import SOURCE, check_language
 from app.language.words import mark, say
 from app.recording.picture import render_png
 from physics.validation import finite_scalar
@@ -31,6 +33,7 @@ __all__ = [
     "Export",
     "check_request",
     "one_at_a_time",
+    "page_in",
     "record",
     "terminal_progress",
     "zipped",
@@ -88,14 +91,24 @@ def check_request(scene: str | None, seconds: Any, preset: str | None, state: st
             raise ValueError(f"{name} must be between {low:g} and {high:g}, got {float(value):g}")
 
 
-def record(sim: Simulation, out: Path, frames: int, fps: float, progress: Callable[[int, int], None] | None) -> Export:
-    """Run ``sim`` (a built simulation on a server nobody watches) for ``frames`` frames and write the files.
+def record(
+    sim: Simulation,
+    out: Path,
+    frames: int,
+    fps: float,
+    progress: Callable[[int, int], None] | None,
+    lang: str = SOURCE,
+) -> Export:
+    """Run ``sim`` (a built simulation on a server nobody watches) for ``frames`` frames and write the files;
+    the page's words (its scene's labels, its ``<html lang>``) in ``lang``. The CSV's columns are symbols
+    and SI units, the same in every language.
 
     Raises
     ------
     ValueError
         The scene stopped (a numerical failure), named with its time and message; nothing is written then.
     """
+    lang = check_language(lang)
     scene = sim.scene
     if scene is None:
         raise ValueError("the simulation has no scene to record")
@@ -118,7 +131,8 @@ def record(sim: Simulation, out: Path, frames: int, fps: float, progress: Callab
             progress(k, frames)
     position, look_at = sim.view  # the whole picture is the scene's: no panel to frame it clear of
     picture = render_png(scene_nodes(sim.server.scene), position, look_at)
-    html = serializer.as_html()
+    recording_in(serializer, lang)
+    html = page_in(serializer.as_html(), lang)
     out.mkdir(parents=True, exist_ok=True)
     paths = Export(out / "index.html", out / f"{scene.name}.csv", out / f"{scene.name}.png", frames + 1)
     paths.html.write_text(html, encoding="utf-8")
@@ -128,6 +142,12 @@ def record(sim: Simulation, out: Path, frames: int, fps: float, progress: Callab
         writer.writerows([[repr(float(v)) for v in row.values()] for row in rows])
     paths.png.write_bytes(picture)
     return paths
+
+
+def page_in(page: str, lang: str) -> str:
+    """An exported page (viser's client, ``<html lang="en">``) naming ``lang`` as its language, so a screen
+    reader pronounces its labels right."""
+    return page.replace('<html lang="en">', f'<html lang="{check_language(lang)}">', 1)
 
 
 def zipped(written: Export) -> bytes:

@@ -13,7 +13,9 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import viser
 
+from app.contracts import ClientId
 from app.guards.wire import departed
+from app.language.catalogs import SOURCE
 from app.language.words import mark, say
 
 if TYPE_CHECKING:  # annotations only: the simulation is above this package
@@ -24,8 +26,9 @@ __all__ = ["ExportFolder", "EXPORT_SECONDS", "ExportRun"]
 EXPORT_SECONDS = (1.0, 60.0, 10.0)
 """The panel's choice of recording length (s): least, most, default (the CLI allows longer)."""
 
-ExportRun = Callable[[str, float, Callable[[int, int], None]], bytes]
-"""What the folder is given: (state text, seconds, progress(done, total)) -> the zip's bytes."""
+ExportRun = Callable[[str, float, Callable[[int, int], None], str], bytes]
+"""What the folder is given: (state text, seconds, progress(done, total), language) -> the zip's bytes, its
+page's words in that language (the pressing browser's)."""
 
 
 class _Left(Exception):
@@ -45,13 +48,22 @@ class ExportFolder:
         How long the final note stays (as every notification).
     order : float, optional
         The folder's place in the panel.
+    language : callable(client_id) -> str, optional
+        The language a browser reads (``app.guards.language.Languages.language``): its export is written in
+        it. Default: English.
     """
 
     def __init__(
-        self, simulation: Simulation, export: ExportRun, auto_close_seconds: float, order: float | None = None
+        self,
+        simulation: Simulation,
+        export: ExportRun,
+        auto_close_seconds: float,
+        order: float | None = None,
+        language: Callable[[ClientId], str] | None = None,
     ) -> None:
         self.simulation = simulation
         self.export = export
+        self.language: Callable[[ClientId], str] = language or (lambda _client_id: SOURCE)
         self.auto_close_seconds = auto_close_seconds
         gui = simulation.server.gui
         low, high, default = EXPORT_SECONDS
@@ -105,7 +117,7 @@ class ExportFolder:
 
         final: tuple[str, str, Literal["green", "red"]]
         try:
-            archive = self.export(text, seconds, progress)
+            archive = self.export(text, seconds, progress, self.language(client.client_id))
             if departed(client):
                 return  # it left as the export ended: nobody to send it to
             file = f"rigid-body-lab-{name}.zip"

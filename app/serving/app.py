@@ -26,7 +26,7 @@ from app.guards.responses import peer_address
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
-from app.language.catalogs import SOURCE
+from app.language.catalogs import SOURCE, check_language
 from app.language.words import mark, say
 from app.panel import look
 from app.panel.access import PAGE_WORDS
@@ -263,7 +263,14 @@ class App:
 
     def _simulation(self, target: viser.ViserServer | viser.ClientHandle, **kwargs: Any) -> Simulation:
         return Simulation(
-            target, self._first, export=export_zip, fps=self.fps, share=self.share, dark=self.dark, **kwargs
+            target,
+            self._first,
+            export=export_zip,
+            fps=self.fps,
+            share=self.share,
+            dark=self.dark,
+            language=self.languages.language,
+            **kwargs,
         )
 
     def _greet(self, client: viser.ClientHandle) -> None:
@@ -311,7 +318,15 @@ class App:
         if refused is not None:
             raise ValueError(say("no copy of your own: {refused}", refused=refused))
         snapshot = self.shared.snapshot()
-        copy = Simulation(client, snapshot["scene"], export=export_zip, fps=self.fps, share=self.share, dark=self.dark)
+        copy = Simulation(
+            client,
+            snapshot["scene"],
+            export=export_zip,
+            fps=self.fps,
+            share=self.share,
+            dark=self.dark,
+            language=self.languages.language,
+        )
         copy.restore(snapshot)
         if self.shared.projector.on:  # the lecture's bar and panels leave with it (app.guards.broadcast)
             copy.projector.give_panel_back()
@@ -412,6 +427,7 @@ def export(
     state: str | None = None,
     fps: float = EXPORT_FPS,
     progress: Callable[[int, int], None] | None = None,
+    lang: str = SOURCE,
 ) -> Export:
     """Run a scene for ``seconds`` of simulated time without a browser and write the page, CSV and PNG
     (``rigid-body-lab export``; :func:`app.recording.export.record`).
@@ -432,14 +448,18 @@ def export(
         Frames per simulated second (rows of the CSV, frames of the recording).
     progress : callable, optional
         Called as ``progress(frames done, frames in all)`` after every frame.
+    lang : str
+        The language of the page's words (``rigid-body-lab export --lang``): one of
+        :data:`app.language.catalogs.LANGUAGES`, or the pseudo-locale.
 
     Raises
     ------
     ValueError
-        A bad scene, preset, state, number of seconds, or a scene that failed while running (named with
-        its time); nothing is written then.
+        A bad scene, preset, state, number of seconds or language, or a scene that failed while running
+        (named with its time); nothing is written then.
     """
     check_request(scene, seconds, preset, state, fps)
+    lang = check_language(lang)
     seconds, fps = float(seconds), float(fps)
     if state is not None:
         named = parse_state(state)["scene"]
@@ -451,12 +471,15 @@ def export(
         app = App.headless(scene, state=state, preset=preset)
         try:
             assert app.shared is not None
-            return record(app.shared, Path(out), frames, fps, progress)
+            return record(app.shared, Path(out), frames, fps, progress, lang)
         finally:
             app.stop()
 
 
-def export_zip(state: str, seconds: float, progress: Callable[[int, int], None] | None = None) -> bytes:
-    """The files :func:`export` writes for a state text, as one zip archive (the panel's Export button)."""
+def export_zip(
+    state: str, seconds: float, progress: Callable[[int, int], None] | None = None, lang: str = SOURCE
+) -> bytes:
+    """The files :func:`export` writes for a state text, as one zip archive (the panel's Export button, in
+    the language of the browser that pressed it)."""
     with tempfile.TemporaryDirectory(prefix="rbl-export-") as folder:
-        return zipped(export(None, folder, seconds, state=state, progress=progress))
+        return zipped(export(None, folder, seconds, state=state, progress=progress, lang=lang))

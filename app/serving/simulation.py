@@ -78,6 +78,8 @@ class Simulation:
         Why a browser may not drive it (presenter mode's followers), or None if it may; default: everyone may.
     shown_to : callable(client) -> bool, optional
         Which of the server's browsers it is drawn for (presenter mode: not those exploring a copy).
+    language : callable(client_id) -> str, optional
+        The language a browser reads (its export is written in it); default: English.
     """
 
     root = "/scene"
@@ -93,6 +95,7 @@ class Simulation:
         dark: bool = False,
         refusal: Callable[[Any], str | None] | None = None,
         shown_to: Callable[[Any], bool] | None = None,
+        language: Callable[[ClientId], str] | None = None,
     ) -> None:
         first, names = first_scene(scene)
         self.lock = threading.RLock()
@@ -143,7 +146,7 @@ class Simulation:
             self.speed_slider, self.time_text = self.panel.speed_slider, self.panel.time_text
             self.state_box, self.status, self.legend = self.panel.state_box, self.panel.status, self.panel.legend
             # The Export folder is recording's, placed in the panel after its State folder.
-            self.export_folder = ExportFolder(self, export, NOTIFY_SECONDS, order=EXPORT_ORDER)
+            self.export_folder = ExportFolder(self, export, NOTIFY_SECONDS, order=EXPORT_ORDER, language=language)
             self.panel.handles.append(self.export_folder.folder)
             self.projector = Projector(self.server.gui, self.guarded(self._projector_press))
             self.panel.projector_button.on_click(self.guarded(lambda _: self.set_projector(not self.projector.on)))

@@ -248,6 +248,7 @@ class _Client:
         from types import SimpleNamespace
 
         self._websock_connection = SimpleNamespace(get_message_buffer=lambda: SimpleNamespace(done=False))
+        self.client_id = 7
         self.notes: list[SimpleNamespace] = []
         self.downloads: list[str] = []
 
@@ -272,7 +273,8 @@ def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, o
     from app.recording.export_folder import ExportFolder
     from app.serving.notices import NOTIFY_SECONDS
 
-    def fake_export(text, seconds, progress):
+    def fake_export(text, seconds, progress, lang):
+        assert lang == "de"  # the pressing browser's language
         progress(1, 2)
         if isinstance(outcome, Exception):
             raise outcome
@@ -281,7 +283,7 @@ def test_the_export_notes_close_by_themselves(monkeypatch: pytest.MonkeyPatch, o
     client = _Client()
     from types import SimpleNamespace
 
-    folder = SimpleNamespace(export=fake_export, auto_close_seconds=NOTIFY_SECONDS)
+    folder = SimpleNamespace(export=fake_export, auto_close_seconds=NOTIFY_SECONDS, language={7: "de"}.get)
     ExportFolder._run(folder, client, "rbl1:x", 2.0, "pendulum")  # type: ignore[arg-type]
     (note,) = client.notes
     assert note.title == title and note.loading is False
@@ -301,7 +303,7 @@ def test_an_export_whose_browser_left_stops_at_its_next_frame() -> None:
     client = _Client()
     frames: list[int] = []
 
-    def long_export(text, seconds, progress):
+    def long_export(text, seconds, progress, lang):
         with one_at_a_time():
             for k in range(1, 18_001):
                 frames.append(k)
@@ -310,7 +312,7 @@ def test_an_export_whose_browser_left_stops_at_its_next_frame() -> None:
                 progress(k, 18_000)
         return b"zip"
 
-    folder = SimpleNamespace(export=long_export, auto_close_seconds=NOTIFY_SECONDS)
+    folder = SimpleNamespace(export=long_export, auto_close_seconds=NOTIFY_SECONDS, language=lambda _: "en")
     ExportFolder._run(folder, client, "rbl1:x", 600.0, "pendulum")  # type: ignore[arg-type]
     assert frames[-1] == 100 and client.downloads == []
     with one_at_a_time():  # the place is free again
