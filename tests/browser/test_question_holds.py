@@ -52,7 +52,8 @@ def test_a_follower_page_holds_each_answer_back_until_the_reveal(chromium):
         _shows_none(page, _forms(true))
         questions.reveal(None)
         wait_for(lambda: f"{true:.4g}" in _text(page) and "True value" in _text(page), 30, what="the reveal")
-        assert HELD not in _text(page)
+        # The readouts come back with the next frame drawn, which may reach the page after the chart's reveal.
+        wait_for(lambda: HELD not in _text(page), 30, what="the readouts shown again after the reveal")
 
         app.go_to_step(PENDULUM + 1)  # no question: the chart leaves
         wait_for(lambda: "No question now" in _text(page), 30, what="the next step's empty question")
