@@ -26,7 +26,7 @@ from app.guards.responses import connection_address, hook_requests
 from app.language.catalogs import SOURCE, negotiate
 from app.language.words import mark, say, translate
 
-__all__ = ["Admission", "Caps", "QUIET_SECONDS", "install_admission"]
+__all__ = ["Admission", "Caps", "HOLD_SECONDS", "MOST_HELD", "QUIET_SECONDS", "install_admission"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +66,13 @@ QUIET_SECONDS = 2.0
 """After refusing an address (its tabs or its openings over the caps), new websockets from it are answered
 429 before they open for this long: a script that reconnects in a loop costs a parsed request, not a
 connection, and a page that retries gets its refusal's reason at the next full attempt."""
+
+HOLD_SECONDS = 1.0
+"""How long a websocket turned away waits for its 429: a script that reconnects the moment it is answered
+(hundreds of times a second from a few clients, each a request parsed on the thread that also sends every
+browser its frames) is slowed to about one attempt a second per socket it holds open."""
+MOST_HELD = 256
+"""Answers held back at once, all addresses together (each holds a socket open); beyond it, answered at once."""
 
 _THIS_MACHINE = frozenset({"127.0.0.1", "::1"})
 """Direct connections from the server's own machine: its operator's, no per-address cap."""
@@ -214,5 +221,5 @@ def install_admission(server: viser.ViserServer, admission: Admission) -> Admiss
 
     websock._client_connect_cb.insert(0, on_connection)
     websock._client_disconnect_cb.insert(0, on_disconnect)
-    hook_requests(server, admission.turned_away)
+    hook_requests(server, admission.turned_away, HOLD_SECONDS, MOST_HELD)
     return admission

@@ -73,12 +73,17 @@ def hook_responses(server: viser.ViserServer, respond: Callable[[Any, Any, Any],
     return _on_serving(server, install, "process_response")
 
 
-def hook_requests(server: viser.ViserServer, turn_away: Callable[[str], str | None]) -> bool:
+def hook_requests(
+    server: viser.ViserServer, turn_away: Callable[[str], str | None], hold: float = 0.0, most_held: int = 0
+) -> bool:
     """Before a websocket opens, ask ``turn_away(address)`` (the browser's address, as
     :func:`connection_address` reads it) and answer 429 with its reason, not a websocket, when it gives one:
     no upgrade, no handler, no close handshake (an address that keeps reconnecting costs the server a parsed
-    request each time, not a connection). Every other request goes to viser's own handler (its page and
-    files). False if viser's server cannot be found."""
+    request each time, not a connection). The answer is held back ``hold`` seconds (at most ``most_held``
+    answers at once, the rest answered at once): a script that reconnects as soon as it is answered then
+    costs a parsed request a second, not hundreds, and a page that retries learns why a second later. Every
+    other request goes to viser's own handler (its page and files). False if viser's server cannot be found."""
+    held = [0]  # answers being held back now (read and changed on viser's event loop only)
 
     def install(serving: Server) -> None:
         original = serving.process_request
@@ -88,6 +93,12 @@ def hook_requests(server: viser.ViserServer, turn_away: Callable[[str], str | No
                 reason = turn_away(connection_address(connection))  # (the request is on the connection now)
                 if reason is not None:
                     lang = negotiate(request.headers.get("Accept-Language"), SOURCE)
+                    if hold > 0.0 and held[0] < most_held:
+                        held[0] += 1
+                        try:
+                            await asyncio.sleep(hold)
+                        finally:
+                            held[0] -= 1
                     return connection.respond(http.HTTPStatus.TOO_MANY_REQUESTS, translate(reason, lang) + "\n")
             if original is None:
                 return None

@@ -4,6 +4,7 @@ opens with a reason (close 1002, which viser's page shows), nothing is built for
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import pytest
@@ -93,14 +94,17 @@ def test_new_connections_per_address_are_paced_and_this_machine_is_not_capped() 
 
 def test_an_address_just_refused_is_turned_away_before_its_websocket_opens_while_it_is_over(monkeypatch) -> None:
     """A refused address reconnecting in a loop gets HTTP 429 for QUIET_SECONDS (no websocket, no handler, no
-    close handshake), and only while it is still over its caps: a tab closed, its next connection opens."""
+    close handshake), each answer held back HOLD_SECONDS (a script reconnecting at once is slowed to one
+    attempt a hold), and only while it is still over its caps: a tab closed, its next connection opens."""
     from websockets.exceptions import InvalidStatus
 
     monkeypatch.setattr("app.guards.admission.QUIET_SECONDS", 600.0)  # all of the test is within it
+    monkeypatch.setattr("app.guards.admission.HOLD_SECONDS", 0.4)  # read as the server starts
     with running_app(start_loop=False, caps=Caps(per_address=1, opens_per_minute=6000)) as app:
         with raw_client(app, source="127.0.0.21") as first:
             assert "at most 1 browser tabs from one address" in _refused(app, "127.0.0.21")  # told why, once
             for _ in range(3):
+                asked = time.monotonic()
                 with pytest.raises(InvalidStatus) as refused:
                     connect(
                         f"ws://127.0.0.1:{app.port}",
@@ -109,6 +113,7 @@ def test_an_address_just_refused_is_turned_away_before_its_websocket_opens_while
                         open_timeout=30,
                     )
                 assert refused.value.response.status_code == 429
+                assert time.monotonic() - asked >= 0.4  # held back, not answered at once
                 assert b"too many connections from your address" in refused.value.response.body
             assert app.admission.refused == {"address": 1, "turned away": 3}
             assert still_connected(first, app=app)
