@@ -175,9 +175,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--max-opens-per-minute",
         type=int,
-        default=30,
+        default=10,
         metavar="N",
-        help="new connections one address may open a minute, after a first burst (default 30)",
+        help="new connections one address may open a minute, after a first burst (default 10)",
     )
     args = parser.parse_args(argv)
 

@@ -140,11 +140,13 @@ def measure(n_hostile: int, n_followers: int, seconds: float, kinds: tuple[str, 
         )
         attackers.start()
         rss = [resident_mb()]
-        t0, cpu0 = time.monotonic(), time.process_time()
+        t0, cpu0, frames0 = time.monotonic(), time.process_time(), app.simulation.frames
         while time.monotonic() - t0 < WARMUP + seconds:
             time.sleep(0.25)
             rss.append(resident_mb())
-        cpu = (time.process_time() - cpu0) / (time.monotonic() - t0)  # the server's process: cores it used
+        elapsed = time.monotonic() - t0
+        cpu = (time.process_time() - cpu0) / elapsed  # the server's process: cores it used
+        drawn = (app.simulation.frames - frames0) / elapsed  # frames the server drew a second
         per_client = follow_out.get(timeout=120)
         rates = [nodes.get(BODY, 0.0) for _, _, nodes, _ in per_client]
         lost = [why for _, _, _, why in per_client]
@@ -164,6 +166,7 @@ def measure(n_hostile: int, n_followers: int, seconds: float, kinds: tuple[str, 
             "refused": dict(app.admission.refused),
             "buffer": buffer,
             "cpu": cpu,
+            "drawn": drawn,
         }
 
 
@@ -186,6 +189,7 @@ def report(result: dict[str, Any], n_hostile: int, n_followers: int, seconds: fl
         "| --- | --- | --- |",
         f"| followers' frame rate, slowest (frames/s) | {slowest:.1f} | ≥ {TARGET_FPS:g} ({'met' if ok_fps else 'NOT met'}) |",
         f"| followers' frame rate, median (frames/s) | {statistics.median(rates) if rates else 0.0:.1f} | |",
+        f"| frames the server drew (frames/s) | {result['drawn']:.1f} | |",
         f"| followers that lost their connection | {len(result['lost'])} | 0 |",
         f"| server's resident memory, peak (MB) | {result['rss_max']:.0f} (at start {result['rss_start']:.0f}) | < {TARGET_MB:g} ({'met' if ok_mb else 'NOT met'}) |",
         f"| replay buffer after the attack (messages) | {result['buffer']} | as before: no hostile message kept |",

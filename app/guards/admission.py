@@ -53,7 +53,7 @@ class Caps:
     per_address: int = 4
     sessions: int = 300
     sessions_per_address: int = 4
-    opens_per_minute: int = 30
+    opens_per_minute: int = 10
 
     def __post_init__(self) -> None:
         for name in ("connections", "per_address", "sessions", "sessions_per_address", "opens_per_minute"):
@@ -67,12 +67,13 @@ QUIET_SECONDS = 2.0
 429 before they open for this long: a script that reconnects in a loop costs a parsed request, not a
 connection, and a page that retries gets its refusal's reason at the next full attempt."""
 
-HOLD_SECONDS = 1.0
+HOLD_SECONDS = 2.0
 """How long a websocket turned away waits for its 429: a script that reconnects the moment it is answered
 (hundreds of times a second from a few clients, each a request parsed on the thread that also sends every
 browser its frames) is slowed to about one attempt a second per socket it holds open."""
-MOST_HELD = 256
-"""Answers held back at once, all addresses together (each holds a socket open); beyond it, answered at once."""
+MOST_HELD = 1000
+"""Answers held back at once, all addresses together (each holds a socket open: the rooms' units allow 8192
+files); beyond it, answered at once."""
 
 _THIS_MACHINE = frozenset({"127.0.0.1", "::1"})
 """Direct connections from the server's own machine: its operator's, no per-address cap."""

@@ -56,6 +56,8 @@ HARDENING = (
     "CapabilityBoundingSet=",
     f"MemoryMax={MEMORY_MAX}",
     "TasksMax=512",
+    # 400 websockets, up to 1000 refusals held back (app.guards.admission.MOST_HELD), the files: over 1024.
+    "LimitNOFILE=8192",
     # numba's compiled kernels are cached here (the installed tree is read-only to the service).
     "CacheDirectory=rigid-body-lab",
     "Environment=NUMBA_CACHE_DIR=/var/cache/rigid-body-lab",

@@ -381,16 +381,21 @@ class App:
     def run(self) -> None:
         """The real-time loop (the loop thread's body): a tick of every simulation per frame, until stopped."""
         period = 1.0 / self.fps
-        last = time.perf_counter()
+        last = due = time.perf_counter()
         while not self._stop.is_set():
             now = time.perf_counter()
             dt, last = now - last, now
             self._tick(dt)
-            busy = time.perf_counter() - now
+            done = time.perf_counter()
+            busy = done - now
+            # Frames are due on a fixed schedule: a wake-up that came late (the GIL held by the network
+            # thread, a busy machine) is made up by a shorter rest, not lost; a loop more than a frame
+            # behind starts the schedule afresh rather than rushing frames out to catch up.
+            due = max(due + period, done - period)
             # Under load (many private sessions) a tick takes longer than a frame: each session then
             # advances by the real elapsed time (the physics is exact at any step), and the loop leaves
             # the GIL to the network thread for a share of its own time, so that what was drawn is sent.
-            self._stop.wait(max(period - busy, NETWORK_SHARE * busy))
+            self._stop.wait(max(due - done, NETWORK_SHARE * busy))
 
     def _tick(self, dt: float) -> None:
         """One frame of every simulation. A function of its own so that its loop variable dies with it: a

@@ -35,7 +35,7 @@ def _refused(app: Any, source: str) -> str:
 
 
 def test_caps_are_checked() -> None:
-    assert Caps() == Caps(connections=400, per_address=4, sessions=300, sessions_per_address=4, opens_per_minute=30)
+    assert Caps() == Caps(connections=400, per_address=4, sessions=300, sessions_per_address=4, opens_per_minute=10)
     for bad in ({"connections": 0}, {"per_address": 2.5}, {"sessions": True}, {"sessions_per_address": 10**6}):
         with pytest.raises(ValueError, match="caps: .* must be a whole number from 1 to 100000, got"):
             Caps(**bad)
