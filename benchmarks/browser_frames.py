@@ -79,10 +79,16 @@ def chromium_seconds() -> float:
 
 
 @contextlib.contextmanager
-def watched(browser: Any, scene: str, prefill: int, after_frame: Callable[[Any], None] | None = None) -> Iterator[Any]:
+def watched(
+    browser: Any,
+    scene: str,
+    prefill: int,
+    after_frame: Callable[[Any], None] | None = None,
+    viewport: dict[str, int] = VIEWPORT,
+) -> Iterator[Any]:
     """An app on 127.0.0.1 showing ``scene`` after ``prefill`` frames played headless, then playing at 60 frames
     a second of wall time (``after_frame(app)`` after each, under the app's lock), and a page showing it at
-    1280×800 that counts its renders; yields ``(app, page)``, everything stopped afterwards."""
+    ``viewport`` (1280×800) that counts its renders; yields ``(app, page)``, everything stopped afterwards."""
     from app.serving.app import App
 
     app = App(host="127.0.0.1", port=_free_port(), scene=scene, start_loop=False)
@@ -104,7 +110,7 @@ def watched(browser: Any, scene: str, prefill: int, after_frame: Callable[[Any],
         app.set_playing(True)
         for _ in range(prefill):
             app.frame(1.0 / 60.0)
-        context = browser.new_context(viewport=VIEWPORT)
+        context = browser.new_context(viewport=viewport)
         context.add_init_script(COUNT_RENDERS)
         page = context.new_page()
         # One pixel per CSS pixel throughout: viser's adaptive resolution would otherwise change what a render

@@ -118,7 +118,7 @@ class TimelinePanel:
         if self.showing:
             return
         self.shown = float(self.slider.value)
-        self.sim.timeline.seek(self.shown)
+        self.sim.timeline.drag_to(self.shown)
 
     def _on_replay(self, event: Any) -> None:
         self.sim.timeline.start_replay(seconds_of(self.span.value), seconds_of(self.speed.value))

@@ -529,6 +529,7 @@ class Simulation:
             scene = self.scene
             if scene is None or self.closed or self.gone():
                 return False
+            self.timeline.glide_frame()  # a dragged slider's glide: this frame's instant
             advance = self.clock.advance(wall_dt)
             t_before = self.clock.t
             if advance == 0.0 and not self._dirty:
@@ -551,7 +552,8 @@ class Simulation:
                     if now - self._last_time_text > 0.1 or not self.clock.playing:
                         self._last_time_text = now
                         self.time_text.value = say("{t:.2f}", t=self.clock.t)  # type: ignore[misc]  # viser 1.1.1 typing
-                        self.panel.timeline.show(self.clock.t, self.timeline.earliest(), self.timeline.reached)
+                        if self.timeline.glide is None:  # mid-glide the dragging page's slider is ahead
+                            self.panel.timeline.show(self.clock.t, self.timeline.earliest(), self.timeline.reached)
                         self.panel.measure.update(self.clock.t, state)
                     if changed or now - self._described_at >= DESCRIBE_SECONDS:
                         self._described_at = now

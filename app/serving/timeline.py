@@ -10,6 +10,7 @@ scene's earliest reachable time (:meth:`app.scenes.base.Scene.earliest`) to the 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -18,7 +19,7 @@ from app.language.words import say
 if TYPE_CHECKING:  # annotations only: the simulation imports this module
     from app.serving.simulation import Simulation
 
-__all__ = ["MAX_JUMP", "REPLAY_SPAN", "REPLAY_SPEED", "Replay", "Timeline"]
+__all__ = ["GLIDE_SECONDS", "GLIDE_WINDOW", "MAX_JUMP", "REPLAY_SPAN", "REPLAY_SPEED", "Glide", "Replay", "Timeline"]
 
 REPLAY_SPAN = 2.0
 """What Replay shows again by default: the last this many seconds of simulated time."""
@@ -28,6 +29,34 @@ MAX_JUMP = 300.0
 """The furthest a move by hand may reach beyond the furthest time reached, s: what a stepped scene's
 history computes ahead in one go (:data:`app.scenes.heavy_top.KEPT`); the slider's end is never more than
 a second ahead, and a time beyond this is refused."""
+
+
+GLIDE_SECONDS = 0.05
+"""The shortest glide to an instant the slider is dragged to (s of wall time): the interval of a dragged
+slider's messages (viser's page sends a control's changes at most every 50 ms; a busy page, further apart,
+and the glide then lasts as long as that interval), so a drag is drawn at the loop's frame rate, each
+frame an exact instant between two of the slider's, not in a few jumps a second."""
+GLIDE_WINDOW = 0.25
+"""A slider move this soon after the last (s of wall time) is part of a drag and glides; a lone move (a
+click on the track) jumps at once."""
+
+
+@dataclass
+class Glide:
+    """The body gliding from ``start`` to ``end`` (s of simulated time) over ``seconds`` of wall time from the
+    monotonic time ``began``."""
+
+    start: float
+    end: float
+    began: float
+    seconds: float = GLIDE_SECONDS
+
+    def at(self, now: float) -> tuple[float, bool]:
+        """The instant to show at monotonic time ``now``, and whether the glide has arrived."""
+        share = (now - self.began) / self.seconds
+        if share >= 1.0:
+            return self.end, True
+        return self.start + max(share, 0.0) * (self.end - self.start), False
 
 
 @dataclass
@@ -63,6 +92,10 @@ class Timeline:
         self.reached = 0.0
         self.replay: Replay | None = None
         self.last_replay: Replay | None = None
+        self.glide: Glide | None = None
+        self.now = time.monotonic
+        """The wall clock glides are timed by (s, monotonic)."""
+        self._dragged_at = -math.inf  # monotonic time of the slider's last move
 
     # ------------------------------------------------------------------ what it spans
     def earliest(self) -> float:
@@ -73,6 +106,7 @@ class Timeline:
     def restart(self) -> None:
         """The clock went back to t = 0 (Reset, a new parameter or scene): a new timeline."""
         self.reached = 0.0
+        self.glide, self._dragged_at = None, -math.inf
         self.sim.panel.timeline.forget()
         if self.replay is not None:  # the replay is over: the speed of before
             self.sim.set_speed(self.replay.speed_before)
@@ -107,6 +141,7 @@ class Timeline:
                 return sim.time
             if self.replay is not None:  # a move by hand ends a replay: the speed of before, paused
                 self._end_replay(self.replay, playing=False)
+            self.glide = None
             sim.set_playing(False)
             sim.clock.steps = 0
             value = max(value, self.earliest())
@@ -114,6 +149,48 @@ class Timeline:
             scene.rewind(value)
             sim.request_redraw()
             return value
+
+    def drag_to(self, t: float) -> float:
+        """The slider dragged to time ``t`` (s): as :meth:`seek`, but within a drag (a move less than
+        :data:`GLIDE_WINDOW` after the last) the body glides there, drawn at every frame of the loop, over
+        the wall time since the last move (at least :data:`GLIDE_SECONDS`); returns the time it arrives at.
+        ValueError as :meth:`seek`."""
+        sim = self.sim
+        now = self.now()
+        with sim.lock:
+            interval, self._dragged_at = now - self._dragged_at, now
+            start = sim.time
+            end = self.seek(t)
+            if interval < GLIDE_WINDOW and end != start and sim.scene is not None and not sim.scene.static:
+                # Over the time the page took to send this move since the last (a busy page sends them
+                # further apart than 50 ms): the body moves on every frame until the next is due.
+                self.glide = Glide(start, end, now, max(interval, GLIDE_SECONDS))
+                self._show(start)
+            return end
+
+    def glide_frame(self) -> None:
+        """Move a glide under way to this frame's instant (the simulation's frame calls it, holding its
+        lock); a glide ends where the slider was dragged to, exactly."""
+        glide = self.glide
+        if glide is None:
+            return
+        if self.sim.playing or self.replay is not None:  # Play (or a replay) took over: the glide is over
+            self.glide = None
+            return
+        t, arrived = glide.at(self.now())
+        if arrived:
+            self.glide = None
+        self._show(t)
+
+    def _show(self, t: float) -> None:
+        """Put the (paused) body at time ``t``, drawn at the next frame."""
+        sim = self.sim
+        scene = sim.scene
+        if scene is None:
+            return
+        sim.clock.t = t
+        scene.rewind(t)
+        sim.request_redraw()
 
     def step_back(self) -> float:
         """Pause and go back one frame's worth of simulation time (1/fps × speed), as Step goes on one."""
