@@ -33,7 +33,14 @@ METHODS: dict[str, type | None] = {
 STEP = (0.002, 0.2, 0.002, 0.05)
 """The step slider (s): least, most, resolution, default."""
 CATCH_UP = 5.0
-"""A clock jump larger than this (s) restarts the ghost instead of stepping it there."""
+"""A clock jump ahead of everything the ghost has stepped through larger than this (s) restarts the ghost
+there instead of stepping it there."""
+CHECKPOINT_SECONDS = 0.25
+"""The ghost keeps its state about every quarter second of its time (at a whole number of steps), so that the
+timeline moved back (or on again) puts it where it was, bit for bit: each frame steps on from the checkpoint
+before (at most 125 steps, at the smallest step h)."""
+CHECKPOINTS = 3600
+"""Checkpoints kept (the newest): fifteen minutes of the ghost's time, 96 bytes each."""
 
 Exact = Callable[[float], tuple[NDArray[np.float64], NDArray[np.float64]]]
 
@@ -100,6 +107,7 @@ class IntegratorGhost:
         self.t = self.t0 = 0.0  # the ghost's time and its start (s)
         self.steps = 0  # steps taken since the start
         self.start_at = 0.0  # where the next start is (the clock when cleared)
+        self.checkpoints: dict[int, NDArray[np.float64]] = {}  # steps since the start -> the state then
         self.last_angle = 0.0
 
     # -- set up by the scene ------------------------------------------------------------------------
@@ -161,7 +169,25 @@ class IntegratorGhost:
         ``traces``)."""
         self.state = None
         self.start_at = float(self.ctx.time)  # the clock now (0 after a reset): the ghost starts here
+        self.checkpoints = {}
         self.plot.clear()
+
+    def rewind(self, t: float) -> None:
+        """The timeline moved the clock to ``t`` (s): the ghost keeps its start and steps from its checkpoint
+        before ``t`` at the next frame (:meth:`follow`), so it shows the states it showed there before; its
+        plot keeps the samples up to ``t``."""
+        self.plot.rewind(t)
+
+    def _reaches(self, t: float, h: float, every: int) -> bool:
+        """Whether the ghost's run reaches ``t`` (s) from a checkpoint it keeps, with at most :data:`CATCH_UP`
+        seconds of steps beyond the furthest (else it starts again there)."""
+        if not self.checkpoints or t < self.t0 - 1e-12:
+            return False
+        target = math.floor((t - self.t0) / h + 1e-9)
+        base = target - target % every
+        if base < min(self.checkpoints):
+            return False
+        return (base - max(self.checkpoints)) * h <= CATCH_UP
 
     # -- every frame ---------------------------------------------------------------------------------
     def follow(self, t: float, pose: Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], Any]]) -> None:
@@ -170,21 +196,34 @@ class IntegratorGhost:
         if self.method is None or self.exact is None:
             return
         h = float(self.step_slider.value)
-        if self.state is None or t < self.t - 1e-12 or t - self.t > CATCH_UP:
+        every = max(1, round(CHECKPOINT_SECONDS / h))
+        if self.state is None or not self._reaches(t, h, every):
             fresh = self.state is None and self.start_at <= t <= self.start_at + CATCH_UP
             t0 = self.start_at if fresh else t
             R, L = self.exact(t0)
             self.state, self.t0, self.steps, self.t = np.concatenate([np.asarray(R).ravel(), L]), t0, 0, t0
-        # Steps counted from the start, so the ghost's time t0 + k h carries no accumulated rounding.
-        n = int(math.floor((t - self.t0) / h + 1e-9)) - self.steps
-        if n > 0:
-            try:
-                self.state = advance(self.method, self.state, h, n)
-            except ValueError as exc:  # a step the method cannot take for this motion (RK4 past its limit)
-                self._stop(exc)
-                return
-            self.steps += n
-            self.t = self.t0 + self.steps * h
+            self.checkpoints = {0: self.state.copy()}
+        # Steps counted from the start, so the ghost's time t0 + k h carries no accumulated rounding. The
+        # state after k steps is the checkpoint before it stepped on in one go, and each checkpoint the one
+        # before stepped on in one go: the same numbers whichever frames asked (a splitting method merges
+        # the half-steps of a run, so runs cut elsewhere differ in the last bits).
+        target = int(math.floor((t - self.t0) / h + 1e-9))
+        base = target - target % every
+        try:
+            latest = max(self.checkpoints)
+            while latest < base:
+                self.checkpoints[latest + every] = advance(self.method, self.checkpoints[latest], h, every)
+                latest += every
+                if len(self.checkpoints) > CHECKPOINTS:
+                    del self.checkpoints[min(self.checkpoints)]
+            if target != self.steps:
+                start = self.checkpoints[base]
+                self.state = advance(self.method, start, h, target - base) if target > base else start.copy()
+        except ValueError as exc:  # a step the method cannot take for this motion (RK4 past its limit)
+            self._stop(exc)
+            return
+        self.steps = target
+        self.t = self.t0 + self.steps * h
         R_ghost, L_ghost = self.state[:9].reshape(3, 3), self.state[9:]
         R_exact, _ = self.exact(self.t)
         attitude, position = pose(_nearest_rotation(R_ghost))

@@ -238,3 +238,33 @@ def test_a_step_the_method_refuses_stops_the_ghost_not_the_scene():
         _choose(app, scene, BEST, step=0.01)  # another choice runs again
         _run(app, 30)
         assert scene.ghost.method is not None and scene.ghost.steps > 0
+
+
+def test_the_timeline_moved_back_then_on_shows_the_ghosts_states_bit_for_bit():
+    """The ghost keeps its start and a checkpoint every quarter second of its time: scrubbed back (into the
+    run, not to its start) and played on, it passes through the very states it showed before, and the
+    checkpoints' steps are the same whatever frames they fell in."""
+    with running_app("tennis_racket", start_loop=False) as app:
+        scene = open_scene(app, "tennis_racket")
+        _choose(app, scene, SPLIT, step=0.01)
+        ghost = scene.ghost
+        seen = {}
+        app.set_playing(True)
+        for _ in range(240):  # 4 s
+            app.frame(1.0 / 60.0)
+            seen[ghost.steps] = ghost.state.copy()
+        assert ghost.t0 == 0.0 and sorted(ghost.checkpoints) == list(range(0, 401, 25))  # every 0.25 s
+        app.simulation.timeline.seek(1.53)
+        app.frame(1.0 / 60.0)
+        assert ghost.t0 == 0.0 and ghost.steps == 153  # stepped on from the checkpoint at 1.5 s, not restarted
+        compared = 0
+        app.set_playing(True)
+        for _ in range(120):
+            app.frame(1.0 / 60.0)
+            if ghost.steps in seen:
+                assert np.array_equal(ghost.state, seen[ghost.steps]), ghost.steps
+                compared += 1
+        assert compared >= 60  # the frames after the scrub fall on many of the steps the first run showed
+        app.simulation.timeline.seek(3.2)  # on again, within what it has been through
+        app.frame(1.0 / 60.0)
+        assert ghost.t0 == 0.0 and np.array_equal(ghost.state, seen[320])
