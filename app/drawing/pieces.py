@@ -334,6 +334,7 @@ class Trace:
             raise ValueError(f"a trace needs at least 2 points, got {capacity}")
         self.capacity = int(capacity)
         self._buf = np.zeros((self.capacity, 3))
+        self._times = np.full(self.capacity, np.nan)  # each point's time (s); NaN: appended without one
         self._count = 0
         self._head = 0  # index of the next write
         self.remove()
@@ -382,13 +383,15 @@ class Trace:
         order = [(self._newest + 1 + i) % n for i in range(n)]
         return np.concatenate([self._segments[k, : self._fill[k]] for k in order])
 
-    def append(self, point: ArrayLike) -> None:
-        """Add a point (m): one segment from the previous point, sent with its chunk only."""
+    def append(self, point: ArrayLike, t: float | None = None) -> None:
+        """Add a point (m), drawn at time ``t`` (s; what :meth:`rewind` goes back by): one segment from the
+        previous point, sent with its chunk only."""
         p = np.asarray(point, dtype=float)
         previous = self._buf[(self._head - 1) % self.capacity]
         if self._count and np.linalg.norm(p - previous) < self.min_step:
             return
         self._buf[self._head] = p
+        self._times[self._head] = np.nan if t is None else float(t)
         self._head = (self._head + 1) % self.capacity
         self._count = min(self._count + 1, self.capacity)
         if self._count < 2:
@@ -407,6 +410,44 @@ class Trace:
         send_points(chunk, self._segments[k])
         if not chunk.visible:
             chunk.visible = True
+
+    def rewind(self, t: float) -> None:
+        """The clock went back (or on) to ``t`` (s, the timeline): the points drawn after ``t`` go, newest
+        first, so the trace shows the path up to that instant (one chunk or two sent, not the whole trace);
+        a trace with a point of no time starts again."""
+        newest = [(self._head - 1 - i) % self.capacity for i in range(self._count)]
+        times = self._times[newest]
+        if np.isnan(times).any():
+            self.clear()
+            return
+        drop = int(np.argmax(times <= t)) if (times <= t).any() else self._count
+        if drop == 0:
+            return
+        if self._count - drop < 2:
+            self.clear()
+            return
+        self._head = (self._head - drop) % self.capacity
+        self._count -= drop
+        n = len(self._chunks)
+        touched = set()
+        while drop > 0:  # a point dropped is the segment that ended at it
+            k = self._newest
+            taken = min(drop, int(self._fill[k]))
+            self._fill[k] -= taken
+            drop -= taken
+            touched.add(k)
+            if self._fill[k] == 0 and drop > 0:
+                self._newest = (k - 1) % n
+        for k in touched:
+            f = int(self._fill[k])
+            if f:
+                self._segments[k, f:] = self._segments[k, f - 1, 1]  # unused segments collapse (invisible)
+                send_points(self._chunks[k], self._segments[k])
+            elif self._chunks[k].visible:
+                self._chunks[k].visible = False
+        if self._fill[self._newest] == 0:  # emptied to a chunk boundary: the one before is the newest
+            self._newest = (self._newest - 1) % n
+        self._recolour()
 
     def _recolour(self) -> None:
         """Give each chunk the colour of its age's quarter (:data:`TRACE_FADE`): sent only where it changed."""

@@ -176,8 +176,8 @@ class Scene:
 
     def rewind(self, t: float) -> None:
         """The clock jumped to ``t`` (s), back or ahead (the timeline): every piece that keeps a past forgets
-        what it drew after ``t``. A piece with ``rewind(t)`` (a time plot) keeps what came before ``t``; the
-        other :attr:`traces` (a trace, an integrator's ghost) start again from ``t``."""
+        what it drew after ``t``. A piece with ``rewind(t)`` (a time plot, a trace, an integrator's ghost)
+        keeps what came before ``t``; the other :attr:`traces` start again from ``t``."""
         pieces: dict[int, Any] = {id(p): p for p in self.traces}
         pieces.update((id(p), p) for p in vars(self).values() if callable(getattr(p, "rewind", None)))
         for piece in pieces.values():

@@ -409,7 +409,7 @@ class HeavyTopScene(Scene):
         self.torque_arrow.set(
             state["torque"] * self.torque_scale, LENGTH * state["axis"], apart_from=self.L_arrow, screen=self.screen
         )
-        self.trace.append(LENGTH * state["axis"])
+        self.trace.append(LENGTH * state["axis"], self.ctx.time)
         self.nutation.sample(self.ctx.time, math.degrees(state["theta"]))
         self._readouts(state)
         self.drift.add(self.ctx.time, lambda: self._invariants(state))

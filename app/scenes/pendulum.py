@@ -317,7 +317,7 @@ class Pendulum(Scene):
         draw.move(self.hit_marker, hit)
         # Left of the bat: on the centre of percussion (the lecture's key step) it is not drawn over its label.
         draw.move(self.hit_label, hit - LABEL_OFFSET * SCREEN_RIGHT)
-        self.trace.append(cm)  # the legend says "path of the centre of mass": it is
+        self.trace.append(cm, state["t"])  # the legend says "path of the centre of mass": it is
         # The energy of the swing: constant between strikes (a strike starts a new reference).
         self.drift.add(state["t"], lambda: self._invariants(theta, state["theta_dot"]))
         self.swing.sample(state["t"], math.degrees(theta))

@@ -436,7 +436,7 @@ class TennisRacket(Scene):
         l_hat = self.moments * w / self.L_norm
         draw.move(self.L_dot, self.sphere_centre + 1.02 * self.sphere_radius * l_hat)
         # The tip of the spin axis traces its flips in space.
-        self.trace.append(c + 0.5 * self.size * R[:, self.axis_index])
+        self.trace.append(c + 0.5 * self.size * R[:, self.axis_index], state["t"])
         # ½ ω·L and |L| in the body: constant through every flip.
         self.drift.add(state["t"], lambda: self._invariants(w))
         self.ghost.follow(state["t"], lambda Rg: (Rg, c))

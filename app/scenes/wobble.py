@@ -167,7 +167,7 @@ class Wobble(Scene):
         self.space_cone.set(L, _angle(w, self.L_space), slant, c)
         # The trace follows the axis tip in space, the tip of ω in the body view.
         tip = V @ w * self.omega_scale if self.body_view.value else axis * 0.75 * self.size
-        self.trace.append(c + tip)
+        self.trace.append(c + tip, state["t"])
         # Rotational energy ½ ω·L and |L| (about the centre of mass): constant without torque.
         self.drift.add(state["t"], lambda: self._invariants(R.T @ w))
         self.ghost.follow(state["t"], lambda Rg: (V @ Rg, self.centre_at(self.ghost.t)))
