@@ -15,6 +15,7 @@ import string
 import threading
 from collections import OrderedDict
 from collections.abc import Callable
+from typing import NamedTuple
 
 from babel.messages.pofile import read_po
 from babel.numbers import get_decimal_symbol, get_group_symbol, get_minus_sign_symbol
@@ -25,6 +26,8 @@ from app.language.pseudo import pseudo
 __all__ = [
     "PER_TEMPLATE",
     "REMEMBERED",
+    "Said",
+    "carried",
     "english_option",
     "escaped",
     "learn",
@@ -33,6 +36,7 @@ __all__ = [
     "mark",
     "remembered_count",
     "say",
+    "said_again",
     "template_ids",
     "transformed",
     "translate",
@@ -80,6 +84,30 @@ def say(template: str, /, **values: object) -> str:
         with _LOCK:
             _remember(text, template, tuple(values.items()))
     return text
+
+
+class Said(NamedTuple):
+    """How a text was said (its template and values, a value said in turn carried likewise), as plain data:
+    what a worker process sends back with a refusal, so the app can say it again and translate it."""
+
+    template: str
+    values: tuple[tuple[str, object], ...]
+
+
+def carried(text: str) -> Said | None:
+    """How ``text`` was made by :func:`say` in this process (None if it was not, or is forgotten)."""
+    with _LOCK:
+        made = _SAID.get(text)
+    if made is None:
+        return None
+    template, values = made
+    return Said(template, tuple((k, carried(v) or v if isinstance(v, str) else v) for k, v in values))
+
+
+def said_again(said: Said) -> str:
+    """The text ``said`` describes, made again with :func:`say` in this process (so it translates here)."""
+    values = {k: said_again(v) if isinstance(v, Said) else v for k, v in said.values}
+    return say(said.template, **values)
 
 
 def _remember(text: str, template: str, values: tuple[tuple[str, object], ...]) -> None:

@@ -18,7 +18,7 @@ from pathlib import Path, PurePath
 import numpy as np
 from numpy.typing import NDArray
 
-from app.language.words import mark
+from app.language.words import mark, say
 from app.uploads.limits import RECORDING_FORMATS
 from physics.gyro import (
     FreeBodyFit,
@@ -140,13 +140,17 @@ def fit_toss_upload(filename: str, content: bytes, chosen: int | None = None) ->
     name = PurePath(filename or "upload").name
     ext = PurePath(name).suffix.lower().lstrip(".")
     if ext not in RECORDING_FORMATS:
+        got = "." + ext if ext else mark("no extension")
         raise ValueError(
-            f"{name} is not a recording this scene reads: upload phyphox's export of "
-            f'"Gyroscope (rotation rate)" as CSV (Raw Data.csv) or the .zip it shares '
-            f"(got {'.' + ext if ext else 'no extension'})."
+            say(
+                "{name} is not a recording this scene reads: upload phyphox's export of "
+                '"Gyroscope (rotation rate)" as CSV (Raw Data.csv) or the .zip it shares (got {got}).',
+                name=name,
+                got=got,
+            )
         )
     if not content:
-        raise ValueError(f"{name} is empty (0 bytes): there is no recording in it.")
+        raise ValueError(say("{name} is empty (0 bytes): there is no recording in it.", name=name))
     # phyphox's reader takes a path: the bytes go to a file of our naming (never the uploaded name).
     with tempfile.TemporaryDirectory(prefix="rbl-gyro-") as folder:
         path = Path(folder) / f"upload.{ext}"
@@ -154,7 +158,9 @@ def fit_toss_upload(filename: str, content: bytes, chosen: int | None = None) ->
         try:
             recording = read_gyroscope(path)
         except (ValueError, csv.Error) as exc:  # csv.Error: a cell over the csv module's 128 kB limit
-            raise ValueError(f"{name} is not a gyroscope recording this app reads: {exc}.") from None
+            raise ValueError(
+                say("{name} is not a gyroscope recording this app reads: {reason}.", name=name, reason=str(exc))
+            ) from None
     return fit_recording(name, recording.times, recording.omega, recording.breaks, recording.device, chosen)
 
 
@@ -172,14 +178,27 @@ def fit_recording(
     if not flights:
         fastest = float(np.max(np.linalg.norm(omega, axis=1))) if len(omega) else 0.0
         raise ValueError(
-            f"no toss found in {name}: a toss is at least {MIN_DURATION} s of free flight spinning at "
-            f"{MIN_SPIN:g} rad/s or more between two jolts (release and catch); the fastest spin in the file is "
-            f"{fastest:.3g} rad/s. Toss the phone higher and spin it harder, about its axis across the screen."
+            say(
+                "no toss found in {name}: a toss is at least {duration:g} s of free flight spinning at "
+                "{spin:g} rad/s or more between two jolts (release and catch); the fastest spin in the file is "
+                "{fastest:.3g} rad/s. Toss the phone higher and spin it harder, about its axis across the screen.",
+                name=name,
+                duration=MIN_DURATION,
+                spin=MIN_SPIN,
+                fastest=fastest,
+            )
         )
     windows = tuple((s.start, s.end) for s in flights)
     if chosen is not None:
         if not 0 <= chosen < len(flights):
-            raise ValueError(f"{name} has {len(flights)} toss(es); toss {chosen + 1} is not one of them.")
+            raise ValueError(
+                say(
+                    "{name} has {count} toss(es); toss {number} is not one of them.",
+                    name=name,
+                    count=len(flights),
+                    number=chosen + 1,
+                )
+            )
         check_segment(flights[chosen], f"toss {chosen + 1} of {name}")
         picked, left_out = [chosen], list[str]()
     else:
@@ -195,7 +214,7 @@ def fit_recording(
                 break
             picked.append(k)
         if not picked:
-            raise ValueError(f"no toss of {name} can be fitted: {'; '.join(left_out)}.")
+            raise ValueError(say("no toss of {name} can be fitted: {reasons}.", name=name, reasons="; ".join(left_out)))
     fit = fit_free_body([flights[k] for k in picked])
     plot_times, measured, model = _plot(fit)
     replay = _replay(fit)

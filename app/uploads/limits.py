@@ -14,6 +14,8 @@ import struct
 import zipfile
 from pathlib import PurePath
 
+from app.language.words import mark, say
+
 __all__ = [
     "MAX_BYTES",
     "MAX_FACES",
@@ -98,7 +100,9 @@ _COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 
 
 
 def _size_text(n_bytes: int) -> str:
-    return f"{n_bytes / 1024 / 1024:.1f} MB" if n_bytes >= 1024 * 1024 else f"{n_bytes / 1024:.0f} kB"
+    if n_bytes >= 1024 * 1024:
+        return say("{size:.1f} MB", size=n_bytes / 1024 / 1024)
+    return say("{size:.0f} kB", size=n_bytes / 1024)
 
 
 def size_refusal(name: str, n_bytes: int) -> str | None:
@@ -106,11 +110,17 @@ def size_refusal(name: str, n_bytes: int) -> str | None:
     if n_bytes <= MAX_BYTES:
         return None
     advice = (
-        "Record a shorter stretch (a toss lasts a second) and upload it again."
+        mark("Record a shorter stretch (a toss lasts a second) and upload it again.")
         if PurePath(name).suffix.lower().lstrip(".") in RECORDING_FORMATS
-        else "Simplify the mesh (fewer triangles) and upload it again."
+        else mark("Simplify the mesh (fewer triangles) and upload it again.")
     )
-    return f"{name} is {_size_text(n_bytes)}; the limit is {_size_text(MAX_BYTES)}. {advice}"
+    return say(
+        "{name} is {size}; the limit is {limit}. {advice}",
+        name=name,
+        size=_size_text(n_bytes),
+        limit=_size_text(MAX_BYTES),
+        advice=advice,
+    )
 
 
 def check_size(filename: str, content: bytes) -> None:
@@ -144,56 +154,75 @@ def check_declared_size(filename: str, content: bytes) -> None:
 
 def _too_many(name: str, what: str, count: int, limit: int) -> ValueError:
     return ValueError(
-        f"{name} declares {count:,} {what}; the limit is {limit:,}. Simplify the model and upload it again."
+        say(
+            "{name} declares {count:,} {what}; the limit is {limit:,}. Simplify the model and upload it again.",
+            name=name,
+            count=count,
+            what=what,
+            limit=limit,
+        )
     )
 
 
 def _check_glb(name: str, content: bytes) -> None:
     # GLB: 12-byte header (magic, version, length), then chunks of (length, type, data); the first is JSON.
     if len(content) < 20 or content[:4] != b"glTF":
-        raise ValueError(f"{name} is not a GLB file (it does not start with the glTF header).")
+        raise ValueError(say("{name} is not a GLB file (it does not start with the glTF header).", name=name))
     (json_length, chunk_type) = struct.unpack_from("<II", content, 12)
     if chunk_type != 0x4E4F534A or json_length > len(content) - 20:
-        raise ValueError(f"{name} is a damaged GLB file (its JSON chunk is missing or cut short).")
+        raise ValueError(say("{name} is a damaged GLB file (its JSON chunk is missing or cut short).", name=name))
     try:
         document = json.loads(content[20 : 20 + json_length])
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{name} is a damaged GLB file (its JSON chunk does not parse: {exc}).") from None
+        raise ValueError(
+            say("{name} is a damaged GLB file (its JSON chunk does not parse: {reason}).", name=name, reason=str(exc))
+        ) from None
     if not isinstance(document, dict):
-        raise ValueError(f"{name} is a damaged GLB file (its JSON chunk is not an object).")
+        raise ValueError(say("{name} is a damaged GLB file (its JSON chunk is not an object).", name=name))
     required = document.get("extensionsRequired") or []
     if required:
         raise ValueError(
-            f"{name} needs the glTF extensions {', '.join(map(str, required))} (compressed geometry); "
-            "export it without compression."
+            say(
+                "{name} needs the glTF extensions {extensions} (compressed geometry); export it without compression.",
+                name=name,
+                extensions=", ".join(map(str, required)),
+            )
         )
     for key, limit, what in (
-        ("nodes", MAX_NODES, "nodes"),
-        ("meshes", MAX_MESHES, "meshes"),
-        ("accessors", MAX_ACCESSORS, "accessors"),
+        ("nodes", MAX_NODES, mark("nodes")),
+        ("meshes", MAX_MESHES, mark("meshes")),
+        ("accessors", MAX_ACCESSORS, mark("accessors")),
     ):
         items = document.get(key) or []
         if not isinstance(items, list):
-            raise ValueError(f"{name} is a damaged GLB file ({key} is not a list).")
+            raise ValueError(say("{name} is a damaged GLB file ({key} is not a list).", name=name, key=key))
         if len(items) > limit:
             raise _too_many(name, what, len(items), limit)
     primitives = sum(len(m.get("primitives") or []) for m in document.get("meshes") or [] if isinstance(m, dict))
     if primitives > MAX_MESHES:
-        raise _too_many(name, "mesh primitives", primitives, MAX_MESHES)
+        raise _too_many(name, mark("mesh primitives"), primitives, MAX_MESHES)
     elements = 0
     for accessor in document.get("accessors") or []:
         if not isinstance(accessor, dict):
-            raise ValueError(f"{name} is a damaged GLB file (an accessor is not an object).")
+            raise ValueError(say("{name} is a damaged GLB file (an accessor is not an object).", name=name))
         count = accessor.get("count", 0)
         if not isinstance(count, int) or count < 0:
-            raise ValueError(f"{name} is a damaged GLB file (an accessor's count is {count!r}).")
+            raise ValueError(
+                say("{name} is a damaged GLB file (an accessor's count is {count}).", name=name, count=repr(count))
+            )
         elements += count * _COMPONENTS.get(str(accessor.get("type")), 16)
     # Instancing multiplies the geometry: every node that shows a mesh draws all of it again.
     shown = sum(1 for node in document.get("nodes") or [] if isinstance(node, dict) and "mesh" in node)
     if elements * max(shown, 1) > MAX_ELEMENTS:
         raise ValueError(
-            f"{name} holds {elements:,} numbers of geometry shown by {max(shown, 1):,} nodes; the limit is "
-            f"{MAX_ELEMENTS:,} in all. Simplify the model (fewer triangles or instances) and upload it again."
+            say(
+                "{name} holds {elements:,} numbers of geometry shown by {nodes:,} nodes; the limit is {limit:,} in "
+                "all. Simplify the model (fewer triangles or instances) and upload it again.",
+                name=name,
+                elements=elements,
+                nodes=max(shown, 1),
+                limit=MAX_ELEMENTS,
+            )
         )
 
 
@@ -201,14 +230,14 @@ def _check_stl(name: str, content: bytes) -> None:
     if content[:5].lower() == b"solid" and b"facet" in content[:1024]:
         facets = content.count(b"facet normal")
         if facets > MAX_FACES:
-            raise _too_many(name, "triangles", facets, MAX_FACES)
+            raise _too_many(name, mark("triangles"), facets, MAX_FACES)
         return
     if len(content) >= 84:
         (count,) = struct.unpack_from("<I", content, 80)
         # A binary STL is exactly 84 + 50 n bytes; a file that is not is no binary STL at all (garbage or
         # a mislabelled text), and the reader says so, in its worker.
         if 84 + 50 * count == len(content) and count > MAX_FACES:
-            raise _too_many(name, "triangles", count, MAX_FACES)
+            raise _too_many(name, mark("triangles"), count, MAX_FACES)
 
 
 _PLY_ELEMENT = re.compile(rb"^element\s+(\w+)\s+(\d+)\s*$", re.MULTILINE)
@@ -228,9 +257,20 @@ def _check_obj(name: str, content: bytes) -> None:
     faces = content.count(b"\nf ") + int(content.startswith(b"f "))
     vertices = content.count(b"\nv ") + int(content.startswith(b"v "))
     if faces > MAX_FACES:
-        raise _too_many(name, "faces", faces, MAX_FACES)
+        raise _too_many(name, mark("faces"), faces, MAX_FACES)
     if vertices > 3 * MAX_FACES:
-        raise _too_many(name, "vertices", vertices, 3 * MAX_FACES)
+        raise _too_many(name, mark("vertices"), vertices, 3 * MAX_FACES)
+
+
+def _too_many_files(name: str, count: int) -> ValueError:
+    return ValueError(
+        say(
+            "{name} holds {count:,} files; a phyphox export holds a handful (at most {most}).",
+            name=name,
+            count=count,
+            most=MAX_ZIP_ENTRIES,
+        )
+    )
 
 
 def _check_zip(name: str, content: bytes) -> None:
@@ -238,30 +278,38 @@ def _check_zip(name: str, content: bytes) -> None:
     # directory lists: read before the directory itself, whose parsing costs a little per file.
     end = content.rfind(b"PK\x05\x06", max(0, len(content) - 22 - 65535))
     if end < 0 or end + 22 > len(content):
-        raise ValueError(f"{name} is not a zip archive (it has no zip directory); upload phyphox's shared .zip.")
+        raise ValueError(
+            say("{name} is not a zip archive (it has no zip directory); upload phyphox's shared .zip.", name=name)
+        )
     (entries,) = struct.unpack_from("<H", content, end + 10)
     if entries > MAX_ZIP_ENTRIES:
-        raise ValueError(
-            f"{name} holds {entries:,} files; a phyphox export holds a handful (at most {MAX_ZIP_ENTRIES})."
-        )
+        raise _too_many_files(name, entries)
     try:
         with zipfile.ZipFile(io.BytesIO(content)) as archive:
             infos = archive.infolist()
     except (zipfile.BadZipFile, OSError, ValueError, NotImplementedError) as exc:
-        raise ValueError(f"{name} is a damaged zip archive ({exc}).") from None
+        raise ValueError(say("{name} is a damaged zip archive ({reason}).", name=name, reason=str(exc))) from None
     if len(infos) > MAX_ZIP_ENTRIES:
-        raise ValueError(
-            f"{name} holds {len(infos):,} files; a phyphox export holds a handful (at most {MAX_ZIP_ENTRIES})."
-        )
+        raise _too_many_files(name, len(infos))
     unpacked = sum(info.file_size for info in infos)
     if unpacked > MAX_UNPACKED:
         raise ValueError(
-            f"{name} unpacks to {_size_text(unpacked)}; the limit is {_size_text(MAX_UNPACKED)}. "
-            "Record a shorter stretch and upload it again."
+            say(
+                "{name} unpacks to {size}; the limit is {limit}. Record a shorter stretch and upload it again.",
+                name=name,
+                size=_size_text(unpacked),
+                limit=_size_text(MAX_UNPACKED),
+            )
         )
     for info in infos:
         if info.file_size > 1024 * 1024 and info.file_size > MAX_ZIP_RATIO * max(info.compress_size, 1):
             raise ValueError(
-                f"{name} packs {PurePath(info.filename).name[:80]} {info.file_size / max(info.compress_size, 1):,.0f} "
-                f"times over (a recording packs at most {MAX_ZIP_RATIO} times): it is not a phyphox export."
+                say(
+                    "{name} packs {member} {ratio:,.0f} times over (a recording packs at most {most} times): it is "
+                    "not a phyphox export.",
+                    name=name,
+                    member=PurePath(info.filename).name[:80],
+                    ratio=info.file_size / max(info.compress_size, 1),
+                    most=MAX_ZIP_RATIO,
+                )
             )

@@ -16,6 +16,7 @@ from pathlib import PurePath
 import numpy as np
 import trimesh
 
+from app.language.words import joined, mark, say
 from app.uploads import limits
 from physics.inertia import MassProperties, from_mesh
 
@@ -88,12 +89,16 @@ def parse_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
     name = PurePath(filename or "upload").name
     ext = PurePath(name).suffix.lower().lstrip(".")
     if ext not in FORMATS:
+        got = "." + ext if ext else mark("no extension")
         raise ValueError(
-            f"{name} is not a mesh file this app reads: upload an STL, OBJ, PLY or GLB file "
-            f"(got {'.' + ext if ext else 'no extension'})."
+            say(
+                "{name} is not a mesh file this app reads: upload an STL, OBJ, PLY or GLB file (got {got}).",
+                name=name,
+                got=got,
+            )
         )
     if len(content) == 0:
-        raise ValueError(f"{name} is empty (0 bytes): there is no mesh in it.")
+        raise ValueError(say("{name} is empty (0 bytes): there is no mesh in it.", name=name))
     try:
         # Unprocessed: trimesh's own merging (absolute tolerance 1e-8) would weld every corner of a
         # part smaller than 1e-8 m into one point; the vertices are merged below, at unit scale.
@@ -101,29 +106,55 @@ def parse_mesh(filename: str, content: bytes) -> trimesh.Trimesh:
     except MemoryError:
         raise  # not the file's form but its size: the worker's memory limit says so (app.uploads.worker)
     except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable mesh"
-        raise ValueError(f"{name} could not be read as a {ext.upper()} mesh ({type(exc).__name__}: {exc}).") from exc
+        raise ValueError(
+            say(
+                "{name} could not be read as a {format} mesh ({kind}: {reason}).",
+                name=name,
+                format=ext.upper(),
+                kind=type(exc).__name__,
+                reason=str(exc),
+            )
+        ) from exc
     if isinstance(loaded, trimesh.Scene):
         # GLB (and a failed STL/OBJ parse) come back as a scene: flatten its geometry into one mesh.
         meshes = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if loaded.geometry else []
         loaded = trimesh.util.concatenate(meshes) if meshes else None  # type: ignore[assignment]
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0 or len(loaded.vertices) == 0:
         raise ValueError(
-            f"{name} contains no triangles: the file is empty or is not really a {ext.upper()} mesh "
-            "(a point cloud, lines only, or garbage)."
+            say(
+                "{name} contains no triangles: the file is empty or is not really a {format} mesh "
+                "(a point cloud, lines only, or garbage).",
+                name=name,
+                format=ext.upper(),
+            )
         )
     if len(loaded.faces) > limits.MAX_FACES:
         raise ValueError(
-            f"{name} has {len(loaded.faces):,} triangles; the limit is {limits.MAX_FACES:,}. "
-            "Decimate the mesh and upload it again."
+            say(
+                "{name} has {count:,} triangles; the limit is {limit:,}. Decimate the mesh and upload it again.",
+                name=name,
+                count=len(loaded.faces),
+                limit=limits.MAX_FACES,
+            )
         )
-    stl = " (an STL file stores 32-bit numbers: sizes beyond 3.4e38 become infinite)" if ext == "stl" else ""
+    stl = mark(" (an STL file stores 32-bit numbers: sizes beyond 3.4e38 become infinite)") if ext == "stl" else ""
     if not np.all(np.isfinite(loaded.vertices)):
-        raise ValueError(f"{name} has vertices that are not finite numbers (NaN or infinity){stl}.")
+        raise ValueError(
+            say("{name} has vertices that are not finite numbers (NaN or infinity){why}.", name=name, why=stl)
+        )
     vertices = np.asarray(loaded.vertices, dtype=float)
     extent = float(np.max(np.ptp(vertices, axis=0)))
     if extent == 0.0:
-        tiny = " (an STL file stores 32-bit numbers: sizes below about 1e-38 m round to 0)" if ext == "stl" else ""
-        raise ValueError(f"{name} is too small: all its vertices are one point{tiny}. Scale it up and upload it again.")
+        tiny = (
+            mark(" (an STL file stores 32-bit numbers: sizes below about 1e-38 m round to 0)") if ext == "stl" else ""
+        )
+        raise ValueError(
+            say(
+                "{name} is too small: all its vertices are one point{why}. Scale it up and upload it again.",
+                name=name,
+                why=tiny,
+            )
+        )
     # Merge duplicate corners (an STL stores each triangle's separately) on the mesh scaled by a power of
     # two to a size of about 1, where trimesh's merge tolerance (1e-8, absolute) is relative to the size;
     # the scaling is exact, so the vertices come back as given.
@@ -162,30 +193,47 @@ def body_from_mesh(
     if extent > MILLIMETRE_GUESS:
         mesh = mesh.copy()
         mesh.apply_scale(1e-3)  # type: ignore[no-untyped-call]  # trimesh does not annotate it
-        notes.append(f"its largest size was {extent:.4g}, so it was read as millimetres ({extent / 1000:.3g} m)")
+        notes.append(
+            say(
+                "its largest size was {extent:.4g}, so it was read as millimetres ({metres:.3g} m)",
+                extent=extent,
+                metres=extent / 1000,
+            )
+        )
     if not mesh.is_watertight:
         open_edges = _open_edge_count(mesh)
         hull = _convex_hull_or_none(mesh)
         why = (
-            f"{name} is not watertight: {open_edges} edge{'s' if open_edges != 1 else ''} belong to only one "
-            "triangle (holes or a surface that is not closed), so it encloses no definite volume and has no "
-            "mass distribution."
+            say(
+                "{name} is not watertight: {count} edge belongs to only one triangle (a hole or a surface that "
+                "is not closed), so it encloses no definite volume and has no mass distribution.",
+                name=name,
+                count=open_edges,
+            )
+            if open_edges == 1
+            else say(
+                "{name} is not watertight: {count} edges belong to only one triangle (holes or a surface that is "
+                "not closed), so it encloses no definite volume and has no mass distribution.",
+                name=name,
+                count=open_edges,
+            )
         )
         if not use_convex_hull:
-            offer = " You can use its convex hull instead (the shape shrink-wrapped)." if hull is not None else ""
-            raise NotWatertightError(why + offer, hull)
+            offer = mark("You can use its convex hull instead (the shape shrink-wrapped).") if hull is not None else ""
+            raise NotWatertightError(say("{why} {offer}", why=why, offer=offer) if offer else why, hull)
         if hull is None:
-            raise ValueError(why + " Its points all lie on a plane, so it has no convex hull with volume either.")
+            flat = mark("Its points all lie on a plane, so it has no convex hull with volume either.")
+            raise ValueError(say("{why} {flat}", why=why, flat=flat))
         mesh = hull
-        notes.append("replaced by its convex hull because it was not watertight")
+        notes.append(mark("replaced by its convex hull because it was not watertight"))
     try:
         props = from_mesh(mesh, mass=mass)
     except ValueError as exc:
-        raise ValueError(f"{name}: {exc}") from exc
-    note = f"{name}: {len(mesh.faces):,} triangles, {mass:g} kg of uniform density"
-    if notes:
-        note += "; " + "; ".join(notes)
-    return UploadedBody(name, mesh, props, note + ".")
+        raise ValueError(say("{name}: {reason}", name=name, reason=str(exc))) from exc
+    note = say(
+        "{name}: {count:,} triangles, {mass:g} kg of uniform density", name=name, count=len(mesh.faces), mass=mass
+    )
+    return UploadedBody(name, mesh, props, say("{note}.", note=joined([note, *notes], "; ")))
 
 
 def body_from_upload(

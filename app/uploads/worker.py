@@ -18,6 +18,7 @@ from multiprocessing.connection import Connection
 from pathlib import PurePath
 from typing import Any
 
+from app.language.words import carried, said_again, say
 from app.uploads.gyro import TossFit, fit_toss_upload
 from app.uploads.limits import MAX_MESSAGE, MEMORY_LIMIT, READERS, TIME_LIMIT, check_upload
 from app.uploads.reading import NotWatertightError, UploadedBody, body_from_parsed_upload
@@ -31,9 +32,17 @@ class ReadersBusy(ValueError):
     """Every reader is busy with another upload: this one is refused, to be sent again shortly."""
 
 
-def _refusal(text: str) -> tuple[str, str]:
+def _refusal(text: str) -> tuple[str, str, Any]:
+    """A refusal as the worker sends it back: the text, and how it was said (so the app translates it)."""
     # A reader may quote the file (a header cell): the message stays short, whatever the file holds.
-    return ("refused", text if len(text) <= MAX_MESSAGE else text[: MAX_MESSAGE - 1] + "…")
+    if len(text) <= MAX_MESSAGE:
+        return ("refused", text, carried(text))
+    return ("refused", text[: MAX_MESSAGE - 1] + "…", None)
+
+
+def _again(text: str, said: Any) -> str:
+    """A text from the worker, said again here if the worker said how (then it translates), else as it came."""
+    return said_again(said) if said is not None else text
 
 
 def _read(conn: Connection, filename: str, content: bytes, use_convex_hull: bool, memory: int) -> None:
@@ -43,7 +52,7 @@ def _read(conn: Connection, filename: str, content: bytes, use_convex_hull: bool
         try:
             return ("done", body_from_parsed_upload(filename, content, use_convex_hull=use_convex_hull))
         except NotWatertightError as exc:
-            return ("open", str(exc), exc.hull)
+            return ("open", str(exc), exc.hull, carried(str(exc)))
 
     _run(conn, filename, memory, read)
 
@@ -54,7 +63,15 @@ def _fit(conn: Connection, filename: str, content: bytes, chosen: int | None, me
 
 
 def _memory_text(n_bytes: int) -> str:
-    return f"{n_bytes / 2**30:.0f} GB" if n_bytes >= 2**30 else f"{n_bytes / 2**20:.0f} MB"
+    return (
+        say("{size:.0f} GB", size=n_bytes / 2**30) if n_bytes >= 2**30 else say("{size:.0f} MB", size=n_bytes / 2**20)
+    )
+
+
+def _too_big(name: str, memory: int) -> str:
+    return say(
+        "{name} needs more than {memory} of memory to read; simplify it.", name=name, memory=_memory_text(memory)
+    )
 
 
 def _run(conn: Connection, filename: str, memory: int, work: Callable[[], tuple[Any, ...]]) -> None:
@@ -63,21 +80,27 @@ def _run(conn: Connection, filename: str, memory: int, work: Callable[[], tuple[
     resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
     name = PurePath(filename or "upload").name
     outcome: tuple[Any, ...]
-    too_big = f"{name} needs more than {_memory_text(memory)} of memory to read; simplify it."
+    too_big = _too_big(name, memory)
     try:
         outcome = work()
     except MemoryError:
         outcome = _refusal(too_big)
     except OSError as exc:  # the memory limit met by the operating system (a temporary file, a thread)
-        outcome = _refusal(too_big if exc.errno == errno.ENOMEM else f"{name} could not be read ({exc}).")
+        outcome = _refusal(
+            too_big
+            if exc.errno == errno.ENOMEM
+            else say("{name} could not be read ({reason}).", name=name, reason=str(exc))
+        )
     except ValueError as exc:
         outcome = _refusal(str(exc))
     except Exception as exc:  # noqa: BLE001 - any parser failure means "not a readable file"
-        outcome = _refusal(f"{name} could not be read ({type(exc).__name__}: {exc}).")
+        outcome = _refusal(
+            say("{name} could not be read ({kind}: {reason}).", name=name, kind=type(exc).__name__, reason=str(exc))
+        )
     try:
         conn.send(outcome)
     except MemoryError:
-        conn.send(_refusal(f"{name} is too large to send back from the reader; simplify it."))
+        conn.send(_refusal(say("{name} is too large to send back from the reader; simplify it.", name=name)))
     finally:
         conn.close()
 
@@ -104,7 +127,7 @@ def body_in_worker(
     """
     outcome = _in_worker(_read, filename, content, use_convex_hull, memory_limit, time_limit)
     if outcome[0] == "open":
-        raise NotWatertightError(outcome[1], outcome[2])
+        raise NotWatertightError(_again(outcome[1], outcome[3]), outcome[2])
     body: UploadedBody = outcome[1]
     return body
 
@@ -139,15 +162,19 @@ def _in_worker(
     check_upload(filename, content)
     if not _readers.acquire(blocking=False):
         raise ReadersBusy(
-            f"{name} was not read: the server is reading {READERS} other uploads just now. "
-            "Upload it again in a few seconds."
+            say(
+                "{name} was not read: the server is reading {readers} other uploads just now. "
+                "Upload it again in a few seconds.",
+                name=name,
+                readers=READERS,
+            )
         )
     try:
         outcome = _read_in_worker(target, name, filename, content, option, memory_limit, time_limit)
     finally:
         _readers.release()
     if outcome[0] == "refused":
-        raise ValueError(outcome[1])
+        raise ValueError(_again(outcome[1], outcome[2]))
     return outcome
 
 
@@ -172,13 +199,17 @@ def _read_in_worker(
     sender.close()
     try:
         if not receiver.poll(time_limit):
-            raise ValueError(f"{name} took more than {time_limit:.0f} s to read; simplify it and upload it again.")
+            raise ValueError(
+                say(
+                    "{name} took more than {seconds:.0f} s to read; simplify it and upload it again.",
+                    name=name,
+                    seconds=time_limit,
+                )
+            )
         try:
             outcome: tuple[Any, ...] = receiver.recv()
         except EOFError:
-            raise ValueError(
-                f"{name} needs more than {_memory_text(memory_limit)} of memory to read; simplify it."
-            ) from None
+            raise ValueError(_too_big(name, memory_limit)) from None
     finally:
         receiver.close()
         if worker.is_alive():
