@@ -27,20 +27,17 @@ from app.drawing.palette import (
 )
 from app.drawing.pieces import (
     LABEL_SCALE,
-    TRACE_CHUNK,
-    TRACE_FADE,
-    VIEW_BACKGROUND,
     Arrow,
     BodyMesh,
     Cone,
     InertiaEllipsoid,
     PrincipalFrame,
-    Trace,
     add_label,
     faint_sphere,
     move,
     screen_axes,
 )
+from app.drawing.trace import TRACE_CHUNK, TRACE_FADE, VIEW_BACKGROUND, Trace
 
 __all__ = [
     "OKABE_ITO",

@@ -1,4 +1,4 @@
-"""A trace on the timeline (:meth:`app.drawing.pieces.Trace.rewind`): moved back to ``t``, it draws the path up
+"""A trace on the timeline (:meth:`app.drawing.trace.Trace.rewind`): moved back to ``t``, it draws the path up
 to ``t`` (the segments the points after it ended go, newest first), sends only the chunks that changed, and
 goes on from there joined; a trace holding a point of no time, or none at or before ``t``, starts again."""
 
