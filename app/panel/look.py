@@ -23,6 +23,7 @@ __all__ = [
     "plot_colour",
     "configure",
     "hide_number_box",
+    "side_by_side",
     "motion_html",
 ]
 
@@ -44,6 +45,15 @@ def hide_number_box(uuid: str) -> str:
     """CSS that hides the number box of the slider ``uuid`` (viser draws one beside every slider; the
     speed slider's value is a position, not a speed, so its label shows the speed instead)."""
     return f'<style>[id="{uuid}"] ~ * {{ display: none !important; }}</style>'
+
+
+def side_by_side(*uuids: str) -> str:
+    """CSS that sets the buttons ``uuids`` in one row, sharing its width (viser stacks every control; Step
+    and Step back belong together and the clock has no room above the fold for another row). Each button's
+    box keeps viser's side margins (Mantine's xs spacing)."""
+    share = f"calc({100 / len(uuids):.4f}% - 2 * var(--mantine-spacing-xs))"
+    boxes = ", ".join(f'div:has(> [id="{uuid}"])' for uuid in uuids)
+    return f"<style>{boxes} {{ display: inline-block; vertical-align: top; width: {share}; }}</style>"
 
 
 PLOT_FONT = f"{MIN_TEXT_PX}px system-ui, -apple-system, 'Segoe UI', sans-serif"

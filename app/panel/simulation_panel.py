@@ -75,6 +75,11 @@ class SimulationPanel:
         with gui.add_folder(mark("Clock")) as clock:
             self.play_button = gui.add_button(mark("Pause"), icon=viser.Icon.PLAYER_PAUSE)
             self.step_button = gui.add_button(mark("Step"), icon=viser.Icon.PLAYER_TRACK_NEXT)
+            self.step_back_button = gui.add_button(
+                mark("Step back"),
+                icon=viser.Icon.PLAYER_TRACK_PREV,
+                hint=mark("Back one step of the clock (pauses); the ← key"),
+            )
             self.reset_button = gui.add_button(mark("Reset"), icon=viser.Icon.REFRESH)
             # Logarithmic (app.panel.speed): the value is a position in [−1, 1], the label shows the speed.
             self.speed_slider = gui.add_slider(
@@ -85,9 +90,14 @@ class SimulationPanel:
         self.step_button.on_click(sim.guarded(lambda _: sim.step()))
         self.reset_button.on_click(sim.guarded(lambda _: sim.restart()))
         self.speed_slider.on_update(sim.guarded(lambda _: sim.set_speed(speed_at(self.speed_slider.value))))
-        style.content = look.STYLE + look.PATCH + look.hide_number_box(uuid_of(self.speed_slider))
-        self.timeline = TimelinePanel(sim, gui, order=TIMELINE_ORDER)  # the time slider, Step back, Replay
-        self.step_back_button = self.timeline.step_back_button
+        style.content = (
+            look.STYLE
+            + look.PATCH
+            + look.hide_number_box(uuid_of(self.speed_slider))
+            + look.side_by_side(uuid_of(self.step_button), uuid_of(self.step_back_button))
+        )
+        # The time slider, the jumps and Replay (it wires Step back, beside Step above).
+        self.timeline = TimelinePanel(sim, gui, order=TIMELINE_ORDER, step_back=self.step_back_button)
         self.measure = MeasurePanel(sim, gui, order=LAST_ORDER + 0.5)  # events, stopwatch, angle
         with gui.add_folder(mark("State"), expand_by_default=False, order=LAST_ORDER + 1) as state:
             self.state_box = gui.add_text(mark("State text"), initial_value="", hint=mark("Copy state writes it here"))

@@ -1,4 +1,4 @@
-"""The Timeline folder: the time slider, Step back, a jump of a second back or on, Replay.
+"""The Timeline folder: the time slider, a jump of a second back or on, Replay; and the clock's Step back.
 
 The slider shows the simulated time while the clock runs (at most ten times a second, as the time
 readout) and spans from the earliest instant the scene can show to the furthest reached; dragged, it puts
@@ -54,10 +54,13 @@ class TimelinePanel:
         Where they are made.
     order : float
         The folder's place in the panel.
+    step_back : viser.GuiButtonHandle
+        The Step back button (the clock's, beside Step), which this wires.
     """
 
-    def __init__(self, sim: Simulation, gui: Any, order: float) -> None:
+    def __init__(self, sim: Simulation, gui: Any, order: float, step_back: viser.GuiButtonHandle) -> None:
         self.sim = sim
+        self.step_back_button = step_back
         # Its own folder under the scene's: the Clock folder has no room left above the fold at 1280×800
         # (a scene's main controls must stay above it, tests/browser/test_look.py).
         with gui.add_folder(mark("Timeline"), order=order) as self.folder:
@@ -78,11 +81,6 @@ class TimelinePanel:
             hint=mark(
                 "The simulated time: drag to put the body at that instant (the clock pauses; Play goes on from there)"
             ),
-        )
-        self.step_back_button = gui.add_button(
-            mark("Step back"),
-            icon=viser.Icon.PLAYER_TRACK_PREV,
-            hint=mark("Back one step of the clock (pauses); the ← key"),
         )
         self.jump = gui.add_button_group(
             JUMP, options=(BACK, ON), hint=mark("Back or on one second (Shift+← / Shift+→)")
