@@ -185,9 +185,9 @@ class IntegratorGhost:
             return False
         target = math.floor((t - self.t0) / h + 1e-9)
         base = target - target % every
-        if base < min(self.checkpoints):
+        if base < next(iter(self.checkpoints)):  # kept in order: the first is the earliest, the last the furthest
             return False
-        return (base - max(self.checkpoints)) * h <= CATCH_UP
+        return (base - next(reversed(self.checkpoints))) * h <= CATCH_UP
 
     # -- every frame ---------------------------------------------------------------------------------
     def follow(self, t: float, pose: Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], Any]]) -> None:
@@ -210,12 +210,12 @@ class IntegratorGhost:
         target = int(math.floor((t - self.t0) / h + 1e-9))
         base = target - target % every
         try:
-            latest = max(self.checkpoints)
+            latest = next(reversed(self.checkpoints))
             while latest < base:
                 self.checkpoints[latest + every] = advance(self.method, self.checkpoints[latest], h, every)
                 latest += every
                 if len(self.checkpoints) > CHECKPOINTS:
-                    del self.checkpoints[min(self.checkpoints)]
+                    del self.checkpoints[next(iter(self.checkpoints))]
             if target != self.steps:
                 start = self.checkpoints[base]
                 self.state = advance(self.method, start, h, target - base) if target > base else start.copy()

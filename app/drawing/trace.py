@@ -152,12 +152,12 @@ class Trace:
         """The clock went back (or on) to ``t`` (s, the timeline): the points drawn after ``t`` go, newest
         first, so the trace shows the path up to that instant (one chunk or two sent, not the whole trace);
         a trace with a point of no time starts again."""
-        newest = [(self._head - 1 - i) % self.capacity for i in range(self._count)]
-        times = self._times[newest]
+        times = self._times[(self._head - 1 - np.arange(self._count)) % self.capacity]  # newest first
         if np.isnan(times).any():
             self.clear()
             return
-        drop = int(np.argmax(times <= t)) if (times <= t).any() else self._count
+        kept = times <= t
+        drop = int(np.argmax(kept)) if kept.any() else self._count
         if drop == 0:
             return
         if self._count - drop < 2:
