@@ -108,6 +108,7 @@ class IntegratorGhost:
         self.steps = 0  # steps taken since the start
         self.start_at = 0.0  # where the next start is (the clock when cleared)
         self.checkpoints: dict[int, NDArray[np.float64]] = {}  # steps since the start -> the state then
+        self.checkpoint_step = math.nan  # the step h (s) the checkpoints were made with
         self.last_angle = 0.0
 
     # -- set up by the scene ------------------------------------------------------------------------
@@ -181,7 +182,8 @@ class IntegratorGhost:
     def _reaches(self, t: float, h: float, every: int) -> bool:
         """Whether the ghost's run reaches ``t`` (s) from a checkpoint it keeps, with at most :data:`CATCH_UP`
         seconds of steps beyond the furthest (else it starts again there)."""
-        if not self.checkpoints or t < self.t0 - 1e-12:
+        # A step slider moved (viser stores its value before its callback clears the ghost): a new run.
+        if not self.checkpoints or h != self.checkpoint_step or t < self.t0 - 1e-12:
             return False
         target = math.floor((t - self.t0) / h + 1e-9)
         base = target - target % every
@@ -202,7 +204,7 @@ class IntegratorGhost:
             t0 = self.start_at if fresh else t
             R, L = self.exact(t0)
             self.state, self.t0, self.steps, self.t = np.concatenate([np.asarray(R).ravel(), L]), t0, 0, t0
-            self.checkpoints = {0: self.state.copy()}
+            self.checkpoints, self.checkpoint_step = {0: self.state.copy()}, h
         # Steps counted from the start, so the ghost's time t0 + k h carries no accumulated rounding. The
         # state after k steps is the checkpoint before it stepped on in one go, and each checkpoint the one
         # before stepped on in one go: the same numbers whichever frames asked (a splitting method merges

@@ -268,3 +268,20 @@ def test_the_timeline_moved_back_then_on_shows_the_ghosts_states_bit_for_bit():
         app.simulation.timeline.seek(3.2)  # on again, within what it has been through
         app.frame(1.0 / 60.0)
         assert ghost.t0 == 0.0 and np.array_equal(ghost.state, seen[320])
+
+
+def test_a_step_read_before_its_callback_has_cleared_the_ghost_starts_a_new_run():
+    """viser stores a slider's new value before its callback runs (the callback waits for the simulation's
+    lock): a frame may read the new step h while the checkpoints are the old h's. The ghost then starts a new
+    run where it is, instead of looking for a checkpoint the new h would have made (a KeyError that paused
+    the scene, found by the GUI fuzz test)."""
+    with running_app("tennis_racket", start_loop=False) as app:
+        scene = open_scene(app, "tennis_racket")
+        _choose(app, scene, SPLIT, step=0.05)
+        _run(app, 29)  # 0.48 s: checkpoints at 0 and 5 steps (every quarter second)
+        ghost = scene.ghost
+        assert sorted(ghost.checkpoints) == [0, 5] and ghost.t0 == 0.0
+        ghost.step_slider._impl.value = 0.025  # stored, its callback not run yet: 10 steps a quarter second
+        _run(app, 1)
+        assert app.simulation.playing and ghost.method is not None  # the scene goes on, the ghost too
+        assert ghost.checkpoint_step == 0.025 and ghost.t0 > 0.48 and ghost.steps == 0
