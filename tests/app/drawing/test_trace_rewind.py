@@ -14,6 +14,14 @@ def _point(i: int) -> list[float]:
     return [0.01 * i, 0.001 * i * i, 0.0]
 
 
+def _timed(app, name: str, capacity: int, times) -> draw.Trace:
+    """A trace of ``capacity`` points holding point ``i`` drawn at time ``t`` for each ``(i, t)``."""
+    trace = draw.Trace(app.server, name, capacity=capacity)
+    for i, t in times:
+        trace.append(_point(i), t=t)
+    return trace
+
+
 def _joined_up_to(trace, last: int) -> None:
     """The drawn segments end at point ``last`` and each starts where the one before ended."""
     segs = trace.drawn_segments()
@@ -40,9 +48,7 @@ def test_moved_back_the_trace_draws_the_path_up_to_that_instant_and_goes_on_join
 
 
 def test_a_step_back_sends_the_newest_chunk_only(app) -> None:
-    trace = draw.Trace(app.server, "/test_trace_rewind_cost", capacity=1500)
-    for i in range(200):
-        trace.append(_point(i), t=float(i))
+    trace = _timed(app, "/test_trace_rewind_cost", 1500, ((i, float(i)) for i in range(200)))
     sent = []
     for chunk in trace._chunks:
         chunk_points = chunk.points
@@ -54,9 +60,7 @@ def test_a_step_back_sends_the_newest_chunk_only(app) -> None:
 
 
 def test_a_full_ring_moved_back_keeps_the_points_it_still_holds(app) -> None:
-    trace = draw.Trace(app.server, "/test_trace_rewind_ring", capacity=50)
-    for i in range(400):
-        trace.append(_point(i), t=float(i))
+    trace = _timed(app, "/test_trace_rewind_ring", 50, ((i, float(i)) for i in range(400)))
     trace.rewind(379.0)
     np.testing.assert_allclose(trace.points(), [_point(i) for i in range(350, 380)])
     _joined_up_to(trace, 379)
@@ -64,9 +68,7 @@ def test_a_full_ring_moved_back_keeps_the_points_it_still_holds(app) -> None:
 
 
 def test_a_trace_starts_again_without_times_or_before_its_first_point(app) -> None:
-    trace = draw.Trace(app.server, "/test_trace_rewind_clear", capacity=100)
-    for i in range(20):
-        trace.append(_point(i), t=10.0 + i)
+    trace = _timed(app, "/test_trace_rewind_clear", 100, ((i, 10.0 + i) for i in range(20)))
     trace.rewind(5.0)  # before its first point
     assert len(trace.points()) == 0 and len(trace.drawn_segments()) == 0
     for i in range(20):
@@ -77,9 +79,7 @@ def test_a_trace_starts_again_without_times_or_before_its_first_point(app) -> No
 
 
 def test_moved_on_past_its_newest_point_the_trace_keeps_everything(app) -> None:
-    trace = draw.Trace(app.server, "/test_trace_rewind_on", capacity=100)
-    for i in range(30):
-        trace.append(_point(i), t=float(i))
+    trace = _timed(app, "/test_trace_rewind_on", 100, ((i, float(i)) for i in range(30)))
     trace.rewind(100.0)
     assert len(trace.points()) == 30
     _joined_up_to(trace, 29)

@@ -37,6 +37,13 @@ def racket(app):
     return app, scene, wall
 
 
+def _drag(app, wall, start: float, end: float, gap: float = 0.05) -> None:
+    """The slider moved to ``start``, then ``gap`` s of wall time later to ``end``: a drag's two messages."""
+    app.simulation.panel.timeline.slider.value = start
+    wall.t += gap
+    app.simulation.panel.timeline.slider.value = end
+
+
 def test_a_lone_move_jumps_at_once(racket) -> None:
     app, _, _ = racket
     sim = app.simulation
@@ -81,9 +88,7 @@ def test_a_move_after_a_pause_in_the_drag_jumps(racket) -> None:
 def test_play_ends_a_glide_and_goes_on_from_where_the_body_is(racket) -> None:
     app, _, wall = racket
     sim = app.simulation
-    sim.panel.timeline.slider.value = 1.0
-    wall.t += 0.05
-    sim.panel.timeline.slider.value = 2.0
+    _drag(app, wall, 1.0, 2.0)
     wall.t += FRAME
     app.frame(FRAME)
     between = sim.time
@@ -96,9 +101,7 @@ def test_play_ends_a_glide_and_goes_on_from_where_the_body_is(racket) -> None:
 def test_a_seek_by_hand_ends_a_glide(racket) -> None:
     app, _, wall = racket
     sim = app.simulation
-    sim.panel.timeline.slider.value = 1.0
-    wall.t += 0.05
-    sim.panel.timeline.slider.value = 2.0
+    _drag(app, wall, 1.0, 2.0)
     sim.timeline.jump(-0.5)  # Shift+← in the middle of a drag: from where the body is
     assert sim.timeline.glide is None and sim.time == 0.5
     app.frame(FRAME)
@@ -110,9 +113,7 @@ def test_a_drag_from_a_busy_page_glides_over_the_time_between_its_moves(racket) 
     the body moves on every frame until the next move is due, not for 50 ms and then stands."""
     app, _, wall = racket
     sim = app.simulation
-    sim.panel.timeline.slider.value = 1.0
-    wall.t += 0.15
-    sim.panel.timeline.slider.value = 2.5
+    _drag(app, wall, 1.0, 2.5, gap=0.15)
     glide = sim.timeline.glide
     assert glide is not None and glide.seconds == pytest.approx(0.15)
     wall.t += 0.075
