@@ -1,4 +1,5 @@
-"""Uploads checked when they start, before viser keeps a single byte of them.
+"""Uploads checked when they start, before viser keeps a single byte of them: the door through which the
+rules of :mod:`app.uploads.transfers` reach viser's transfers.
 
 More in docs/app-notes.md (``app.guards.uploads``).
 """
@@ -9,7 +10,6 @@ import threading
 import time
 import weakref
 from collections.abc import Callable
-from pathlib import PurePath
 from typing import Any
 
 import viser
@@ -17,15 +17,13 @@ from viser import _messages, infra
 
 from app.contracts import ClientId
 from app.guards.responses import peer_address
-from app.language.words import say
-from app.uploads import limits
+from app.uploads.transfers import Declared, InFlight, Transfers, overrun_refusal, start_refusal, well_formed_count
 
 __all__ = ["guard_uploads"]
 
 _lock = threading.Lock()
 _guis: weakref.WeakSet[Any] = weakref.WeakSet()  # every guarded GUI: the in-flight count spans them all
-_started: dict[str, float] = {}  # transfer uuid -> when it was accepted (time.monotonic())
-_active: dict[str, tuple[float, str]] = {}  # transfer uuid -> (when it last sent a part, its address)
+_transfers = Transfers()  # when each accepted transfer started and last sent a part, and its address
 
 
 _GUARDED: weakref.WeakSet[viser.GuiApi] = weakref.WeakSet()
@@ -58,16 +56,15 @@ def guard_uploads(
             return  # another GUI's button (viser ignores it here too)
         reason = permit(client_id) if permit is not None else None
         if reason is None:
-            reason = _refusal(client_id, message, _address(gui, client_id))
+            address = _address(gui, client_id)
+            declared = Declared(message.filename, message.transfer_uuid, message.size_bytes, message.part_count)
+            reason = start_refusal(declared, _in_flight(client_id, address))
         if reason is not None:
             _release(gui, client_id, message.source_component_uuid, message.transfer_uuid, message.size_bytes)
             refuse(client_id, reason)
             return
         original_start(client_id, message)
-        now = time.monotonic()
-        with _lock:
-            _started[message.transfer_uuid] = now
-            _active[message.transfer_uuid] = (now, _address(gui, client_id))
+        _transfers.accepted(message.transfer_uuid, _address(gui, client_id), time.monotonic())
 
     def part(client_id: ClientId, message: _messages.FileTransferPart) -> None:
         state = gui._current_file_upload_states.get(message.transfer_uuid)
@@ -78,73 +75,22 @@ def guard_uploads(
         content = message.content
         if not isinstance(content, bytes) or state["transferred_bytes"] + len(content) > state["total_bytes"]:
             gui._current_file_upload_states.pop(message.transfer_uuid, None)
-            _forget(message.transfer_uuid)
+            _transfers.forget(message.transfer_uuid)
             _release(gui, client_id, message.source_component_uuid, message.transfer_uuid, state["total_bytes"])
-            name = PurePath(str(state["filename"]) or "upload").name
-            refuse(
-                client_id,
-                say(
-                    "Upload refused: {name!s} sent more bytes than it declared ({declared:,}).",
-                    name=name,
-                    declared=state["total_bytes"],
-                ),
-            )
+            refuse(client_id, overrun_refusal(state["filename"], state["total_bytes"]))
             return
         original_part(client_id, message)
-        with _lock:
-            seen = _active.get(message.transfer_uuid)
-            if seen is not None:
-                _active[message.transfer_uuid] = (time.monotonic(), seen[1])
+        _transfers.sent_part(message.transfer_uuid, time.monotonic())
         if message.transfer_uuid not in gui._current_file_upload_states:
-            _forget(message.transfer_uuid)  # complete: viser has handed it to the button's callback
+            _transfers.forget(message.transfer_uuid)  # complete: viser has handed it to the button's callback
 
     starts[start_index] = start
     parts[part_index] = part
 
 
-def _refusal(client_id: ClientId, message: _messages.FileTransferStartUpload, address: str) -> str | None:
-    """Why this transfer may not start, or None (``address``: the browser's, :func:`_address`)."""
-    size, count, filename = message.size_bytes, message.part_count, message.filename
-    if not isinstance(filename, str) or not isinstance(message.transfer_uuid, str) or len(filename) > limits.MAX_NAME:
-        return say("Upload refused: a file name is at most {most} characters of text.", most=limits.MAX_NAME)
-    name = PurePath(filename or "upload").name
-    if not _count(size) or not _count(count) or count > limits.MAX_PARTS or (count == 0) != (size == 0):
-        return say(
-            "Upload refused: {name!s} was sent in a form this server does not take (size {size!r}, {count!r} parts).",
-            name=name,
-            size=size,
-            count=count,
-        )
-    too_large = limits.size_refusal(name, size)
-    if too_large is not None:
-        return say("Upload refused: {reason}", reason=too_large)
-    mine, everyone, here = _in_flight(client_id, address)
-    if mine >= limits.PER_CLIENT:
-        return say(
-            "Upload refused: {name!s} was sent while your previous file is still arriving; wait for it.", name=name
-        )
-    if here >= limits.PER_ADDRESS:
-        return say(
-            "Upload refused: {name!s} was sent while another file from your address is arriving; wait for it.",
-            name=name,
-        )
-    if everyone >= limits.MAX_TRANSFERS:
-        return say(
-            "Upload refused: the server is receiving {everyone} other files; upload {name!s} again in a moment.",
-            everyone=everyone,
-            name=name,
-        )
-    return None
-
-
-def _count(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 2**53
-
-
-def _in_flight(client_id: ClientId, address: str = "") -> tuple[int, int, int]:
-    """Transfers in flight (this browser's, everyone's, this address's) over every guarded GUI; stalled ones
-    (over :data:`~app.uploads.limits.STALL_SECONDS` since they started, or
-    :data:`~app.uploads.limits.IDLE_SECONDS` since their last part) dropped."""
+def _in_flight(client_id: ClientId, address: str = "") -> InFlight:
+    """Transfers in flight over every guarded GUI (this browser's, everyone's, this address's); stalled ones
+    (:meth:`app.uploads.transfers.Transfers.stalled`) dropped from viser's upload states."""
     now = time.monotonic()
     mine = everyone = here = 0
     with _lock:
@@ -152,22 +98,16 @@ def _in_flight(client_id: ClientId, address: str = "") -> tuple[int, int, int]:
     for gui in guis:
         states = gui._current_file_upload_states
         for transfer, state in list(states.items()):
-            with _lock:
-                started = _started.setdefault(transfer, now)
-                last, where = _active.setdefault(transfer, (now, ""))
-            if now - started > limits.STALL_SECONDS or now - last > limits.IDLE_SECONDS:
+            if _transfers.stalled(transfer, now):
                 states.pop(transfer, None)
-                _forget(transfer)
+                _transfers.forget(transfer)
                 continue
             everyone += 1
             mine += state["client_id"] == client_id
-            here += bool(address) and where == address
-    with _lock:  # transfers viser finished or dropped (a browser that left) are forgotten here
-        live = {t for gui in guis for t in list(gui._current_file_upload_states)}
-        for transfer in [t for t in _started if t not in live]:
-            del _started[transfer]
-            _active.pop(transfer, None)
-    return mine, everyone, here
+            here += bool(address) and _transfers.address(transfer) == address
+    # Transfers viser finished or dropped (a browser that left) are forgotten here.
+    _transfers.keep_only({t for gui in guis for t in list(gui._current_file_upload_states)})
+    return InFlight(mine, everyone, here)
 
 
 def _address(gui: Any, client_id: ClientId) -> str:
@@ -175,12 +115,6 @@ def _address(gui: Any, client_id: ClientId) -> str:
     owner = gui._owner
     server = owner if isinstance(owner, viser.ViserServer) else owner._viser_server
     return peer_address(server, client_id) or ""
-
-
-def _forget(transfer: str) -> None:
-    with _lock:
-        _started.pop(transfer, None)
-        _active.pop(transfer, None)
 
 
 class _AcksToUploader:
@@ -217,7 +151,7 @@ def _release(gui: viser.GuiApi, client_id: ClientId, button: Any, transfer: Any,
     client = owner if isinstance(owner, viser.ClientHandle) else owner.get_clients().get(client_id)
     if client is None or not isinstance(button, str) or not isinstance(transfer, str):
         return
-    total = size if _count(size) else 0
+    total = size if well_formed_count(size) else 0
     connection = client._websock_connection
     connection.queue_message(_messages.FileTransferPartAck(button, transfer, total, total))
     connection.queue_message(_messages.RemoveNotificationMessage("upload-" + transfer))

@@ -2,7 +2,8 @@
 
 :func:`check_upload` reads only the size (:func:`check_size`) and each format's header (a 1 MB GLB of 20,000 instanced nodes
 expands to gigabytes once parsed), so it costs microseconds and bounded memory. The transfer limits are
-applied on the wire (:mod:`app.guards.uploads`), the worker's by :mod:`app.uploads.worker`.
+applied when a transfer starts (:mod:`app.uploads.transfers`, through :mod:`app.guards.uploads`), the
+worker's by :mod:`app.uploads.worker`.
 """
 
 from __future__ import annotations
