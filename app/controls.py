@@ -8,7 +8,13 @@ Re-exported from :mod:`app.panel` (and :func:`markdown_text`, a user's text esca
 from __future__ import annotations
 
 from app.guards.text import markdown_text
-from app.panel.controls import (
+from app.panel.drift import (
+    DRIFT_EVERY,
+    DRIFT_FLOOR,
+    DRIFT_POINTS,
+    InvariantDrift,
+)
+from app.panel.parameters import (
     Gauge,
     ParameterPanel,
     Presets,
@@ -16,12 +22,6 @@ from app.panel.controls import (
     SliderSpec,
     refusable_dropdown,
     take_uploads,
-)
-from app.panel.drift import (
-    DRIFT_EVERY,
-    DRIFT_FLOOR,
-    DRIFT_POINTS,
-    InvariantDrift,
 )
 from app.panel.rollback import (
     Rollback,

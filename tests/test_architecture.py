@@ -14,7 +14,9 @@
   outside ``app/guards/`` forwards unknown attributes (``__getattr__``); mypy checks ``app/`` as strictly as
   ``physics/``;
 - no comment or docstring cites an issue by number (it says why in words);
-- tests/app/ mirrors app/'s packages.
+- tests/app/ mirrors app/'s packages;
+- no two modules of ``app/`` share a name (a door at app/'s top named as the module it opens onto, or the
+  same name in two packages, makes a reader ask which one does the job).
 
 ``python -m tests.test_architecture`` prints the figures (loops, private imports, lazy imports, largest
 modules) for a closing note.
@@ -512,6 +514,26 @@ def test_the_mirror_check_can_fail(tmp_path: Path) -> None:
         (tmp_path / folder).mkdir(parents=True)
     (tmp_path / "source" / "serving" / "__init__.py").write_text("")
     assert unmirrored(tmp_path / "tests", tmp_path / "source") == ["servng"]
+
+
+def shared_module_names(source: Path) -> dict[str, list[str]]:
+    """Module names (``__init__`` and ``__main__`` aside) found more than once under ``source``, with where."""
+    where: dict[str, list[str]] = {}
+    for path in sorted(source.rglob("*.py")):
+        if path.stem not in ("__init__", "__main__"):
+            where.setdefault(path.stem, []).append(path.relative_to(source).as_posix())
+    return {name: paths for name, paths in where.items() if len(paths) > 1}
+
+
+def test_no_two_modules_of_app_share_a_name() -> None:
+    assert shared_module_names(ROOT / "app") == {}
+
+
+def test_the_shared_name_check_can_fail(tmp_path: Path) -> None:
+    for path in ("controls.py", "panel/controls.py", "panel/__init__.py", "serving/__init__.py", "__main__.py"):
+        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / path).write_text("")
+    assert shared_module_names(tmp_path) == {"controls": ["controls.py", "panel/controls.py"]}
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ from physics.heavy_top import HeavyTopTrajectory
 from physics.pendulum import PendulumTrajectory
 
 if TYPE_CHECKING:
-    from app.panel.controls import ParameterPanel, Presets
+    from app.panel.parameters import ParameterPanel, Presets
 
 __all__ = ["Answer", "Scene", "SceneContext", "register", "REGISTRY"]
 
@@ -34,7 +34,7 @@ class Answer:
     quantity : str
         The quantity a lecture's question asks about (a step's ``truth``, or its ``about``).
     readouts : tuple of str
-        Readouts (anything with ``hold(bool)``, e.g. :class:`app.panel.controls.Readout`) that state it:
+        Readouts (anything with ``hold(bool)``, e.g. :class:`app.panel.parameters.Readout`) that state it:
         they say it is held back instead.
     hidden : tuple of str
         Scene nodes, labels, plots, sliders or markdown (anything with ``visible``) hidden meanwhile; the

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from app.panel.controls import HELD
+from app.panel.parameters import HELD
 from tests.harness import open_page, running_app, wait_for
 
 pytestmark = pytest.mark.browser

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from app.panel.controls import HELD, Readout
+from app.panel.parameters import HELD, Readout
 from app.scenes import REGISTRY, load_all
 from app.scenes.base import Answer, Scene
 from app.teaching.lectures import read_lecture

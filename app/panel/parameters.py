@@ -1,6 +1,6 @@
 """Shared GUI pieces: labelled sliders with a validation hook, readouts, a presets dropdown, a gauge.
 
-More in docs/app-notes.md (``app.panel.controls``).
+More in docs/app-notes.md (``app.panel.parameters``).
 """
 
 from __future__ import annotations
