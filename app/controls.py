@@ -1,5 +1,5 @@
 """The panel kit a scene is built from (``from app import controls, draw``): sliders, readouts, presets, rollback,
-drift plot, time plot.
+drift plot, time plot, potential plot.
 
 Re-exported from :mod:`app.panel` (and :func:`markdown_text`, a user's text escaped for Markdown, from
 :mod:`app.guards.text`) for scenes, in app/ and outside it (examples/05_custom_scene.py).
@@ -22,6 +22,10 @@ from app.panel.parameters import (
     SliderSpec,
     refusable_dropdown,
     take_uploads,
+)
+from app.panel.potential_plot import (
+    POTENTIAL_PLOT_HZ,
+    PotentialPlot,
 )
 from app.panel.rollback import (
     Rollback,
@@ -49,4 +53,6 @@ __all__ = [
     "TIME_PLOT_EVERY",
     "TIME_PLOT_POINTS",
     "TimePlot",
+    "POTENTIAL_PLOT_HZ",
+    "PotentialPlot",
 ]

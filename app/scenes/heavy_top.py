@@ -9,18 +9,15 @@ threshold and the top falls.
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import viser
 from numpy.typing import NDArray
 
 from app import controls, draw
 from app.drawing.ghost import IntegratorGhost
 from app.language.words import mark, say
-from app.panel.look import plot_axes, plot_colour
 from app.recording.columns import euler_columns, vector_columns
 from app.scenes.base import Answer, Scene, register
 from app.scenes.wording import amount, angle, threshold_words, tip_path
@@ -31,7 +28,6 @@ from physics.integrators import BlanesMoan6, GravityTorque, advance
 
 LENGTH = 1.0  # drawn length of the top, tip to stem end (m); the axis tip moves on this sphere
 ELL = 0.5  # pivot-to-centre-of-mass distance used to split M g ℓ into M and ℓ for the stepping model (m)
-PLOT_HZ = 5.0  # the U(θ) plot is refreshed at most this often (it sends four arrays to every browser)
 PLOT_POINTS = 180  # one a degree: a smooth curve at a quarter of the bytes of a finer grid
 STEP = 1.0 / 240.0
 """The friction top's grid step (s): its state at time t is the one at the grid time ``k STEP`` at or
@@ -42,11 +38,6 @@ keeps a checkpoint every :data:`CHECKPOINT` steps of the last five minutes (125 
 CHECKPOINT = 60
 """Steps between checkpoints (0.25 s): a scrub recomputes at most 59 steps (about 1.5 ms; a scrub and its
 frame 0.97 ms on average, ``python -m benchmarks.scrub``)."""
-
-
-# A static θ range: viser 1.1.1's client loses an auto x scale when the plot's scales are sent again
-# (its x min/max become null and the curve vanishes until a reload); a fixed range is kept.
-_THETA_SCALE = viser.uplot.Scale(time=False, auto=False, range=(0.0, 180.0))
 
 
 def _theta_grid() -> np.ndarray:
@@ -216,36 +207,15 @@ class HeavyTopScene(Scene):
         self.trace_length.on_update(self.ctx.guarded(lambda _: self.trace.resize(int(self.trace_length.value))))
         self.nutation = controls.TimePlot(self.ctx, mark("Nutation: θ (°)"), [("θ (°)", draw.hex_colour("blue"))])
         # U(θ) with the energy and θ now: where the axis nutates between its turning points.
-        self.plot = gui.add_uplot(
-            data=(
-                np.degrees(_theta_grid()),
-                np.zeros(PLOT_POINTS),
-                np.zeros(PLOT_POINTS),
-                np.full(PLOT_POINTS, -1e3),
-            ),
-            series=(
-                viser.uplot.Series(label="θ (°)"),
-                viser.uplot.Series(label="U(θ)", stroke=plot_colour(draw.hex_colour("blue"), self.ctx.dark), width=2),
-                viser.uplot.Series(
-                    label=mark("energy ℰ"),
-                    stroke=plot_colour(draw.hex_colour("guide"), self.ctx.dark),
-                    width=1,
-                    dash=(6, 4),
-                ),
-                viser.uplot.Series(
-                    label=mark("now (θ, U)"),
-                    stroke=draw.hex_colour("vermillion"),
-                    width=0,
-                    points={"show": True, "size": 10, "fill": draw.hex_colour("vermillion")},
-                ),
-            ),
-            scales={
-                "x": _THETA_SCALE,
-                "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
-            },
+        self.potential = controls.PotentialPlot(
+            self.ctx,
+            _theta_grid(),
+            shown=np.degrees(_theta_grid()),
+            x_range=(0.0, 180.0),
+            x_label="θ (°)",
+            curve_label="U(θ)",
             title=mark("Effective potential U(θ) (1/s²)"),
-            axes=plot_axes(),
-            aspect=1.6,
+            colours=(draw.hex_colour("blue"), draw.hex_colour("guide"), draw.hex_colour("vermillion")),
         )
         self.precession_readout = controls.Readout(self.ctx, mark("precession ⟨φ̇⟩ (rad/s)"))
         self.nutation_readout = controls.Readout(self.ctx, mark("nutation period (s)"))
@@ -258,8 +228,6 @@ class HeavyTopScene(Scene):
         )
         self.ghost = IntegratorGhost(self.ctx, root + "/ghost", TOP_MESH)
         self.traces += [self.drift, self.ghost, self.nutation]
-        self._plot_time = 0.0
-        self._y_range: tuple[float, float] | None = None
         self.apply(self.params.values)
         self.reset()  # the stepping state from the start: ctx.restart() skips reset() while the scene is built
 
@@ -278,7 +246,6 @@ class HeavyTopScene(Scene):
         self.L_scale = reach_L * LENGTH / max(float(np.linalg.norm(L0)), 1e-9)
         self.omega_scale = reach_omega * LENGTH / max(float(np.linalg.norm(sol.omega_body[0])), 1e-9)
         self.torque_scale = reach_torque * LENGTH / top.mgl
-        self._curve_key: tuple[float, ...] | None = None
         self.note.content = _nudge_words(top, values)
         self._start_ghost()
         self.ctx.restart()  # t = 0 and reset(): once a change
@@ -314,9 +281,7 @@ class HeavyTopScene(Scene):
         self.L_body = self.top.moments * sol.omega_body[0]
         self.landed = False  # the friction top has come to rest on the table
         self._start_history(0.0)
-        self._plot_time = 0.0
-        self._curve_key = None
-        self._y_range = None
+        self.potential.reset()
         self.nutation.clear()
 
     def snapshot(self) -> dict[str, Any]:
@@ -502,7 +467,6 @@ class HeavyTopScene(Scene):
                 words=_sleeping_words(not top.below_sleeping_threshold(L3), theta),
             ),
         )
-        now = time.monotonic()
         friction = self.values["friction"] > 0.0
         if friction:
             self.precession_readout.set(mark("— (friction: no fixed rate)"))
@@ -520,33 +484,15 @@ class HeavyTopScene(Scene):
             self.theta_readout.set(
                 say("{low:.4g} and {high:.4g}", low=math.degrees(sol.theta_min), high=math.degrees(sol.theta_max))
             )
-        if now - self._plot_time < 1.0 / PLOT_HZ and self._curve_key is not None:
+        if not self.potential.due():
             return
-        self._plot_time = now
-        grid = _theta_grid()
-        key = (round(L3, 4), round(Lz, 4), id(top))
-        if key != self._curve_key:
-            self._curve_key = key
-            self._U = top.effective_potential(grid, Lz, L3)
         # Energy per I1: ℰ = θ̇²/2 + U(θ), θ̇² from |ω⊥|² = θ̇² + sin²θ φ̇² (φ̇ from L_z).
         thetadot2 = top.nutation_rate_squared(theta, Lz, L3, state["L_body"] / top.moments)
         energy = 0.5 * thetadot2 + float(top.effective_potential(np.array([theta]), Lz, L3)[0])
-        finite = self._U[np.isfinite(self._U)]
-        lo = float(finite.min()) if finite.size else 0.0
-        hi = max(energy, lo) + max(abs(energy - lo), 0.05 * max(abs(lo), 1.0))
-        # uPlot draws nothing at all if a series holds NaN: off-range values (clipped by the fixed y
-        # range) stand in for gaps. The "now" series is one visible point at the current θ.
-        floor, ceiling = lo - 1e3 * (hi - lo + 1.0), hi + 1e3 * (hi - lo + 1.0)
-        now_series = np.full(grid.size, floor)
-        now_series[int(np.clip(np.searchsorted(grid, theta), 0, grid.size - 1))] = energy - 0.5 * thetadot2
-        curve = np.clip(np.nan_to_num(self._U, nan=ceiling, posinf=ceiling), floor, ceiling)
-        self.plot.data = (np.degrees(grid), curve, np.full(grid.size, energy), now_series)
-        self.plot_theta = theta  # the θ the plot shows (it is refreshed at most PLOT_HZ times a second)
-        y_range = (round(lo - 0.1 * (hi - lo), 3), round(hi, 3))
-        if y_range != self._y_range:
-            # New options rebuild the chart in every browser: only when the range really changes.
-            self._y_range = y_range
-            self.plot.scales = {
-                "x": _THETA_SCALE,
-                "y": viser.uplot.Scale(auto=False, range=y_range),
-            }
+        self.potential.show(
+            (round(L3, 4), round(Lz, 4), id(top)),
+            lambda grid: top.effective_potential(grid, Lz, L3),
+            theta,
+            energy,
+            energy - 0.5 * thetadot2,
+        )

@@ -35,8 +35,8 @@ def test_heavy_top_potential_plot_shows_U_energy_and_now(app):
     scene = open_scene(app, "heavy_top")
     for _ in range(20):
         app.frame(FRAME)
-    assert scene.plot_theta > 0.0  # the plot has been drawn at least once
-    x, U, energy, now = (np.asarray(a) for a in scene.plot.data)
+    assert scene.potential.x > 0.0  # the plot has been drawn at least once
+    x, U, energy, now = (np.asarray(a) for a in scene.potential.handle.data)
     # uPlot draws nothing at all when a series holds NaN: every series must be finite.
     assert all(np.all(np.isfinite(a)) for a in (x, U, energy, now))
     exact = scene.exact
@@ -44,10 +44,11 @@ def test_heavy_top_potential_plot_shows_U_energy_and_now(app):
     U0 = scene.top.effective_potential(np.array([scene.start[0]]), exact.Lz, exact.L3)[0]
     np.testing.assert_allclose(energy, U0, rtol=1e-9)
     # One visible "now" point, inside the y range, on the curve U at the current θ.
-    lo, hi = scene._y_range
+    assert scene.potential.y_range is not None
+    lo, hi = scene.potential.y_range
     visible = np.flatnonzero((now >= lo) & (now <= hi))
     assert visible.size == 1
-    theta = scene.plot_theta
+    theta = scene.potential.x
     assert abs(math.radians(x[visible[0]]) - theta) <= math.radians(0.5) + 1e-12  # grid spacing 0.5°
     U_now = scene.top.effective_potential(np.array([theta]), exact.Lz, exact.L3)[0]
     assert now[visible[0]] == pytest.approx(U_now, rel=1e-6)  # θ̇² recovered from |ω⊥|²: round-off
