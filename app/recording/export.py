@@ -1,4 +1,7 @@
-"""Recording a built app frame by frame: a web page that plays it, its numbers as CSV, a picture of its end.
+"""An export from request to files: a scene (or a state text) run frame by frame on a server nobody watches,
+recorded as a web page that plays it, its numbers as CSV and a picture of its end (:func:`export_with`,
+:func:`export_zip_with`; ``rigid-body-lab export`` and the panel's Export button through
+:func:`app.serving.app.export`, which hands it the headless simulation to record).
 
 More in docs/app-notes.md (``app.recording.export``).
 """
@@ -8,13 +11,14 @@ from __future__ import annotations
 import csv
 import io
 import sys
+import tempfile
 import threading
 import zipfile
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from app.guards.handles import scene_nodes
 from app.guards.language import recording_in
@@ -31,6 +35,9 @@ __all__ = [
     "EXPORT_FPS",
     "MAX_SECONDS",
     "Export",
+    "Headless",
+    "export_with",
+    "export_zip_with",
     "check_request",
     "one_at_a_time",
     "page_in",
@@ -89,6 +96,62 @@ def check_request(scene: str | None, seconds: Any, preset: str | None, state: st
     for name, value, low, high in (("seconds", seconds, 1.0 / EXPORT_FPS, MAX_SECONDS), ("fps", fps, 1.0, 120.0)):
         if not low <= finite_scalar(value, name) <= high:
             raise ValueError(f"{name} must be between {low:g} and {high:g}, got {float(value):g}")
+
+
+class Headless(Protocol):
+    """What makes the simulation an export records: a scene (at one of its presets) or a state text, on a
+    server on 127.0.0.1 that nobody watches and no loop drives, stopped when the export leaves it
+    (:meth:`app.serving.app.App.headless`). ValueError for a bad scene, preset or state."""
+
+    def __call__(
+        self, scene: str | None, *, state: str | None, preset: str | None
+    ) -> AbstractContextManager[Simulation]: ...
+
+
+def export_with(
+    headless: Headless,
+    scene: str | None,
+    out: str | Path,
+    seconds: float,
+    *,
+    preset: str | None = None,
+    state: str | None = None,
+    fps: float = EXPORT_FPS,
+    progress: Callable[[int, int], None] | None = None,
+    lang: str = SOURCE,
+) -> Export:
+    """Run a scene for ``seconds`` of simulated time on the simulation ``headless`` makes and write the page,
+    CSV and PNG; the arguments after ``headless`` are :func:`app.serving.app.export`'s, which documents them.
+    One export runs at a time in a process (:func:`one_at_a_time`).
+
+    Raises
+    ------
+    ValueError
+        A bad scene, preset, state, number of seconds or language, a state of another scene than
+        ``scene``, or a scene that failed while running (named with its time); nothing is written then.
+    """
+    check_request(scene, seconds, preset, state, fps)
+    lang = check_language(lang)
+    seconds, fps = float(seconds), float(fps)
+    frames = max(1, round(seconds * fps))
+    with one_at_a_time(), headless(scene, state=state, preset=preset) as simulation:
+        named = simulation.scene.name if simulation.scene is not None else None
+        if state is not None and scene is not None and scene != named:
+            raise ValueError(f"the state is of the scene {named!r}, not {scene!r}")
+        return record(simulation, Path(out), frames, fps, progress, lang)
+
+
+def export_zip_with(
+    headless: Headless,
+    state: str,
+    seconds: float,
+    progress: Callable[[int, int], None] | None = None,
+    lang: str = SOURCE,
+) -> bytes:
+    """The files :func:`export_with` writes for a state text, as one zip archive (the panel's Export button,
+    in the language of the browser that pressed it)."""
+    with tempfile.TemporaryDirectory(prefix="rbl-export-") as folder:
+        return zipped(export_with(headless, None, folder, seconds, state=state, progress=progress, lang=lang))
 
 
 def record(

@@ -6,11 +6,11 @@ More in docs/app-notes.md (``app.serving.app``).
 from __future__ import annotations
 
 import socket
-import tempfile
 import threading
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -26,12 +26,12 @@ from app.guards.responses import peer_address
 from app.guards.serialize import serialize_once
 from app.guards.tunnel import guard_tunnel
 from app.guards.wire import departed
-from app.language.catalogs import SOURCE, check_language
+from app.language.catalogs import SOURCE
 from app.language.words import mark, say
 from app.panel import look
 from app.panel.access import PAGE_WORDS
 from app.panel.language_picker import LanguagePicker
-from app.recording.export import EXPORT_FPS, Export, check_request, one_at_a_time, record, zipped
+from app.recording.export import EXPORT_FPS, Export, export_with, export_zip_with
 from app.scenes.base import Scene
 from app.serving.addresses import is_loopback
 from app.serving.notices import NOTIFY_SECONDS
@@ -435,7 +435,7 @@ def export(
     lang: str = SOURCE,
 ) -> Export:
     """Run a scene for ``seconds`` of simulated time without a browser and write the page, CSV and PNG
-    (``rigid-body-lab export``; :func:`app.recording.export.record`).
+    (``rigid-body-lab export``; :func:`app.recording.export.export_with`, handed :meth:`App.headless`).
 
     Parameters
     ----------
@@ -463,28 +463,25 @@ def export(
         A bad scene, preset, state, number of seconds or language, or a scene that failed while running
         (named with its time); nothing is written then.
     """
-    check_request(scene, seconds, preset, state, fps)
-    lang = check_language(lang)
-    seconds, fps = float(seconds), float(fps)
-    if state is not None:
-        named = parse_state(state)["scene"]
-        if scene is not None and scene != named:
-            raise ValueError(f"the state is of the scene {named!r}, not {scene!r}")
-        scene = named
-    frames = max(1, round(seconds * fps))
-    with one_at_a_time():
-        app = App.headless(scene, state=state, preset=preset)
-        try:
-            assert app.shared is not None
-            return record(app.shared, Path(out), frames, fps, progress, lang)
-        finally:
-            app.stop()
+    return export_with(
+        _headless_simulation, scene, out, seconds, preset=preset, state=state, fps=fps, progress=progress, lang=lang
+    )
 
 
 def export_zip(
     state: str, seconds: float, progress: Callable[[int, int], None] | None = None, lang: str = SOURCE
 ) -> bytes:
     """The files :func:`export` writes for a state text, as one zip archive (the panel's Export button, in
-    the language of the browser that pressed it)."""
-    with tempfile.TemporaryDirectory(prefix="rbl-export-") as folder:
-        return zipped(export(None, folder, seconds, state=state, progress=progress, lang=lang))
+    the language of the browser that pressed it; :func:`app.recording.export.export_zip_with`)."""
+    return export_zip_with(_headless_simulation, state, seconds, progress, lang)
+
+
+@contextmanager
+def _headless_simulation(scene: str | None, *, state: str | None, preset: str | None) -> Iterator[Simulation]:
+    """The shared simulation of :meth:`App.headless`, its app stopped on leaving: what an export records."""
+    app = App.headless(scene, state=state, preset=preset)
+    try:
+        assert app.shared is not None
+        yield app.shared
+    finally:
+        app.stop()

@@ -24,7 +24,7 @@ import pytest
 
 from app.__main__ import main
 from app.scenes import scene_names
-from app.serving.app import export, export_zip
+from app.serving.app import App, export, export_zip
 from physics import G
 from physics.euler_angles import euler_attitude
 from physics.free_body import FreeBody
@@ -317,3 +317,17 @@ def test_an_export_whose_browser_left_stops_at_its_next_frame() -> None:
     assert frames[-1] == 100 and client.downloads == []
     with one_at_a_time():  # the place is free again
         pass
+
+
+def test_a_state_of_another_scene_is_refused_writes_nothing_and_frees_the_export(tmp_path: Path) -> None:
+    app = App.headless("pendulum")
+    try:
+        text = app.state_text()
+    finally:
+        app.stop()
+    out = tmp_path / "out"
+    with pytest.raises(ValueError, match="the state is of the scene 'pendulum', not 'heavy_top'"):
+        export("heavy_top", out, 0.5, state=text)
+    assert not out.exists()
+    written = export("pendulum", out, 0.1, state=text)  # the one export place was given back
+    assert written.csv.name == "pendulum.csv" and written.frames == 4
