@@ -101,18 +101,20 @@ def _view(app) -> list:
 
 def body_pixels(page, app, name: str | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(mask, with the body, without it) of scene ``name`` (default: the current one), paused at
-    :data:`SCENE_TIME`: the body shown, then hidden. Taken again if the camera moved in between: a page
+    :data:`SCENE_TIME`: the body shown, hidden, then shown again. Taken again if the camera moved in between: a page
     whose frame rate drops renders smaller (three.js lowers its pixel ratio), reports the new size and is
     re-framed for it."""
     for _ in range(3):
         view = _view(app)
-        mask, shown, hidden = _body_pixels(page, app, name)
-        if _view(app) == view:
+        mask, shown, hidden, again = _body_pixels(page, app, name)
+        # The same picture with the body shown again: nothing else moved between the shots (a page still
+        # easing its camera to a new framing after a resize shifts the whole scene by a fraction of a pixel).
+        if _view(app) == view and not (np.abs(again - shown).max(axis=-1) > 24).any():
             return mask, shown, hidden
     raise AssertionError("the camera kept moving while the body was measured")
 
 
-def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     with app.simulation.lock:
         if name is not None and app.scene.name != name:
             app.switch_scene(name)
@@ -135,10 +137,12 @@ def _body_pixels(page, app, name: str | None) -> tuple[np.ndarray, np.ndarray, n
         hidden = _settled(page, unlike=shown)
         with app.simulation.lock:
             app.scene.body.handle.visible = True
+        _drawn_again(page)
+        again = _settled(page, unlike=hidden)
     finally:
         page.evaluate(PANEL_VISIBLE, True)
     mask = np.abs(shown - hidden).max(axis=-1) > 24
-    return mask, shown, hidden
+    return mask, shown, hidden, again
 
 
 def contrast(mask: np.ndarray, shown: np.ndarray, hidden: np.ndarray) -> tuple[float, float, float]:

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from app.panel.projector import CAPTION_FONT_PX
+from app.serving.framing import framing_of
 from tests.browser.test_look import CLOSE_NOTIFICATIONS, body_pixels
 from tests.harness import click, open_page, running_app, wait_for
 
@@ -55,6 +56,17 @@ ROW = """() => { const mark = document.querySelector('.rbl-projector-caption');
     return buttons.map(b => { const r = b.getBoundingClientRect();
         return {name: b.innerText.trim(), disabled: b.disabled, box: [r.left, r.top, r.right, r.bottom]}; }); }"""
 """The caption's row of buttons as drawn (a button hidden by CSS has no box): name, disabled, box in CSS px."""
+
+
+def _framed_for(app, width: int, height: int) -> bool:
+    """Whether every page reports a view of ``width`` × ``height``'s shape and its camera was framed for it
+    (a page reports its new size a frame or more after it changed, and the server frames it then)."""
+    for client in app.server.get_clients().values():
+        w, h = client.camera.image_width, client.camera.image_height
+        last = framing_of(client)
+        if not (h > 0 and abs(w / h - width / height) < 0.01 and last is not None and last.size == (w, h)):
+            return False
+    return True
 
 
 def _under(xs: np.ndarray, ys: np.ndarray, box: list[float]) -> int:
@@ -128,6 +140,7 @@ def test_the_presenters_switch_puts_every_follower_in_projector_mode_with_the_an
         for page in (lecturer, follower):
             page.set_viewport_size(narrow)
         wait_for(lambda: follower.evaluate(CAPTION)["box"][2] <= narrow["width"], 30, what="the narrow caption")
+        wait_for(lambda: _framed_for(app, 1024, 768), 30, what="the pages framed for 1024×768")
         caption, plot = follower.evaluate(CAPTION), follower.evaluate(PLOT)
         bar = follower.evaluate(MAIN_PANEL)
         assert caption["box"][2] <= bar[0], f"the caption {caption['box']} over the slim bar {bar}"
