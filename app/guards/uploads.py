@@ -55,8 +55,8 @@ def guard_uploads(
         if message.source_component_uuid not in gui._gui_input_handle_from_uuid:
             return  # another GUI's button (viser ignores it here too)
         reason = permit(client_id) if permit is not None else None
+        address = _address(gui, client_id)
         if reason is None:
-            address = _address(gui, client_id)
             declared = Declared(message.filename, message.transfer_uuid, message.size_bytes, message.part_count)
             reason = start_refusal(declared, _in_flight(client_id, address))
         if reason is not None:
@@ -64,7 +64,7 @@ def guard_uploads(
             refuse(client_id, reason)
             return
         original_start(client_id, message)
-        _transfers.accepted(message.transfer_uuid, _address(gui, client_id), time.monotonic())
+        _transfers.accepted(message.transfer_uuid, address, time.monotonic())
 
     def part(client_id: ClientId, message: _messages.FileTransferPart) -> None:
         state = gui._current_file_upload_states.get(message.transfer_uuid)
