@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 import time
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -32,6 +32,7 @@ __all__ = [
     "label_room",
     "Framing",
     "framing_of",
+    "rescaled",
     "show_scene_to",
 ]
 
@@ -196,9 +197,10 @@ def show_scene_to(
     (in projector mode, ``projector``, clear of the caption and of the key plot if shown, ``plot``).
 
     A page reports its real size only after its layout settles (and again when the window or a phone's
-    orientation changes): until the viewer moves the camera, a new size re-frames it, and always within
-    :data:`FRAMING_GRACE` of the last framing (the page may report its settled size before it has eased to
-    the camera it was sent, which would look like a viewer's move). A page that puts its camera back on
+    orientation changes, or a loaded page lowers its pixel ratio): until the viewer moves the camera, a new
+    size re-frames it. A camera away from the framed eye is the viewer's once the page has echoed that eye
+    (it has arrived), or :data:`FRAMING_GRACE` after the framing; before either, the page may report its
+    settled size while still easing to the camera it was sent, which would look like a viewer's move. A page that puts its camera back on
     the first view is framed again for its size: viser's client resets to its initial camera when the
     scene's root arrives, which on a loaded machine can come after the framing (and "Reset View" does it too).
     """
@@ -223,7 +225,8 @@ class Framing:
     Attributes
     ----------
     size : (int, int)
-        The page's view in pixels it was framed for.
+        The page's view in pixels it was framed for (a change of its pixel ratio alone updates it and keeps
+        the framing: the layout in CSS px is the same).
     eye : array (3,)
         The camera position sent, in m.
     position, look_at : array-like (3,)
@@ -238,6 +241,8 @@ class Framing:
         Projector mode, and its key plot shown.
     mobile : bool
         The browser said it is a phone or a tablet.
+    arrived : bool
+        The page has echoed ``eye`` at ``size``: a camera away from it since is the viewer's.
     """
 
     size: tuple[int, int]
@@ -250,6 +255,7 @@ class Framing:
     projector: bool
     plot: bool
     mobile: bool
+    arrived: bool = False
 
 
 _FRAMINGS: weakref.WeakKeyDictionary[Any, Framing] = weakref.WeakKeyDictionary()
@@ -266,14 +272,38 @@ def _reframe(camera: Any) -> None:
     last = _FRAMINGS.get(client)
     if last is None:
         return
-    if (camera.image_width, camera.image_height) == last.size:
-        if _near(camera.position, last.start) and not _near(last.eye, last.start):
-            # Reset to the first view: framed for this page again.
-            show_scene_to(client, last.position, last.look_at, last.view, projector=last.projector, plot=last.plot)
+    size = (camera.image_width, camera.image_height)
+    if _near(camera.position, last.start) and not _near(last.eye, last.start):
+        # Reset to the first view (the scene's root arrived, or "Reset View"): framed for this page again.
+        show_scene_to(client, last.position, last.look_at, last.view, projector=last.projector, plot=last.plot)
         return
-    if not _near(camera.position, last.eye) and time.monotonic() - last.when > FRAMING_GRACE:
-        return  # the viewer has moved the camera: theirs now
+    at_eye = _near(camera.position, last.eye)
+    if size != last.size and rescaled(last.size, size):
+        # Only the page's pixel ratio changed (viser lowers it when frames are slow, often mid-drag): the
+        # layout in CSS px, and so the framing, is the same; re-framing would yank the viewer's camera back.
+        _FRAMINGS[client] = last = replace(last, size=size)
+    if size == last.size:
+        if at_eye and not last.arrived:
+            _FRAMINGS[client] = replace(last, arrived=True)
+        return
+    # A new shape while the camera is away from the framed eye (a phone turned after an orbit): the viewer's
+    # camera once the page had arrived at the eye, else only after the grace.
+    if not at_eye and (last.arrived or time.monotonic() - last.when > FRAMING_GRACE):
+        return
     show_scene_to(client, last.position, last.look_at, last.view, projector=last.projector, plot=last.plot)
+
+
+def rescaled(before: tuple[int, int], after: tuple[int, int]) -> bool:
+    """Whether a page's view of ``after`` pixels (width, height) is its view of ``before`` at another pixel ratio:
+    the same shape, to the pixel each side loses to rounding down (a canvas is its CSS size × ratio, floored).
+
+    viser reports its canvas in device pixels and scales its pixel ratio between 0.75 and 1 of the screen's
+    as the frame rate falls and recovers; a window resized to exactly its old shape is read as a rescale too.
+    """
+    (w0, h0), (w1, h1) = before, after
+    if min(w0, h0, w1, h1) <= 0:
+        return False
+    return abs(w0 * h1 - w1 * h0) <= w0 + h0 + w1 + h1
 
 
 def _near(echo: Any, eye: Any) -> bool:

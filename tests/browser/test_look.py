@@ -101,9 +101,9 @@ def _view(app) -> list:
 
 def body_pixels(page, app, name: str | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(mask, with the body, without it) of scene ``name`` (default: the current one), paused at
-    :data:`SCENE_TIME`: the body shown, hidden, then shown again. Taken again if the camera moved in between: a page
-    whose frame rate drops renders smaller (three.js lowers its pixel ratio), reports the new size and is
-    re-framed for it."""
+    :data:`SCENE_TIME`: the body shown, hidden, then shown again. Taken again if the camera or the picture moved in
+    between: a page whose frame rate drops renders at a lower pixel ratio and reports the new size, and a page
+    still easing to a new framing shifts the whole scene."""
     for _ in range(3):
         view = _view(app)
         mask, shown, hidden, again = _body_pixels(page, app, name)

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from app.serving import framing
 from app.serving.framing import (
     FILL,
     LABEL_ROOM_PX,
@@ -117,6 +118,77 @@ def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_fir
     client.camera.position = eye
     client.report(390, 844)  # unmoved: a new size re-frames it, grace or not
     assert framing.framing_of(client).size == (390, 844)
+
+
+def test_a_new_pixel_ratio_keeps_the_framing_and_an_orbit_even_mid_drag(monkeypatch):
+    """viser lowers a slow page's pixel ratio (and raises it again), often as a drag starts: the page reports
+    its canvas at another scale, 780×1328 → 1023×1743 on an iPhone. Its layout in CSS px is unchanged, so the
+    framing is kept (the size recorded) whether the camera is at the framed eye or orbited away from it."""
+    import time
+
+    from app.serving import framing
+    from app.serving.framing import show_scene_to
+
+    now = [1000.0]
+    monkeypatch.setattr(time, "monotonic", lambda: now[0])
+    scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
+    client = _Client(780, 1328)
+    show_scene_to(client, scene_eye, scene_target)
+    eye = np.asarray(framing.framing_of(client).eye)
+    now[0] += 0.5
+    client.report(1023, 1743, position=tuple(np.float32(eye)))  # at the eye, at another pixel ratio
+    assert framing.framing_of(client).size == (1023, 1743)
+    np.testing.assert_array_equal(framing.framing_of(client).eye, eye)  # not framed again
+    orbited = tuple(eye + (-1.5, -1.2, 0.0))
+    now[0] += 0.5
+    client.report(780, 1328, position=orbited)  # mid-drag, back to the first ratio
+    assert framing.framing_of(client).size == (780, 1328)
+    np.testing.assert_array_equal(client.camera.position, orbited)  # the viewer's orbit kept
+
+
+def test_rescaled_is_the_same_shape_to_the_pixel_rounding_loses():
+    assert framing.rescaled((780, 1328), (1023, 1743)) and framing.rescaled((1280, 800), (960, 600))
+    assert framing.rescaled((1280, 800), (1119, 699))  # 0.875 of each, floored
+    assert not framing.rescaled((1280, 800), (1024, 768)) and not framing.rescaled((780, 1328), (1328, 780))
+    assert not framing.rescaled((780, 1328), (780, 1290))  # the sheet's browser bar: a new shape
+    assert not framing.rescaled((0, 0), (1280, 800)) and not framing.rescaled((1280, 800), (0, 0))
+
+
+def test_an_orbit_after_the_page_arrived_is_kept_when_its_shape_changes_within_the_grace(monkeypatch):
+    """A phone turned (a new shape, not a new pixel ratio) soon after its framing: once the page had echoed the
+    framed eye, a camera away from it is the viewer's and is kept, even within FRAMING_GRACE. An unmoved
+    camera is framed for the new shape, and so is a page that had not yet arrived at its eye."""
+    import time
+
+    from app.serving.framing import FRAMING_GRACE, show_scene_to
+
+    now = [1000.0]
+    monkeypatch.setattr(time, "monotonic", lambda: now[0])
+    scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
+    client = _Client(780, 1328)
+    show_scene_to(client, scene_eye, scene_target)
+    eye = np.asarray(framing.framing_of(client).eye)
+    now[0] += 1.0
+    client.report(780, 1328, position=tuple(np.float32(eye)))  # the page eased to the eye and echoed it
+    assert framing.framing_of(client).arrived
+    orbited = tuple(eye + (-1.5, -1.2, 0.0))
+    now[0] += 1.0
+    assert now[0] - framing.framing_of(client).when < FRAMING_GRACE
+    client.report(1688, 780, position=orbited)  # orbited, then turned sideways
+    assert framing.framing_of(client).size == (780, 1328)
+    np.testing.assert_array_equal(client.camera.position, orbited)  # the viewer's orbit kept
+    client.camera.position = framing.framing_of(client).eye
+    client.report(1688, 780)  # unmoved: framed for the new shape
+    assert framing.framing_of(client).size == (1688, 780) and not framing.framing_of(client).arrived
+
+    other = _Client(780, 1328)  # never arrived: a new shape within the grace frames it wherever its camera is
+    show_scene_to(other, scene_eye, scene_target)
+    now[0] += 1.0
+    other.report(1688, 780, position=orbited)
+    assert framing.framing_of(other).size == (1688, 780)
+    np.testing.assert_allclose(
+        other.camera.position, framing.framed(scene_eye, scene_target, 1688, 780, framing.FOV)[0]
+    )
 
 
 def test_a_page_put_back_on_the_first_view_is_framed_again_for_its_size(monkeypatch):
