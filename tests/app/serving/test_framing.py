@@ -91,6 +91,26 @@ class _Client:
             callback(self.camera)
 
 
+SCENE_EYE, SCENE_TARGET = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
+
+
+@pytest.fixture
+def clock(monkeypatch):
+    """``time.monotonic`` as a one-element list the test moves by hand (``clock[0] += 1.0``)."""
+    import time
+
+    now = [1000.0]
+    monkeypatch.setattr(time, "monotonic", lambda: now[0])
+    return now
+
+
+def _framed_phone():
+    """A phone's page (780×1328 device px) framed for the scene, and the eye it was framed at."""
+    client = _Client(780, 1328)
+    framing.show_scene_to(client, SCENE_EYE, SCENE_TARGET)
+    return client, np.asarray(framing.framing_of(client).eye)
+
+
 def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_first_framing(monkeypatch):
     """The page reports its first size, is framed, and reports its settled size while its camera is still
     on its way (not yet at the framed eye): within FRAMING_GRACE it is framed again for that size. After
@@ -120,21 +140,12 @@ def test_a_page_is_reframed_for_its_settled_size_even_before_it_eased_to_the_fir
     assert framing.framing_of(client).size == (390, 844)
 
 
-def test_a_new_pixel_ratio_keeps_the_framing_and_an_orbit_even_mid_drag(monkeypatch):
+def test_a_new_pixel_ratio_keeps_the_framing_and_an_orbit_even_mid_drag(clock):
     """viser lowers a slow page's pixel ratio (and raises it again), often as a drag starts: the page reports
     its canvas at another scale, 780×1328 → 1023×1743 on an iPhone. Its layout in CSS px is unchanged, so the
     framing is kept (the size recorded) whether the camera is at the framed eye or orbited away from it."""
-    import time
-
-    from app.serving import framing
-    from app.serving.framing import show_scene_to
-
-    now = [1000.0]
-    monkeypatch.setattr(time, "monotonic", lambda: now[0])
-    scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
-    client = _Client(780, 1328)
-    show_scene_to(client, scene_eye, scene_target)
-    eye = np.asarray(framing.framing_of(client).eye)
+    now = clock
+    client, eye = _framed_phone()
     now[0] += 0.5
     client.report(1023, 1743, position=tuple(np.float32(eye)))  # at the eye, at another pixel ratio
     assert framing.framing_of(client).size == (1023, 1743)
@@ -154,26 +165,18 @@ def test_rescaled_is_the_same_shape_to_the_pixel_rounding_loses():
     assert not framing.rescaled((0, 0), (1280, 800)) and not framing.rescaled((1280, 800), (0, 0))
 
 
-def test_an_orbit_after_the_page_arrived_is_kept_when_its_shape_changes_within_the_grace(monkeypatch):
+def test_an_orbit_after_the_page_arrived_is_kept_when_its_shape_changes_within_the_grace(clock):
     """A phone turned (a new shape, not a new pixel ratio) soon after its framing: once the page had echoed the
     framed eye, a camera away from it is the viewer's and is kept, even within FRAMING_GRACE. An unmoved
     camera is framed for the new shape, and so is a page that had not yet arrived at its eye."""
-    import time
-
-    from app.serving.framing import FRAMING_GRACE, show_scene_to
-
-    now = [1000.0]
-    monkeypatch.setattr(time, "monotonic", lambda: now[0])
-    scene_eye, scene_target = (2.0, -2.0, 1.5), (0.0, 0.0, 0.5)
-    client = _Client(780, 1328)
-    show_scene_to(client, scene_eye, scene_target)
-    eye = np.asarray(framing.framing_of(client).eye)
+    now = clock
+    client, eye = _framed_phone()
     now[0] += 1.0
     client.report(780, 1328, position=tuple(np.float32(eye)))  # the page eased to the eye and echoed it
     assert framing.framing_of(client).arrived
     orbited = tuple(eye + (-1.5, -1.2, 0.0))
     now[0] += 1.0
-    assert now[0] - framing.framing_of(client).when < FRAMING_GRACE
+    assert now[0] - framing.framing_of(client).when < framing.FRAMING_GRACE
     client.report(1688, 780, position=orbited)  # orbited, then turned sideways
     assert framing.framing_of(client).size == (780, 1328)
     np.testing.assert_array_equal(client.camera.position, orbited)  # the viewer's orbit kept
@@ -181,13 +184,12 @@ def test_an_orbit_after_the_page_arrived_is_kept_when_its_shape_changes_within_t
     client.report(1688, 780)  # unmoved: framed for the new shape
     assert framing.framing_of(client).size == (1688, 780) and not framing.framing_of(client).arrived
 
-    other = _Client(780, 1328)  # never arrived: a new shape within the grace frames it wherever its camera is
-    show_scene_to(other, scene_eye, scene_target)
+    other, _ = _framed_phone()  # never arrived: a new shape within the grace frames it wherever its camera is
     now[0] += 1.0
     other.report(1688, 780, position=orbited)
     assert framing.framing_of(other).size == (1688, 780)
     np.testing.assert_allclose(
-        other.camera.position, framing.framed(scene_eye, scene_target, 1688, 780, framing.FOV)[0]
+        other.camera.position, framing.framed(SCENE_EYE, SCENE_TARGET, 1688, 780, framing.FOV)[0]
     )
 
 
